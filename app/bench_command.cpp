@@ -1,0 +1,114 @@
+#include "app/bench_command.h"
+
+#include "app/cli_util.h"
+#include "render/image_compare.h"
+#include "render/methods/ppll.h"
+#include "render/reference.h"
+#include "render/vk/device.h"
+#include "sim/layers_scene.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+namespace brume::app {
+
+namespace {
+
+// Seed 000, Tables 1-2 (ATI Radeon HD 5700, Direct3D 11): FPS against full-screen layers.
+double paper_fps(int width, int layers) {
+    static const double t800[] = {90, 49, 32, 23, 18, 14, 12, 10};
+    static const double t1024[] = {51, 27, 18, 13, 10, 8, 6, 5};
+    if (layers < 2 || layers > 16 || layers % 2) return 0.0;
+    if (width == 800) return t800[layers / 2 - 1];
+    if (width == 1024) return t1024[layers / 2 - 1];
+    return 0.0;
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, BenchArgs& args) {
+    CLI::App* cmd = app.add_subcommand("bench", "Benchmarks that print figures side by side");
+    cmd->add_option("which", args.which, "Benchmark to run")->check(CLI::IsMember({"layers"}));
+    cmd->add_option("--sizes", args.sizes, "Resolutions, e.g. 800x600,1024x768");
+    cmd->add_option("--layers", args.layers, "Layer counts, e.g. 2-16:2 or 2,8,16 (even)");
+    cmd->add_option("--frames", args.frames, "ppll frames per point (median reported)")->check(CLI::Range(1, 10000));
+    cmd->add_option("--reference-frames", args.reference_frames, "CPU reference frames per point")->check(CLI::Range(1, 100));
+    cmd->add_flag("--no-reference", args.no_reference, "Skip the CPU reference");
+    cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
+    cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers");
+}
+
+int run_bench(const BenchArgs& args) {
+    std::vector<std::pair<int, int>> sizes;
+    for (std::size_t start = 0; start <= args.sizes.size();) {
+        const std::size_t comma = args.sizes.find(',', start);
+        int w = 0, h = 0;
+        parse_size(args.sizes.substr(start, comma == std::string::npos ? std::string::npos : comma - start), w, h);
+        sizes.emplace_back(w, h);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    const std::vector<int> layer_counts = parse_int_list(args.layers);
+    for (int n : layer_counts)
+        if (n < 2 || n % 2) throw std::invalid_argument("layer counts must be even and >= 2 (got " + std::to_string(n) + ")");
+
+    vk::DeviceOptions device_options;
+    device_options.device_name = args.device;
+    device_options.validate = args.validate;
+    vk::Device device(device_options);
+    PpllMethod ppll(device);
+    const char* threads = std::getenv("LP_NUM_THREADS");
+    std::printf("# brume bench layers: ppll on %s (LP_NUM_THREADS=%s), median of %d frames after 1 warm-up;\n",
+                device.name().c_str(), threads ? threads : "default", args.frames);
+    std::printf("# reference = CPU double-precision renderer, all cores, median of %d; paper = seed 000 Tables 1-2\n",
+                args.reference_frames);
+    std::printf("%-9s %6s %9s %9s %9s %9s %8s %8s %11s %10s %9s %9s\n", "size", "layers", "opaque", "particle",
+                "resolve", "total_ms", "fps", "paper", "Mlayers/s", "ref_ms", "ref/ppll", "max_err");
+    for (auto [w, h] : sizes) {
+        for (int n : layer_counts) {
+            const Scene scene = make_layers_scene(n, w, h);
+            FrameStats stats;
+            Image image = ppll.render(scene, &stats);  // warm-up, and sizes the pool
+            std::vector<double> opaque, particles, resolve, total;
+            for (int f = 0; f < args.frames; ++f) {
+                image = ppll.render(scene, &stats);
+                opaque.push_back(stats.passes[0].ms);
+                particles.push_back(stats.passes[1].ms);
+                resolve.push_back(stats.passes[2].ms);
+                total.push_back(stats.total_ms);
+            }
+            const double ms = median(total);
+            double ref_ms = 0.0, max_err = 0.0;
+            if (!args.no_reference) {
+                std::vector<double> ref_times;
+                Image ref;
+                for (int f = 0; f < args.reference_frames; ++f) {
+                    const auto t0 = std::chrono::steady_clock::now();
+                    ref = render_reference(scene);
+                    ref_times.push_back(
+                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+                }
+                ref_ms = median(ref_times);
+                const ImageDiff diff = compare_images(image, ref, 0.0);
+                max_err = diff.peak > 0 ? diff.max_abs / diff.peak : diff.max_abs;
+            }
+            const double paper = paper_fps(w, n);
+            char size_text[32];
+            std::snprintf(size_text, sizeof size_text, "%dx%d", w, h);
+            std::printf("%-9s %6d %9.2f %9.2f %9.2f %9.2f %8.1f %8s %11.1f %10s %9s %9.1e\n", size_text, n,
+                        median(opaque), median(particles), median(resolve), ms, 1000.0 / ms,
+                        paper > 0 ? std::to_string(int(paper)).c_str() : "-", double(n) * w * h / (ms * 1e3),
+                        args.no_reference ? "-" : std::to_string(int(ref_ms + 0.5)).c_str(),
+                        args.no_reference ? "-" : (std::to_string(ref_ms / ms).substr(0, 5) + "x").c_str(), max_err);
+            std::fflush(stdout);
+        }
+    }
+    if (device.validation_message_count() > 0) {
+        for (const std::string& m : device.take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
+        return 3;
+    }
+    return 0;
+}
+
+}  // namespace brume::app

@@ -1,0 +1,25 @@
+// `brume bench layers`: the full-screen-layers benchmark of seed 000 (Tables 1-2) for ppll, with
+// the CPU reference timed on the same frames.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace brume::app {
+
+struct BenchArgs {
+    std::string which = "layers";
+    std::string sizes = "800x600,1024x768";
+    std::string layers = "2-16:2";
+    std::string device;
+    int frames = 9;
+    int reference_frames = 1;
+    bool validate = false;
+    bool no_reference = false;
+};
+
+void add_bench_command(CLI::App& app, BenchArgs& args);
+int run_bench(const BenchArgs& args);
+
+}  // namespace brume::app

@@ -1,0 +1,98 @@
+#include "app/cli_util.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+#include <unistd.h>
+
+namespace brume::app {
+
+std::uint64_t parse_bytes(const std::string& text) {
+    std::size_t used = 0;
+    double value = 0;
+    try {
+        value = std::stod(text, &used);
+    } catch (const std::exception&) {
+        throw std::invalid_argument("'" + text + "' is not a size (examples: 64M, 2G, 1048576)");
+    }
+    std::string unit = text.substr(used);
+    std::transform(unit.begin(), unit.end(), unit.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    double scale = 0;
+    if (unit.empty() || unit == "b") scale = 1;
+    else if (unit == "k" || unit == "kb" || unit == "kib") scale = 1024.0;
+    else if (unit == "m" || unit == "mb" || unit == "mib") scale = 1024.0 * 1024.0;
+    else if (unit == "g" || unit == "gb" || unit == "gib") scale = 1024.0 * 1024.0 * 1024.0;
+    if (scale == 0 || !std::isfinite(value) || value <= 0 || value * scale > 1.8e19)
+        throw std::invalid_argument("'" + text + "' is not a positive size (examples: 64M, 2G, 1048576)");
+    return std::uint64_t(value * scale);
+}
+
+void parse_size(const std::string& text, int& width, int& height) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
+        w > 16384 || h > 16384)
+        throw std::invalid_argument("'" + text + "' is not a size WxH with 1 <= W, H <= 16384");
+    width = w;
+    height = h;
+}
+
+std::vector<int> parse_int_list(const std::string& text) {
+    std::vector<int> out;
+    int a = 0, b = 0, step = 1;
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%d-%d:%d%c", &a, &b, &step, &extra) == 3 && step > 0 && a <= b) {
+        for (int v = a; v <= b; v += step) out.push_back(v);
+        return out;
+    }
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = text.find(',', start);
+        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        std::size_t used = 0;
+        int v = 0;
+        try {
+            v = std::stoi(item, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || used != item.size()) throw std::invalid_argument("'" + text + "' is not a list like 2,4,8 or 2-16:2");
+        out.push_back(v);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return out;
+}
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
+    const std::filesystem::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+        out.flush();
+        if (!out) {
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            throw std::runtime_error("cannot write '" + path.string() + "'");
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw std::runtime_error("cannot write '" + path.string() + "': " + ec.message());
+    }
+}
+
+}  // namespace brume::app

@@ -1,0 +1,24 @@
+// Small parsing and output helpers shared by the subcommands.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace brume::app {
+
+// "512M", "2G", "1.5GiB", "1000000" -> bytes. Throws std::invalid_argument naming the text.
+std::uint64_t parse_bytes(const std::string& text);
+// "800x600" -> {800, 600}. Throws std::invalid_argument.
+void parse_size(const std::string& text, int& width, int& height);
+// "2,4,8" or "2-16:2" -> numbers. Throws std::invalid_argument.
+std::vector<int> parse_int_list(const std::string& text);
+
+double median(std::vector<double> values);
+
+// Writes text to a temporary file beside `path` and renames it into place: an interrupted run
+// never leaves a half-written file and never damages the one that was there.
+void write_file_atomically(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace brume::app

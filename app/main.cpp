@@ -1,0 +1,62 @@
+// The `brume` command: subcommands for rendering, benchmarking and inspecting devices.
+// Every failure reaches the user as one line naming the problem and a non-zero exit status.
+#include "app/bench_command.h"
+#include "app/render_command.h"
+#include "render/image_io.h"
+#include "render/methods/ppll.h"
+#include "render/vk/device.h"
+#include "render/vk/vk_check.h"
+#include "sim/scene_file.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <new>
+
+namespace {
+
+int list_devices() {
+    const auto devices = brume::vk::Device::enumerate();
+    if (devices.empty()) std::printf("no Vulkan devices\n");
+    for (const auto& d : devices)
+        std::printf("%s (%s, Vulkan %u.%u)\n", d.name.c_str(), d.type.c_str(), VK_API_VERSION_MAJOR(d.api_version),
+                    VK_API_VERSION_MINOR(d.api_version));
+    return 0;
+}
+
+int fail(const char* what) {
+    std::fprintf(stderr, "brume: error: %s\n", what);
+    return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Brume: exact volumetric particle rendering with per-pixel linked lists"};
+    app.require_subcommand(1);
+    brume::app::RenderArgs render_args;
+    brume::app::add_render_command(app, render_args);
+    brume::app::BenchArgs bench_args;
+    brume::app::add_bench_command(app, bench_args);
+    app.add_subcommand("devices", "List the Vulkan devices Brume can use");
+    CLI11_PARSE(app, argc, argv);
+
+    try {
+        if (app.got_subcommand("render")) return brume::app::run_render(render_args);
+        if (app.got_subcommand("bench")) return brume::app::run_bench(bench_args);
+        if (app.got_subcommand("devices")) return list_devices();
+    } catch (const brume::SceneFileError& e) {
+        return fail(e.what());
+    } catch (const brume::ImageIoError& e) {
+        return fail(e.what());
+    } catch (const brume::PoolBudgetError& e) {
+        return fail(e.what());
+    } catch (const brume::vk::VulkanError& e) {
+        return fail(e.what());
+    } catch (const std::bad_alloc&) {
+        return fail("out of host memory");
+    } catch (const std::exception& e) {
+        return fail(e.what());
+    }
+    return 0;
+}

@@ -1,0 +1,144 @@
+#include "app/render_command.h"
+
+#include "app/cli_util.h"
+#include "render/image_io.h"
+#include "render/methods/ppll.h"
+#include "render/reference.h"
+#include "render/vk/device.h"
+#include "sim/builtin_scenes.h"
+#include "sim/scene_file.h"
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+
+namespace brume::app {
+
+void add_render_command(CLI::App& app, RenderArgs& args) {
+    CLI::App* cmd = app.add_subcommand("render", "Render one scene to linear EXR and/or PNG");
+    cmd->add_option("scene", args.scene, "Scene file (TOML); none renders the built-in default scene");
+    cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output");
+    cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB)");
+    cmd->add_option("--method", args.method, "ppll (GPU, exact) or reference (CPU, double precision)")
+        ->check(CLI::IsMember({"ppll", "reference"}));
+    cmd->add_option("--stats", args.stats, "Write frame statistics as JSON");
+    cmd->add_option("--repeat", args.repeat, "Render N frames; statistics report medians")->check(CLI::Range(1, 100000));
+    cmd->add_option("--size", args.size, "Override the scene's resolution, WxH");
+    cmd->add_option("--exposure", args.exposure, "PNG exposure in stops");
+    cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
+    cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers; any message fails the run");
+    cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M (default: half the device heap)");
+    cmd->add_option("--pool-nodes", args.pool_nodes, "Initial node-pool size (default: estimated from the scene)");
+    cmd->add_option("--threads", args.threads, "CPU threads for --method reference (default: all)")->check(CLI::Range(0, 1024));
+}
+
+namespace {
+
+struct Timing {
+    std::vector<std::vector<double>> pass_ms;  // per pass, per frame
+    std::vector<std::string> pass_names;
+    std::vector<double> total_ms;
+};
+
+std::string stats_json(const RenderArgs& args, const Scene& scene, const std::string& device, const Timing& timing,
+                       const FrameStats* last) {
+    std::ostringstream j;
+    j.precision(10);
+    j << "{\n";
+    j << "  \"scene\": \"" << scene.source << "\",\n";
+    j << "  \"method\": \"" << args.method << "\",\n";
+    j << "  \"device\": \"" << device << "\",\n";
+    j << "  \"width\": " << scene.camera.width << ",\n  \"height\": " << scene.camera.height << ",\n";
+    j << "  \"spheres\": " << scene.spheres.size() << ",\n  \"boxes\": " << scene.boxes.size() << ",\n";
+    j << "  \"frames\": " << timing.total_ms.size() << ",\n";
+    const char* clock = args.method == "reference" ? "cpu_ms" : "gpu_ms";
+    j << "  \"" << clock << "\": {";
+    for (std::size_t p = 0; p < timing.pass_names.size(); ++p)
+        j << "\"" << timing.pass_names[p] << "\": " << median(timing.pass_ms[p]) << ", ";
+    j << "\"total\": " << median(timing.total_ms) << "}";
+    if (last) {
+        j << ",\n  \"fragments\": " << last->fragments;
+        j << ",\n  \"pool_capacity\": " << last->pool_capacity;
+        j << ",\n  \"pool_bytes\": " << last->pool_bytes;
+        j << ",\n  \"regrows\": " << last->regrows;
+        j << ",\n  \"max_list_length\": " << last->max_list_length;
+        j << ",\n  \"mean_list_length\": " << last->mean_list_length;
+        j << ",\n  \"nonempty_pixels\": " << last->nonempty_pixels;
+        j << ",\n  \"long_list_pixels\": " << last->long_list_pixels;
+    }
+    j << "\n}\n";
+    return j.str();
+}
+
+}  // namespace
+
+int run_render(const RenderArgs& args) {
+    Scene scene = args.scene.empty() ? default_scene() : load_scene_file(args.scene);
+    if (!args.size.empty()) parse_size(args.size, scene.camera.width, scene.camera.height);
+    std::string exr = args.exr, png = args.png;
+    if (exr.empty() && png.empty()) {
+        exr = "brume.exr";
+        png = "brume.png";
+    }
+
+    Timing timing;
+    FrameStats last{};
+    Image image;
+    std::string device_name = "cpu";
+    std::unique_ptr<vk::Device> device;
+    if (args.method == "reference") {
+        timing.pass_names = {"reference"};
+        timing.pass_ms.resize(1);
+        ReferenceOptions options;
+        options.threads = args.threads;
+        for (int f = 0; f < args.repeat; ++f) {
+            const auto t0 = std::chrono::steady_clock::now();
+            image = render_reference(scene, options);
+            const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            timing.pass_ms[0].push_back(ms);
+            timing.total_ms.push_back(ms);
+        }
+    } else {
+        vk::DeviceOptions device_options;
+        device_options.device_name = args.device;
+        device_options.validate = args.validate;
+        device = std::make_unique<vk::Device>(device_options);
+        device_name = device->name();
+        PpllOptions options;
+        if (!args.max_memory.empty()) options.max_pool_bytes = parse_bytes(args.max_memory);
+        options.initial_nodes = args.pool_nodes;
+        PpllMethod ppll(*device, options);
+        for (int f = 0; f < args.repeat; ++f) {
+            image = ppll.render(scene, &last);
+            if (timing.pass_names.empty()) {
+                for (const PassTime& p : last.passes) timing.pass_names.push_back(p.name);
+                timing.pass_ms.resize(last.passes.size());
+            }
+            for (std::size_t p = 0; p < last.passes.size(); ++p) timing.pass_ms[p].push_back(last.passes[p].ms);
+            timing.total_ms.push_back(last.total_ms);
+        }
+        if (device->validation_message_count() > 0) {
+            for (const std::string& m : device->take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
+            std::fprintf(stderr, "brume: error: the Vulkan validation layer reported problems (above)\n");
+            return 3;
+        }
+    }
+
+    if (!exr.empty()) write_exr(image, exr);
+    if (!png.empty()) write_png(image, png, args.exposure);
+    if (!args.stats.empty())
+        write_file_atomically(args.stats, stats_json(args, scene, device_name, timing, device ? &last : nullptr));
+
+    std::printf("%s: %dx%d, %zu spheres, %zu boxes, method %s on %s: %.2f ms (median of %d)", scene.source.c_str(),
+                scene.camera.width, scene.camera.height, scene.spheres.size(), scene.boxes.size(), args.method.c_str(),
+                device_name.c_str(), median(timing.total_ms), args.repeat);
+    if (device)
+        std::printf(", %llu fragments, longest list %u", (unsigned long long)last.fragments, last.max_list_length);
+    std::printf("\n");
+    for (const std::string& out : {exr, png})
+        if (!out.empty()) std::printf("wrote %s\n", out.c_str());
+    return 0;
+}
+
+}  // namespace brume::app

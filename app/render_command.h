@@ -1,0 +1,30 @@
+// `brume render`: one scene, one method, linear EXR and/or PNG, optional JSON statistics.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <string>
+
+namespace brume::app {
+
+struct RenderArgs {
+    std::string scene;  // empty: the built-in default scene
+    std::string exr;
+    std::string png;
+    std::string method = "ppll";
+    std::string stats;
+    std::string size;
+    std::string device;
+    std::string max_memory;
+    std::uint64_t pool_nodes = 0;
+    double exposure = 0.0;
+    int repeat = 1;
+    int threads = 0;
+    bool validate = false;
+};
+
+void add_render_command(CLI::App& app, RenderArgs& args);
+int run_render(const RenderArgs& args);
+
+}  // namespace brume::app

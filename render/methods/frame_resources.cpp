@@ -1,0 +1,153 @@
+#include "render/methods/frame_resources.h"
+
+#include "opaque_boxes.frag.h"
+#include "opaque_boxes.vert.h"
+#include "render/vk/pipelines.h"
+#include "render/vk/vk_check.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace brume {
+
+using namespace vk;
+
+FrameResources::FrameResources(const Device& device, const SharedDescriptors& descriptors)
+    : device_(device), descriptors_(descriptors) {
+    GraphicsPipelineDesc desc;
+    desc.name = "opaque_boxes";
+    desc.vertex = BRUME_SPIRV(spv_opaque_boxes_vert);
+    desc.fragment = BRUME_SPIRV(spv_opaque_boxes_frag);
+    desc.color_formats = {kOpaqueFormat};
+    desc.depth_format = kDepthFormat;
+    desc.depth_compare = VK_COMPARE_OP_GREATER;  // depth = 1/(1+t): nearer is larger
+    opaque_pipeline_ = create_graphics_pipeline(device, descriptors.pipeline_layout(), desc);
+    uniform_buffer_ = Buffer(device, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                             MemoryUse::Upload, "frame.uniforms");
+    descriptors.write_uniform(gpu::BINDING_FRAME, uniform_buffer_.get());
+}
+
+void FrameResources::upload(const Scene& scene) {
+    const VkExtent2D extent{std::uint32_t(scene.camera.width), std::uint32_t(scene.camera.height)};
+    if (extent.width != extent_.width || extent.height != extent_.height) {
+        const VkImageUsageFlags storage_target = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+        opaque_image_ = DeviceImage(device_, kOpaqueFormat, extent, storage_target, VK_IMAGE_ASPECT_COLOR_BIT, "frame.opaque");
+        depth_image_ = DeviceImage(device_, kDepthFormat, extent, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                             VK_IMAGE_ASPECT_DEPTH_BIT, "frame.depth");
+        hdr_image_ = DeviceImage(device_, kHdrFormat, extent,
+                           VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                           VK_IMAGE_ASPECT_COLOR_BIT, "frame.hdr");
+        hdr_readback_ = Buffer(device_, VkDeviceSize(extent.width) * extent.height * 16,
+                               VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, "frame.hdr_readback");
+        extent_ = extent;
+        descriptors_.write_storage_image(gpu::BINDING_OPAQUE, opaque_image_.view());
+    }
+
+    // Storage buffers hold at least one element: Vulkan has no empty buffers.
+    const VkDeviceSize sphere_bytes = std::max<std::size_t>(scene.spheres.size(), 1) * sizeof(gpu::GpuSphere);
+    if (sphere_buffer_.size() < sphere_bytes || sphere_buffer_.size() > 4 * sphere_bytes) {
+        sphere_buffer_ = Buffer(device_, sphere_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.spheres");
+        descriptors_.write_storage(gpu::BINDING_SPHERES, sphere_buffer_.get());
+    }
+    auto* spheres = sphere_buffer_.as<gpu::GpuSphere>();
+    for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i]);
+
+    const VkDeviceSize box_bytes = std::max<std::size_t>(scene.boxes.size(), 1) * sizeof(gpu::GpuBox);
+    if (box_buffer_.size() < box_bytes) {
+        box_buffer_ = Buffer(device_, box_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.boxes");
+        descriptors_.write_storage(gpu::BINDING_BOXES, box_buffer_.get());
+    }
+    auto* boxes = box_buffer_.as<gpu::GpuBox>();
+    for (std::size_t i = 0; i < scene.boxes.size(); ++i) boxes[i] = gpu::to_gpu(scene.boxes[i]);
+
+    const gpu::FrameUniforms pool = uniforms();  // keep what the method wrote into `pool`
+    uniforms() = gpu::make_frame_uniforms(scene);
+    uniforms().pool = pool.pool;
+    sphere_count_ = std::uint32_t(scene.spheres.size());
+    box_count_ = std::uint32_t(scene.boxes.size());
+    background_ = glm::vec3(scene.lighting.background);
+}
+
+void FrameResources::record_opaque_pass(VkCommandBuffer cmd) const {
+    image_barrier(cmd, opaque_image_.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                  VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0,
+                  VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    image_barrier(cmd, depth_image_.get(), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                  VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, 0,
+                  VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                  VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = opaque_image_.view();
+    color.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color.clearValue.color = {{background_.r, background_.g, background_.b, INFINITY}};
+    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depth.imageView = depth_image_.view();
+    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    depth.clearValue.depthStencil = {0.0f, 0};
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, extent_};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 1;
+    info.pColorAttachments = &color;
+    info.pDepthAttachment = &depth;
+    vkCmdBeginRendering(cmd, &info);
+    if (box_count_ > 0) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, opaque_pipeline_);
+        descriptors_.bind(cmd);
+        set_viewport(cmd, extent_);
+        vkCmdDraw(cmd, 6, box_count_, 0, 0);
+    }
+    vkCmdEndRendering(cmd);
+
+    // Later passes read radiance and distance as a storage image.
+    image_barrier(cmd, opaque_image_.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                  VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+}
+
+void FrameResources::begin_hdr_rendering(VkCommandBuffer cmd) const {
+    image_barrier(cmd, hdr_image_.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0,
+                  VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = hdr_image_.view();
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, extent_};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 1;
+    info.pColorAttachments = &color;
+    vkCmdBeginRendering(cmd, &info);
+    set_viewport(cmd, extent_);
+}
+
+void FrameResources::end_hdr_rendering(VkCommandBuffer cmd) const { vkCmdEndRendering(cmd); }
+
+void FrameResources::record_hdr_readback(VkCommandBuffer cmd) const {
+    image_barrier(cmd, hdr_image_.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                  VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                  VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {extent_.width, extent_.height, 1};
+    vkCmdCopyImageToBuffer(cmd, hdr_image_.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, hdr_readback_.get(), 1, &region);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                   VK_ACCESS_2_HOST_READ_BIT);
+}
+
+Image FrameResources::read_hdr() const {
+    Image image(int(extent_.width), int(extent_.height));
+    const float* rgba = hdr_readback_.as<const float>();
+    const std::size_t pixels = std::size_t(extent_.width) * extent_.height;
+    for (std::size_t p = 0; p < pixels; ++p) std::memcpy(&image.rgb[p * 3], &rgba[p * 4], 3 * sizeof(float));
+    return image;
+}
+
+}  // namespace brume

@@ -1,0 +1,57 @@
+// What every method shares for one scene at one resolution: the uploaded scene (uniforms, spheres,
+// boxes), the opaque pass and its output (radiance + distance per pixel), and the linear HDR target
+// that a method resolves into. A headless frame reads the target back; a preview window would
+// tone-map the same target into its swapchain image instead.
+#pragma once
+
+#include "render/image.h"
+#include "render/vk/descriptors.h"
+#include "render/vk/device.h"
+#include "render/vk/gpu_types.h"
+#include "render/vk/resources.h"
+#include "sim/scene.h"
+
+namespace brume {
+
+class FrameResources {
+public:
+    static constexpr VkFormat kOpaqueFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // rgb radiance, a distance
+    static constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+    static constexpr VkFormat kHdrFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+
+    FrameResources(const vk::Device& device, const vk::SharedDescriptors& descriptors);
+
+    // Uploads the scene, (re)creating buffers and images whose size changed; writes the descriptors.
+    void upload(const Scene& scene);
+
+    gpu::FrameUniforms& uniforms() { return *uniform_buffer_.as<gpu::FrameUniforms>(); }
+    VkExtent2D extent() const { return extent_; }
+    std::uint32_t sphere_count() const { return sphere_count_; }
+
+    // Clears the opaque image to (background, +inf) and draws the boxes into it.
+    void record_opaque_pass(VkCommandBuffer cmd) const;
+    // Begins dynamic rendering into the HDR target (contents undefined: the resolve writes every pixel).
+    void begin_hdr_rendering(VkCommandBuffer cmd) const;
+    void end_hdr_rendering(VkCommandBuffer cmd) const;
+    // Copies the HDR target into host memory; read_hdr() after the frame completes.
+    void record_hdr_readback(VkCommandBuffer cmd) const;
+    Image read_hdr() const;
+
+private:
+    const vk::Device& device_;
+    const vk::SharedDescriptors& descriptors_;
+    vk::UniquePipeline opaque_pipeline_;
+    vk::Buffer uniform_buffer_;
+    vk::Buffer sphere_buffer_;
+    vk::Buffer box_buffer_;
+    vk::DeviceImage opaque_image_;
+    vk::DeviceImage depth_image_;
+    vk::DeviceImage hdr_image_;
+    vk::Buffer hdr_readback_;
+    VkExtent2D extent_{};
+    std::uint32_t sphere_count_ = 0;
+    std::uint32_t box_count_ = 0;
+    glm::vec3 background_{0.0f};
+};
+
+}  // namespace brume

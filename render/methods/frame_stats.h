@@ -1,0 +1,28 @@
+// What one frame of a GPU method measured: GPU time per pass and the list statistics.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace brume {
+
+struct PassTime {
+    std::string name;
+    double ms = 0.0;
+};
+
+struct FrameStats {
+    std::vector<PassTime> passes;  // GPU time of each pass, in order
+    double total_ms = 0.0;         // GPU time of the whole frame (sum of the passes)
+    std::uint64_t fragments = 0;   // list nodes written: one per (sphere, pixel) whose ray meets the medium
+    std::uint64_t pool_capacity = 0;  // nodes the pool holds
+    std::uint64_t pool_bytes = 0;
+    int regrows = 0;  // times this frame was rendered again after the pool overflowed
+    std::uint32_t max_list_length = 0;  // nodes in the longest list
+    double mean_list_length = 0.0;      // nodes per pixel with a non-empty list
+    std::uint64_t nonempty_pixels = 0;
+    std::uint64_t long_list_pixels = 0;  // lists that needed more than one resolve window
+};
+
+}  // namespace brume

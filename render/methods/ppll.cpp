@@ -1,0 +1,218 @@
+#include "render/methods/ppll.h"
+
+#include "fullscreen.vert.h"
+#include "ppll_append.frag.h"
+#include "ppll_resolve.frag.h"
+#include "render/vk/pipelines.h"
+#include "render/vk/vk_check.h"
+#include "sphere_impostor.vert.h"
+#include "sim/camera_rays.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace brume {
+
+using namespace vk;
+
+namespace {
+
+std::uint64_t nodes_bytes(std::uint64_t nodes) { return nodes * gpu::NODE_BYTES; }
+
+// The interval of tangent slopes of a circle seen from the origin (see shaders/screen_bounds.glsl).
+void tangent_slopes(double lateral, double depth, double r, double& lo, double& hi) {
+    const double denom = depth * depth - r * r;
+    const double root = r * std::sqrt(std::max(lateral * lateral + denom, 0.0));
+    lo = (lateral * depth - root) / denom;
+    hi = (lateral * depth + root) / denom;
+}
+
+}  // namespace
+
+PoolBudgetError::PoolBudgetError(std::uint64_t needed, std::uint64_t allowed)
+    : std::runtime_error("the per-pixel lists need " + format_bytes(needed) + " of node pool but the budget is " +
+                         format_bytes(allowed) + "; raise --max-memory, lower the resolution or the particle count"),
+      needed_(needed),
+      allowed_(allowed) {}
+
+std::uint64_t estimate_fragments(const Scene& scene) {
+    const CameraRays rays = make_camera_rays(scene.camera);
+    const double w = scene.camera.width, h = scene.camera.height;
+    const double sx = glm::length(rays.right), sy = glm::length(rays.up);
+    const glm::dvec3 right = rays.right / sx, up = rays.up / sy;
+    double total = 0.0;
+    for (const Sphere& s : scene.spheres) {
+        if (!(s.extinction > 0.0)) continue;
+        const glm::dvec3 v = s.center - rays.eye;
+        const double depth = glm::dot(v, rays.forward);
+        if (depth < -s.radius) continue;
+        if (depth <= s.radius * 1.001) {
+            total += w * h;
+            continue;
+        }
+        double x0, x1, y0, y1;
+        tangent_slopes(glm::dot(v, right), depth, s.radius, x0, x1);
+        tangent_slopes(glm::dot(v, up), depth, s.radius, y0, y1);
+        // Pixels of the (clipped) bounding rectangle, times pi/4 for the ellipse inside it.
+        const double px0 = std::clamp((x0 / sx + 1.0) * 0.5 * w, 0.0, w), px1 = std::clamp((x1 / sx + 1.0) * 0.5 * w, 0.0, w);
+        const double py0 = std::clamp((y0 / sy + 1.0) * 0.5 * h, 0.0, h), py1 = std::clamp((y1 / sy + 1.0) * 0.5 * h, 0.0, h);
+        total += (px1 - px0) * (py1 - py0) * 0.785398;
+    }
+    return std::uint64_t(total);
+}
+
+PpllMethod::PpllMethod(Device& device, PpllOptions options)
+    : device_(device), options_(options), descriptors_(device), frame_(device, descriptors_), timer_(device, 4, "ppll.timestamps") {
+    GraphicsPipelineDesc append;
+    append.name = "ppll_append";
+    append.vertex = BRUME_SPIRV(spv_sphere_impostor_vert);
+    append.fragment = BRUME_SPIRV(spv_ppll_append_frag);
+    append_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), append);
+
+    GraphicsPipelineDesc resolve;
+    resolve.name = "ppll_resolve";
+    resolve.vertex = BRUME_SPIRV(spv_fullscreen_vert);
+    resolve.fragment = BRUME_SPIRV(spv_ppll_resolve_frag);
+    resolve.color_formats = {FrameResources::kHdrFormat};
+    resolve.fragment_constants = {std::max<std::uint32_t>(options.window, 2)};
+    resolve_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), resolve);
+
+    counters_ = Buffer(device, sizeof(gpu::ListCounters),
+                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                           VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                       MemoryUse::Device, "ppll.counters");
+    counters_readback_ = Buffer(device, sizeof(gpu::ListCounters), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                MemoryUse::Readback, "ppll.counters_readback");
+    descriptors_.write_storage(gpu::BINDING_COUNTERS, counters_.get());
+
+    // Pool parts are the largest power of two of nodes one storage-buffer descriptor can address.
+    const std::uint64_t range = device.properties().limits.maxStorageBufferRange;
+    part_shift_ = 0;
+    while (part_shift_ < 28 && nodes_bytes(2ull << part_shift_) <= range) ++part_shift_;
+    const std::uint64_t addressable = std::uint64_t(gpu::MAX_POOL_PARTS) << part_shift_;
+    max_pool_bytes_ = options.max_pool_bytes ? options.max_pool_bytes : device.device_local_bytes() / 2;
+    max_nodes_ = std::min(addressable, max_pool_bytes_ / gpu::NODE_BYTES);
+}
+
+void PpllMethod::ensure_heads(VkExtent2D extent) {
+    const VkDeviceSize bytes = VkDeviceSize(extent.width) * extent.height * sizeof(std::uint32_t);
+    if (heads_.size() == bytes) return;
+    if (bytes > device_.properties().limits.maxStorageBufferRange)
+        throw std::runtime_error("resolution " + std::to_string(extent.width) + "x" + std::to_string(extent.height) +
+                                 " needs a " + format_bytes(bytes) + " head-pointer buffer, more than this device's " +
+                                 format_bytes(device_.properties().limits.maxStorageBufferRange) + " storage-buffer limit");
+    heads_ = Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                    MemoryUse::Device, "ppll.heads");
+    descriptors_.write_storage(gpu::BINDING_HEADS, heads_.get());
+}
+
+void PpllMethod::allocate_pool(std::uint64_t nodes) {
+    nodes = std::max<std::uint64_t>(nodes, 1024);
+    pool_parts_.clear();  // free the old pool before allocating the new one
+    const std::uint64_t per_part = 1ull << part_shift_;
+    std::vector<VkBuffer> handles;
+    for (std::uint64_t first = 0; first < nodes; first += per_part) {
+        const std::uint64_t count = std::min(per_part, nodes - first);
+        pool_parts_.emplace_back(device_, nodes_bytes(count), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device,
+                                 "ppll.pool[" + std::to_string(pool_parts_.size()) + "]");
+        handles.push_back(pool_parts_.back().get());
+    }
+    // Unused slots repeat part 0: the shaders never index past the parts that exist.
+    while (handles.size() < gpu::MAX_POOL_PARTS) handles.push_back(handles.front());
+    descriptors_.write_storage_array(gpu::BINDING_POOL, handles);
+    capacity_ = nodes;
+}
+
+void PpllMethod::record_frame(VkCommandBuffer cmd) {
+    timer_.reset(cmd);
+    timer_.stamp(cmd, 0);
+    // Empty lists and zeroed counters, ordered before the fragment shaders' atomics.
+    vkCmdFillBuffer(cmd, heads_.get(), 0, VK_WHOLE_SIZE, gpu::LIST_END);
+    vkCmdFillBuffer(cmd, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    frame_.record_opaque_pass(cmd);
+    timer_.stamp(cmd, 1);
+
+    // Particle pass: no attachments, the fragment shader only appends to the lists.
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, frame_.extent()};
+    info.layerCount = 1;
+    vkCmdBeginRendering(cmd, &info);
+    if (frame_.sphere_count() > 0) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, append_pipeline_);
+        descriptors_.bind(cmd);
+        set_viewport(cmd, frame_.extent());
+        vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
+    }
+    vkCmdEndRendering(cmd);
+    timer_.stamp(cmd, 2);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+
+    frame_.begin_hdr_rendering(cmd);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_pipeline_);
+    descriptors_.bind(cmd);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    frame_.end_hdr_rendering(cmd);
+    timer_.stamp(cmd, 3);
+
+    frame_.record_hdr_readback(cmd);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkBufferCopy copy{0, 0, sizeof(gpu::ListCounters)};
+    vkCmdCopyBuffer(cmd, counters_.get(), counters_readback_.get(), 1, &copy);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                   VK_ACCESS_2_HOST_READ_BIT);
+}
+
+Image PpllMethod::render(const Scene& scene, FrameStats* stats) {
+    frame_.upload(scene);
+    ensure_heads(frame_.extent());
+    if (capacity_ == 0) {
+        std::uint64_t want = options_.initial_nodes;
+        if (want == 0) {
+            const std::uint64_t estimate = estimate_fragments(scene);
+            want = estimate + estimate / 4;
+        }
+        allocate_pool(std::min(want, max_nodes_));
+    }
+
+    int regrows = 0;
+    gpu::ListCounters counters{};
+    for (;;) {
+        gpu::FrameUniforms& u = frame_.uniforms();
+        u.pool = gpu::uvec4(std::uint32_t(capacity_), part_shift_, std::uint32_t(pool_parts_.size()), 0);
+        device_.submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd); });
+        std::memcpy(&counters, counters_readback_.mapped(), sizeof counters);
+        if (counters.allocated <= capacity_) break;
+        // Overflow: nothing past capacity was written and the frame is discarded. Grow to what this
+        // frame needed plus headroom for the next one, and render again.
+        const std::uint64_t needed = counters.allocated;
+        if (needed > max_nodes_) throw PoolBudgetError(nodes_bytes(needed), nodes_bytes(max_nodes_));
+        allocate_pool(std::min(max_nodes_, needed + needed / 4));
+        ++regrows;
+    }
+
+    if (stats) {
+        const std::vector<double> ms = timer_.intervals_ms(4);
+        stats->passes = {{"clear+opaque", ms[0]}, {"particles", ms[1]}, {"resolve", ms[2]}};
+        stats->total_ms = ms[0] + ms[1] + ms[2];
+        stats->fragments = counters.allocated;
+        stats->pool_capacity = capacity_;
+        stats->pool_bytes = nodes_bytes(capacity_);
+        stats->regrows = regrows;
+        stats->max_list_length = counters.max_length;
+        stats->nonempty_pixels = counters.nonempty_pixels;
+        stats->mean_list_length = counters.nonempty_pixels ? double(counters.allocated) / counters.nonempty_pixels : 0.0;
+        stats->long_list_pixels = counters.long_lists;
+    }
+    return frame_.read_hdr();
+}
+
+}  // namespace brume

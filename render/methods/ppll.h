@@ -1,0 +1,75 @@
+// The `ppll` method (seed 000, GUIDE sections 1-2): per-pixel linked lists of sphere intervals built
+// by an impostor pass, then sorted and integrated exactly per pixel. The node pool is sized from the
+// scene, checked after every frame, and grown (frame rendered again) on overflow up to a budget.
+#pragma once
+
+#include "render/image.h"
+#include "render/methods/frame_resources.h"
+#include "render/methods/frame_stats.h"
+#include "render/vk/descriptors.h"
+#include "render/vk/device.h"
+#include "render/vk/gpu_timer.h"
+#include "render/vk/resources.h"
+#include "sim/scene.h"
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace brume {
+
+struct PpllOptions {
+    std::uint64_t max_pool_bytes = 0;  // node-pool budget; 0: half the device-local heap (capped by the parts)
+    std::uint64_t initial_nodes = 0;   // first pool size; 0: estimated from the scene's projected spheres
+    std::uint32_t window = 64;         // events the resolve sorts at once (longer lists take more walks)
+};
+
+// The scene needs more list memory than the budget allows.
+class PoolBudgetError : public std::runtime_error {
+public:
+    PoolBudgetError(std::uint64_t needed, std::uint64_t allowed);
+    std::uint64_t bytes_needed() const { return needed_; }
+    std::uint64_t bytes_allowed() const { return allowed_; }
+
+private:
+    std::uint64_t needed_, allowed_;
+};
+
+// Fragments (list nodes) a scene will need: the projected area of each sphere. An estimate (it
+// ignores occlusion by boxes and the eye's clipping), used only to size the first pool.
+std::uint64_t estimate_fragments(const Scene& scene);
+
+class PpllMethod {
+public:
+    explicit PpllMethod(vk::Device& device, PpllOptions options = {});
+
+    // Renders one frame and reads it back. Throws PoolBudgetError when the lists cannot fit.
+    Image render(const Scene& scene, FrameStats* stats = nullptr);
+
+    std::uint64_t max_pool_nodes() const { return max_nodes_; }
+    std::uint64_t pool_capacity() const { return capacity_; }
+
+private:
+    void ensure_heads(VkExtent2D extent);
+    void allocate_pool(std::uint64_t nodes);
+    void record_frame(VkCommandBuffer cmd);
+
+    vk::Device& device_;
+    PpllOptions options_;
+    vk::SharedDescriptors descriptors_;
+    FrameResources frame_;
+    vk::GpuTimer timer_;
+    vk::UniquePipeline append_pipeline_;
+    vk::UniquePipeline resolve_pipeline_;
+    vk::Buffer heads_;
+    vk::Buffer counters_;
+    vk::Buffer counters_readback_;
+    std::vector<vk::Buffer> pool_parts_;
+    std::uint32_t part_shift_ = 0;  // log2(nodes per part)
+    std::uint64_t capacity_ = 0;    // nodes
+    std::uint64_t max_nodes_ = 0;
+    std::uint64_t max_pool_bytes_ = 0;
+};
+
+}  // namespace brume

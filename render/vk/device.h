@@ -1,0 +1,100 @@
+// The Vulkan instance, physical device choice and logical device: headless by default, lavapipe
+// unless another device is named, validation layers on request. One Device per process is typical;
+// it owns everything it creates and holds no global state.
+#pragma once
+
+#include "render/vk/handle.h"
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace brume::vk {
+
+struct DeviceOptions {
+    std::string device_name;  // case-insensitive substring of the device name; empty: lavapipe
+    bool validate = false;    // Khronos validation layer on; also switched on by BRUME_VALIDATE=1
+};
+
+struct PhysicalDeviceInfo {
+    std::string name;
+    std::string type;  // "cpu", "discrete gpu", ...
+    std::uint32_t api_version = 0;
+};
+
+class Device {
+public:
+    explicit Device(const DeviceOptions& options = {});
+    ~Device();
+    Device(const Device&) = delete;
+    Device& operator=(const Device&) = delete;
+
+    // Every device this loader can see (for `brume devices` and for error messages).
+    static std::vector<PhysicalDeviceInfo> enumerate();
+
+    VkDevice get() const { return device_; }
+    VkPhysicalDevice physical() const { return physical_; }
+    VkQueue queue() const { return queue_; }
+    std::uint32_t queue_family() const { return queue_family_; }
+    const VkPhysicalDeviceProperties& properties() const { return properties_; }
+    const VkPhysicalDeviceMemoryProperties& memory_properties() const { return memory_properties_; }
+    std::string name() const { return properties_.deviceName; }
+    bool validation_enabled() const { return validation_enabled_; }
+    // Bytes of the largest device-local heap.
+    std::uint64_t device_local_bytes() const;
+
+    // Validation messages (warnings and errors) seen since the device was created or last taken.
+    std::size_t validation_message_count() const;
+    std::vector<std::string> take_validation_messages();
+
+    // Debug-utils object names, shown by validation messages and GPU debuggers.
+    void set_name(VkObjectType type, std::uint64_t handle, const char* name) const;
+    template <typename T>
+    void set_name(VkObjectType type, T handle, const char* name) const {
+        set_name(type, reinterpret_cast<std::uint64_t>(handle), name);
+    }
+
+    std::uint32_t find_memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,
+                                   VkMemoryPropertyFlags preferred = 0) const;
+
+    // Record with `record`, submit and wait: Brume's frames are synchronous (one frame in flight).
+    template <typename Record>
+    void submit_and_wait(Record&& record) {
+        begin_commands();
+        record(command_buffer_);
+        end_submit_wait();
+    }
+
+private:
+    static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                         VkDebugUtilsMessageTypeFlagsEXT types,
+                                                         const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                         void* user);
+    void release();
+    void begin_commands();
+    void end_submit_wait();
+
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    std::uint32_t queue_family_ = 0;
+    VkPhysicalDeviceProperties properties_{};
+    VkPhysicalDeviceMemoryProperties memory_properties_{};
+    bool validation_enabled_ = false;
+    PFN_vkSetDebugUtilsObjectNameEXT set_object_name_ = nullptr;
+
+    UniqueCommandPool command_pool_;
+    VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
+    UniqueFence fence_;
+
+    mutable std::mutex messages_mutex_;
+    std::vector<std::string> messages_;
+    std::size_t message_count_ = 0;
+};
+
+}  // namespace brume::vk

@@ -1,0 +1,38 @@
+// Shader modules from embedded SPIR-V, and the few graphics pipelines Brume's passes need:
+// no vertex input (impostors read their storage buffers), dynamic rendering, dynamic viewport.
+#pragma once
+
+#include "render/vk/device.h"
+#include "render/vk/handle.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace brume::vk {
+
+struct Spirv {
+    const std::uint32_t* code;
+    std::size_t bytes;
+};
+// BRUME_SPIRV(spv_ppll_resolve_frag) for an array embedded by shaders/CMakeLists.txt.
+#define BRUME_SPIRV(array) ::brume::vk::Spirv{array, sizeof(array)}
+
+struct GraphicsPipelineDesc {
+    std::string name;
+    Spirv vertex{};
+    Spirv fragment{};
+    std::vector<VkFormat> color_formats;  // may be empty: a pass with no attachments
+    VkFormat depth_format = VK_FORMAT_UNDEFINED;
+    VkCompareOp depth_compare = VK_COMPARE_OP_ALWAYS;
+    std::vector<std::uint32_t> fragment_constants;  // specialization constants 0, 1, ... (uint)
+};
+
+UniqueShaderModule create_shader_module(const Device& device, Spirv spirv, const std::string& name);
+UniquePipeline create_graphics_pipeline(const Device& device, VkPipelineLayout layout, const GraphicsPipelineDesc& desc);
+
+// Viewport and scissor covering `extent` (both are dynamic state in every Brume pipeline).
+void set_viewport(VkCommandBuffer cmd, VkExtent2D extent);
+
+}  // namespace brume::vk

@@ -1,0 +1,126 @@
+#include "render/vk/resources.h"
+
+#include "render/vk/vk_check.h"
+
+#include <cstdio>
+
+namespace brume::vk {
+namespace {
+
+UniqueMemory allocate(const Device& device, const VkMemoryRequirements& req, VkMemoryPropertyFlags required,
+                      VkMemoryPropertyFlags preferred, const std::string& name) {
+    VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    info.allocationSize = req.size;
+    info.memoryTypeIndex = device.find_memory_type(req.memoryTypeBits, required, preferred);
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkResult r = vkAllocateMemory(device.get(), &info, nullptr, &memory);
+    if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
+        throw VulkanError(r, "out of memory allocating " + format_bytes(req.size) + " for '" + name + "' on " +
+                                 device.name() + " (" + result_name(r) + ")");
+    VK_CHECK(r);
+    device.set_name(VK_OBJECT_TYPE_DEVICE_MEMORY, memory, name.c_str());
+    return UniqueMemory(device.get(), memory);
+}
+
+}  // namespace
+
+std::string format_bytes(std::uint64_t bytes) {
+    char text[64];
+    if (bytes >= (1ull << 30)) std::snprintf(text, sizeof text, "%.2f GiB (%llu bytes)", bytes / double(1ull << 30), (unsigned long long)bytes);
+    else if (bytes >= (1ull << 20)) std::snprintf(text, sizeof text, "%.1f MiB (%llu bytes)", bytes / double(1ull << 20), (unsigned long long)bytes);
+    else std::snprintf(text, sizeof text, "%llu bytes", (unsigned long long)bytes);
+    return text;
+}
+
+Buffer::Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use,
+               const std::string& name)
+    : size_(size) {
+    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    info.size = size;
+    info.usage = usage;
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VkBuffer buffer;
+    VK_CHECK(vkCreateBuffer(device.get(), &info, nullptr, &buffer));
+    buffer_ = UniqueBuffer(device.get(), buffer);
+    device.set_name(VK_OBJECT_TYPE_BUFFER, buffer, name.c_str());
+
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(device.get(), buffer, &req);
+    const VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    switch (use) {
+    case MemoryUse::Device: memory_ = allocate(device, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, name); break;
+    case MemoryUse::Upload: memory_ = allocate(device, req, host, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, name); break;
+    case MemoryUse::Readback: memory_ = allocate(device, req, host, VK_MEMORY_PROPERTY_HOST_CACHED_BIT, name); break;
+    }
+    VK_CHECK(vkBindBufferMemory(device.get(), buffer, memory_, 0));
+    if (use != MemoryUse::Device) VK_CHECK(vkMapMemory(device.get(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+}
+
+DeviceImage::DeviceImage(const Device& device, VkFormat format, VkExtent2D extent, VkImageUsageFlags usage,
+             VkImageAspectFlags aspect, const std::string& name)
+    : format_(format), extent_(extent) {
+    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    info.imageType = VK_IMAGE_TYPE_2D;
+    info.format = format;
+    info.extent = {extent.width, extent.height, 1};
+    info.mipLevels = 1;
+    info.arrayLayers = 1;
+    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.tiling = VK_IMAGE_TILING_OPTIMAL;
+    info.usage = usage;
+    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    VkImage image;
+    VK_CHECK(vkCreateImage(device.get(), &info, nullptr, &image));
+    image_ = UniqueImage(device.get(), image);
+    device.set_name(VK_OBJECT_TYPE_IMAGE, image, name.c_str());
+
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(device.get(), image, &req);
+    memory_ = allocate(device, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, name);
+    VK_CHECK(vkBindImageMemory(device.get(), image, memory_, 0));
+
+    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    view.image = image;
+    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    view.format = format;
+    view.subresourceRange = {aspect, 0, 1, 0, 1};
+    VkImageView v;
+    VK_CHECK(vkCreateImageView(device.get(), &view, nullptr, &v));
+    view_ = UniqueImageView(device.get(), v);
+    device.set_name(VK_OBJECT_TYPE_IMAGE_VIEW, v, (name + ".view").c_str());
+}
+
+void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
+                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+    VkMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    barrier.srcStageMask = src_stage;
+    barrier.srcAccessMask = src_access;
+    barrier.dstStageMask = dst_stage;
+    barrier.dstAccessMask = dst_access;
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.memoryBarrierCount = 1;
+    dep.pMemoryBarriers = &barrier;
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout old_layout,
+                   VkImageLayout new_layout, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
+                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+    VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    barrier.srcStageMask = src_stage;
+    barrier.srcAccessMask = src_access;
+    barrier.dstStageMask = dst_stage;
+    barrier.dstAccessMask = dst_access;
+    barrier.oldLayout = old_layout;
+    barrier.newLayout = new_layout;
+    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.image = image;
+    barrier.subresourceRange = {aspect, 0, 1, 0, 1};
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.imageMemoryBarrierCount = 1;
+    dep.pImageMemoryBarriers = &barrier;
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+}  // namespace brume::vk

@@ -1,0 +1,20 @@
+// The light model of GUIDE section 1 in float: Rayleigh source term and a cancellation-free
+// segment integral.
+#ifndef BRUME_MEDIUM_GLSL
+#define BRUME_MEDIUM_GLSL
+
+// (1 - exp(-x)) / x for x >= 0. Below 1/8 the series (error < x^6/5040 < 1e-9) avoids the
+// cancellation of 1 - exp(-x); it is 1 at x = 0, so empty space and tau -> 0 need no special case.
+float one_minus_exp_over_x(float x) {
+    if (x < 0.125)
+        return 1.0 - x / 2.0 * (1.0 - x / 3.0 * (1.0 - x / 4.0 * (1.0 - x / 5.0 * (1.0 - x / 6.0))));
+    return (1.0 - exp(-x)) / x;
+}
+
+// L_s = L_ambient + L_sun * 3/(16 pi) * (1 + cos^2 theta), theta between sunlight and view ray.
+vec3 source_radiance(vec3 dir) {
+    float cos_theta = dot(frame.sun_dir.xyz, dir);
+    return frame.ambient.rgb + frame.sun.rgb * (0.05968310365946075 * (1.0 + cos_theta * cos_theta));
+}
+
+#endif

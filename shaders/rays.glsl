@@ -1,0 +1,42 @@
+// Pixel rays and analytic intersections, the float twins of sim/camera_rays.h and render/reference.cpp.
+#ifndef BRUME_RAYS_GLSL
+#define BRUME_RAYS_GLSL
+
+// Unit direction of the ray through framebuffer position p (pixel centres are at i + 0.5).
+vec3 pixel_ray_direction(vec2 p) {
+    vec2 ndc = 2.0 * p / vec2(frame.counts.xy) - 1.0;
+    return normalize(frame.forward.xyz + ndc.x * frame.right.xyz - ndc.y * frame.up.xyz);
+}
+
+// Entry and exit distances of a unit ray through a sphere; returns false on a miss.
+// The discriminant is r^2 - |oc - (oc.d) d|^2 rather than b^2 - c: no cancellation far from the sphere.
+bool intersect_sphere(vec3 origin, vec3 dir, vec3 centre, float radius, out float t0, out float t1) {
+    vec3 oc = origin - centre;
+    float b = dot(oc, dir);
+    vec3 closest = oc - b * dir;
+    float disc = radius * radius - dot(closest, closest);
+    if (disc < 0.0) return false;
+    // q-form: the root of larger magnitude without cancellation, the other from the product c / q.
+    float q = -b - (b >= 0.0 ? sqrt(disc) : -sqrt(disc));
+    float c = dot(oc, oc) - radius * radius;
+    float ta = q, tb = (q != 0.0) ? c / q : 0.0;  // q == 0 only for a ray tangent at its own origin
+    t0 = min(ta, tb);
+    t1 = max(ta, tb);
+    return true;
+}
+
+// Slab test: distance to the first surface of a solid box along a ray (0 when the eye is inside).
+bool intersect_box(vec3 origin, vec3 dir, vec3 lo, vec3 hi, out float t_hit) {
+    vec3 inv = 1.0 / dir;
+    vec3 ta = (lo - origin) * inv, tb = (hi - origin) * inv;
+    // A ray parallel to a slab gives +-inf, or NaN when it lies on the slab's plane; max/min below
+    // drop NaN in favour of the other operand, which keeps the test conservative on the boundary.
+    vec3 tn = min(ta, tb), tf = max(ta, tb);
+    float t_near = max(max(tn.x, tn.y), tn.z);
+    float t_far = min(min(tf.x, tf.y), tf.z);
+    if (t_far < max(t_near, 0.0) || t_near > t_far) return false;
+    t_hit = max(t_near, 0.0);
+    return true;
+}
+
+#endif

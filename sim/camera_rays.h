@@ -1,0 +1,47 @@
+// The one definition of the pixel-centre ray, shared by the CPU reference and the GPU uniforms,
+// so both sample exactly the same rays (GUIDE section 2).
+#pragma once
+
+#include "sim/scene.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+
+namespace brume {
+
+// An orthonormal camera basis with the image-plane half extents folded into right/up:
+// dir(i, j) = normalize(forward + ndc_x * right - ndc_y * up), ndc in [-1, 1], y down.
+struct CameraRays {
+    glm::dvec3 eye;
+    glm::dvec3 forward;
+    glm::dvec3 right;  // unit right * tan(fov/2) * aspect
+    glm::dvec3 up;     // unit up * tan(fov/2)
+    int width;
+    int height;
+
+    glm::dvec3 direction(double px, double py) const {
+        const double ndc_x = 2.0 * px / width - 1.0;
+        const double ndc_y = 2.0 * py / height - 1.0;
+        return glm::normalize(forward + ndc_x * right - ndc_y * up);
+    }
+    // Ray through the centre of pixel (i, j).
+    glm::dvec3 pixel_direction(int i, int j) const { return direction(i + 0.5, j + 0.5); }
+};
+
+inline CameraRays make_camera_rays(const Camera& c) {
+    CameraRays r;
+    r.eye = c.position;
+    r.forward = glm::normalize(c.look_at - c.position);
+    const glm::dvec3 right_unit = glm::normalize(glm::cross(r.forward, c.up));
+    const glm::dvec3 up_unit = glm::cross(right_unit, r.forward);
+    const double tan_half = std::tan(c.fov_y_deg * 0.5 * 3.14159265358979323846 / 180.0);
+    const double aspect = double(c.width) / double(c.height);
+    r.right = right_unit * (tan_half * aspect);
+    r.up = up_unit * tan_half;
+    r.width = c.width;
+    r.height = c.height;
+    return r;
+}
+
+}  // namespace brume

@@ -1,0 +1,58 @@
+// The scene contract (GUIDE section 2): what every renderer and method reads.
+// Plain data in double precision; the GPU path converts to float when it uploads.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <string>
+#include <vector>
+
+namespace brume {
+
+// Pixel (i, j), i from the left, j from the top, is sampled by one ray through (i + 0.5, j + 0.5).
+struct Camera {
+    glm::dvec3 position{0.0, 1.0, 6.0};
+    glm::dvec3 look_at{0.0, 0.5, 0.0};
+    glm::dvec3 up{0.0, 1.0, 0.0};
+    double fov_y_deg = 40.0;  // vertical field of view
+    int width = 160;
+    int height = 120;
+};
+
+struct Lighting {
+    glm::dvec3 ambient{0.25, 0.27, 0.30};        // L_ambient
+    glm::dvec3 sun{1.0, 0.95, 0.85};             // L_sun, scattered with the Rayleigh phase
+    glm::dvec3 sun_direction{-0.4, -1.0, -0.3};  // direction the sunlight travels (need not be unit)
+    glm::dvec3 background{0.05, 0.06, 0.08};     // radiance where a ray meets no opaque surface
+};
+
+// Opaque, axis aligned, flat radiance toward the eye. Solid: an eye inside a box sees its radiance.
+struct Box {
+    glm::dvec3 min{0.0};
+    glm::dvec3 max{0.0};
+    glm::dvec3 radiance{0.0};
+};
+
+// One particle: a sphere of homogeneous participating medium.
+struct Sphere {
+    glm::dvec3 center{0.0};
+    double radius = 0.0;
+    double extinction = 0.0;  // tau, per scene unit
+    glm::dvec3 albedo{1.0};
+};
+
+struct RenderSettings {
+    // Integration stops once transmittance falls below this (GUIDE section 1); 0 integrates everything.
+    double min_transmittance = 1e-4;
+};
+
+struct Scene {
+    Camera camera;
+    Lighting lighting;
+    RenderSettings render;
+    std::vector<Box> boxes;
+    std::vector<Sphere> spheres;
+    std::string source;  // where the scene came from ("built-in default", a path), for messages
+};
+
+}  // namespace brume

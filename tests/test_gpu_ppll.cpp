@@ -1,0 +1,288 @@
+// ppll against closed forms and the CPU double-precision reference (issue 2, item 8).
+#include "gpu_test_env.h"
+#include "render/methods/ppll.h"
+#include "sim/camera_rays.h"
+#include "sim/layers_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace brume {
+namespace {
+
+using testing::compare_with_reference;
+using testing::GpuTest;
+
+Scene small_scene(int w = 128, int h = 96) {
+    Scene s;
+    s.source = "test";
+    s.camera.position = {0.0, 0.0, 5.0};
+    s.camera.look_at = {0.0, 0.0, 0.0};
+    s.camera.width = w;
+    s.camera.height = h;
+    s.render.min_transmittance = 0.0;
+    return s;
+}
+
+Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo = {0.9, 0.8, 0.7}) {
+    Sphere s;
+    s.center = c;
+    s.radius = r;
+    s.extinction = tau;
+    s.albedo = albedo;
+    return s;
+}
+
+bool all_finite(const Image& img) {
+    return std::all_of(img.rgb.begin(), img.rgb.end(), [](float v) { return std::isfinite(v); });
+}
+
+class Ppll : public GpuTest {};
+
+TEST_F(Ppll, SingleSphereMatchesClosedFormThroughCentre) {
+    // Odd size: the centre pixel's ray goes exactly through the sphere centre.
+    Scene s = small_scene(65, 65);
+    const double r = 1.0, tau = 0.7;
+    s.spheres.push_back(sphere({0, 0, 0}, r, tau));
+    PpllMethod ppll(device());
+    const Image img = ppll.render(s);
+    const CameraRays rays = make_camera_rays(s.camera);
+    const glm::dvec3 dir = rays.pixel_direction(32, 32);
+    const double cos_t = glm::dot(glm::normalize(s.lighting.sun_direction), dir);
+    const glm::dvec3 ls = s.lighting.ambient + s.lighting.sun * (3.0 / (16.0 * M_PI)) * (1.0 + cos_t * cos_t);
+    const double t = std::exp(-2.0 * r * tau);
+    for (int c = 0; c < 3; ++c) {
+        const double expected = s.spheres[0].albedo[c] * ls[c] * (1.0 - t) + t * s.lighting.background[c];
+        EXPECT_NEAR(img.pixel(32, 32)[c], expected, 1e-6) << "channel " << c;
+    }
+    // A corner pixel misses the sphere and shows the background.
+    for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(img.pixel(0, 0)[c], float(s.lighting.background[c]));
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+TEST_F(Ppll, TwoOverlappingSpheresMatchReference) {
+    Scene s = small_scene();
+    s.spheres.push_back(sphere({-0.4, 0.1, 0}, 1.0, 1.5, {0.9, 0.2, 0.2}));
+    s.spheres.push_back(sphere({0.5, -0.1, 0.3}, 0.9, 3.0, {0.2, 0.3, 0.95}));
+    PpllMethod ppll(device());
+    FrameStats stats;
+    const Image img = ppll.render(s, &stats);
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+    EXPECT_EQ(stats.max_list_length, 2u);
+}
+
+Scene random_scene(int count, unsigned seed, bool with_boxes) {
+    Scene s = small_scene();
+    s.camera.position = {0.3, 1.2, 7.0};
+    s.camera.look_at = {0.0, 0.2, 0.0};
+    s.render.min_transmittance = 1e-4;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < count; ++i) {
+        s.spheres.push_back(sphere({u(rng) * 4 - 2, u(rng) * 3 - 1, u(rng) * 4 - 2}, 0.1 + 0.5 * u(rng),
+                                   std::pow(10.0, u(rng) * 2.5 - 2.0), {u(rng), u(rng), u(rng)}));
+    }
+    if (with_boxes) {
+        s.boxes.push_back(Box{{-5, -1.5, -5}, {5, -1, 5}, {0.3, 0.3, 0.3}});
+        s.boxes.push_back(Box{{-0.5, -1, -0.5}, {0.4, 1.0, 0.6}, {0.8, 0.3, 0.1}});
+    }
+    return s;
+}
+
+TEST_F(Ppll, ThousandRandomOverlappingSpheresMatchReference) {
+    const Scene s = random_scene(1000, 7, true);
+    PpllMethod ppll(device());
+    FrameStats stats;
+    const Image img = ppll.render(s, &stats);
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+    EXPECT_GT(stats.max_list_length, 20u);  // the scene really is deep
+    EXPECT_TRUE(all_finite(img));
+}
+
+TEST_F(Ppll, EyeInsideSeveralSpheres) {
+    Scene s = small_scene();
+    s.camera.position = {0.1, 0.0, 0.2};
+    s.spheres.push_back(sphere({0, 0, 0}, 1.5, 0.4, {0.9, 0.9, 0.9}));
+    s.spheres.push_back(sphere({0.3, 0.2, 0.1}, 0.8, 1.0, {0.3, 0.6, 0.9}));
+    s.spheres.push_back(sphere({0, 0, -2}, 1.8, 0.5, {0.9, 0.5, 0.2}));  // contains the eye too
+    s.spheres.push_back(sphere({0, 0, -3}, 0.5, 2.0));                   // in front, outside
+    PpllMethod ppll(device());
+    const Image img = ppll.render(s);
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+TEST_F(Ppll, SphereCrossingTheEyePlaneIsClippedExactly) {
+    // Spheres whose front surface lies behind the eye (and so behind any near plane) but whose
+    // volume reaches in front: they must be integrated from the eye, not dropped.
+    Scene s = small_scene();
+    s.camera.position = {0, 0, 0};
+    s.camera.look_at = {0, 0, -1};
+    s.spheres.push_back(sphere({0.5, 0.0, 0.3}, 0.6, 2.0));   // contains the eye, centre behind it
+    s.spheres.push_back(sphere({-0.8, 0.2, 0.4}, 0.7, 1.0));  // cut by the eye plane, eye outside
+    s.spheres.push_back(sphere({0.0, -0.5, 0.01}, 0.2, 5.0)); // grazes the eye plane
+    PpllMethod ppll(device());
+    const Image img = ppll.render(s);
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+    EXPECT_TRUE(all_finite(img));
+}
+
+TEST_F(Ppll, SpheresCutByBoxes) {
+    Scene s = small_scene();
+    s.boxes.push_back(Box{{-3, -3, -0.2}, {3, -0.3, 0.2}, {0.6, 0.2, 0.1}});  // slices through sphere 0
+    s.boxes.push_back(Box{{0.2, -2, -2}, {0.5, 2, 2}, {0.1, 0.4, 0.2}});      // a wall through sphere 1
+    s.spheres.push_back(sphere({-0.5, 0, 0}, 1.0, 1.2));
+    s.spheres.push_back(sphere({0.6, 0.3, 0.5}, 0.9, 2.5, {0.2, 0.9, 0.4}));
+    PpllMethod ppll(device());
+    const Image img = ppll.render(s);
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+TEST_F(Ppll, EyeInsideABoxSeesItsRadiance) {
+    Scene s = small_scene(32, 32);
+    s.boxes.push_back(Box{{-1, -1, 4}, {1, 1, 6}, {0.25, 0.5, 0.75}});
+    s.spheres.push_back(sphere({0, 0, 0}, 1.0, 1.0));
+    PpllMethod ppll(device());
+    const Image img = ppll.render(s);
+    for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(img.pixel(16, 16)[c], float(s.boxes[0].radiance[c]));
+}
+
+TEST_F(Ppll, TangentAndCoincidentSpheres) {
+    Scene s = small_scene();
+    s.spheres.push_back(sphere({-0.5, 0, 0}, 0.5, 2.0, {0.9, 0.1, 0.1}));
+    s.spheres.push_back(sphere({0.5, 0, 0}, 0.5, 2.0, {0.1, 0.9, 0.1}));   // tangent to the first
+    s.spheres.push_back(sphere({0.5, 0, 0}, 0.5, 1.0, {0.1, 0.1, 0.9}));   // coincident with the second
+    s.spheres.push_back(sphere({0.0, 1.0, 0}, 0.5, 1.0));                  // tangent to both from above
+    PpllMethod ppll(device());
+    const Image img = ppll.render(s);
+    EXPECT_TRUE(all_finite(img));
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+TEST_F(Ppll, ExtinctionFromOneMillionthToTenThousand) {
+    for (double tau : {1e-6, 1e-4, 1e-2, 1.0, 1e2, 1e4}) {
+        Scene s = small_scene(64, 48);
+        s.lighting.background = {0, 0, 0};
+        s.spheres.push_back(sphere({-0.3, 0, 0}, 1.0, tau));
+        s.spheres.push_back(sphere({0.4, 0.1, 0.2}, 0.7, tau * 3.0, {0.3, 0.5, 0.7}));
+        PpllMethod ppll(device());
+        const Image img = ppll.render(s);
+        ASSERT_TRUE(all_finite(img)) << "tau " << tau;
+        // Relative to the image's own peak, so 1e-6 media are checked as strictly as opaque ones:
+        // a cancelling 1 - exp(-x) would be off by ~1e-2 relative at tau = 1e-6.
+        const ImageDiff d = compare_with_reference(img, s);
+        EXPECT_EQ(d.pixels_over, 0u) << "tau " << tau << ": " << describe(d);
+        EXPECT_GT(d.peak, 0.0);
+    }
+}
+
+TEST_F(Ppll, ShuffledParticleOrderGivesTheSameImage) {
+    Scene s = random_scene(300, 11, false);
+    PpllMethod ppll(device());
+    const Image a = ppll.render(s);
+    std::mt19937 rng(3);
+    std::shuffle(s.spheres.begin(), s.spheres.end(), rng);
+    const Image b = ppll.render(s);
+    // Only events at exactly equal distances may be summed in another order.
+    const ImageDiff d = compare_images(b, a, 1e-6);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+TEST_F(Ppll, TinyPoolRegrowsAndStaysExact) {
+    const Scene s = random_scene(200, 5, true);
+    PpllOptions options;
+    options.initial_nodes = 16;  // far too small: the first frame must overflow
+    PpllMethod ppll(device(), options);
+    FrameStats stats;
+    const Image img = ppll.render(s, &stats);
+    EXPECT_GE(stats.regrows, 1);
+    EXPECT_GE(stats.pool_capacity, stats.fragments);
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+    // The grown pool serves the next frame without regrowing.
+    ppll.render(s, &stats);
+    EXPECT_EQ(stats.regrows, 0);
+}
+
+TEST_F(Ppll, BudgetTooSmallStatesTheBytesNeeded) {
+    const Scene s = random_scene(200, 5, false);
+    PpllOptions options;
+    options.max_pool_bytes = 64 * 1024;  // 4096 nodes, far fewer than the scene needs
+    options.initial_nodes = 16;
+    PpllMethod ppll(device(), options);
+    FrameStats stats;
+    try {
+        ppll.render(s, &stats);
+        FAIL() << "expected PoolBudgetError";
+    } catch (const PoolBudgetError& e) {
+        EXPECT_GT(e.bytes_needed(), e.bytes_allowed());
+        EXPECT_EQ(e.bytes_allowed(), 64u * 1024u);
+        EXPECT_EQ(e.bytes_needed() % 16, 0u);
+        EXPECT_NE(std::string(e.what()).find("bytes"), std::string::npos) << e.what();
+    }
+    // An unconstrained renderer measures the same need exactly.
+    PpllMethod unconstrained(device());
+    unconstrained.render(s, &stats);
+    PpllMethod again(device(), options);
+    try {
+        again.render(s);
+    } catch (const PoolBudgetError& e) {
+        EXPECT_EQ(e.bytes_needed(), stats.fragments * 16);
+    }
+}
+
+TEST_F(Ppll, ListsLongerThanTheResolveWindowStayExact) {
+    // 60 spheres on the view axis: 60 nodes = 120 events per pixel, beyond a 64-event window; and
+    // a 4-event window forces many windows on every covered pixel.
+    Scene s = small_scene(48, 48);
+    s.render.min_transmittance = 0.0;
+    for (int i = 0; i < 60; ++i) s.spheres.push_back(sphere({0.01 * i, 0.0, 2.0 - 0.07 * i}, 1.0, 0.05));
+    for (std::uint32_t window : {64u, 4u}) {
+        PpllOptions options;
+        options.window = window;
+        PpllMethod ppll(device(), options);
+        FrameStats stats;
+        const Image img = ppll.render(s, &stats);
+        EXPECT_EQ(stats.max_list_length, 60u);
+        EXPECT_GT(stats.long_list_pixels, 0u);
+        const ImageDiff d = compare_with_reference(img, s);
+        EXPECT_EQ(d.pixels_over, 0u) << "window " << window << ": " << describe(d);
+    }
+}
+
+TEST_F(Ppll, LayersSceneHasExactlyTheStatedLayersEverywhere) {
+    for (int layers : {2, 8}) {
+        const Scene s = make_layers_scene(layers, 64, 48);
+        PpllMethod ppll(device());
+        FrameStats stats;
+        const Image img = ppll.render(s, &stats);
+        EXPECT_EQ(stats.fragments, std::uint64_t(64 * 48 * layers / 2));
+        EXPECT_EQ(stats.max_list_length, std::uint32_t(layers / 2));
+        EXPECT_EQ(stats.nonempty_pixels, std::uint64_t(64 * 48));
+        EXPECT_DOUBLE_EQ(stats.mean_list_length, layers / 2.0);
+        const ImageDiff d = compare_with_reference(img, s);
+        EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+    }
+}
+
+TEST_F(Ppll, EmptySceneShowsBackgroundAndBoxes) {
+    Scene s = small_scene(32, 24);
+    PpllMethod ppll(device());
+    FrameStats stats;
+    Image img = ppll.render(s, &stats);
+    EXPECT_EQ(stats.fragments, 0u);
+    for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(img.pixel(5, 5)[c], float(s.lighting.background[c]));
+    s.boxes.push_back(Box{{-1, -1, -1}, {1, 1, 1}, {0.5, 0.25, 0.125}});
+    img = ppll.render(s);
+    for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(img.pixel(16, 12)[c], float(s.boxes[0].radiance[c]));
+}
+
+}  // namespace
+}  // namespace brume

@@ -1,5 +1,5 @@
-// Shared set-up for GPU tests: one lavapipe device per test program with the validation layer on
-// (BRUME_VALIDATE=1 from ctest), and a check after every test that it reported nothing.
+// Shared set-up for GPU tests: one lavapipe device per test program with the validation layer on,
+// and a check after every test that it reported nothing (any message fails the test).
 #pragma once
 
 #include "render/image_compare.h"
@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <memory>
 
 namespace brume::testing {
@@ -15,10 +16,18 @@ namespace brume::testing {
 class GpuTest : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
-        if (!device_) device_ = std::make_unique<vk::Device>(vk::DeviceOptions{});
+        if (device_) return;
+        // Only lavapipe's driver is loaded (GUIDE section 5): other installed ICDs stay out of the way.
+        const char* lavapipe = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
+        setenv("VK_DRIVER_FILES", lavapipe, 1);
+        setenv("VK_ICD_FILENAMES", lavapipe, 1);
+        vk::DeviceOptions options;
+        options.device_name = "llvmpipe";
+        options.validate = true;
+        device_ = std::make_unique<vk::Device>(options);
     }
     static void TearDownTestSuite() { device_.reset(); }
-    void SetUp() override { ASSERT_TRUE(device_->validation_enabled()) << "tests must run with BRUME_VALIDATE=1"; }
+    void SetUp() override { ASSERT_TRUE(device_->validation_enabled()); }
     void TearDown() override {
         const auto messages = device_->take_validation_messages();
         for (const auto& m : messages) ADD_FAILURE() << m;

@@ -1,0 +1,227 @@
+#include "render/image_io.h"
+
+#include <ImathBox.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfStdIO.h>
+// libstb.so carries the implementation; defining STB_IMAGE_WRITE_IMPLEMENTATION here would duplicate it.
+#include <stb/stb_image_write.h>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+namespace brume {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string os_reason(int err) { return std::generic_category().message(err); }
+
+[[noreturn]] void fail_write(const fs::path& path, const std::string& reason) {
+    throw ImageIoError("cannot write " + path.string() + ": " + reason);
+}
+
+void check_image(const Image& image, const fs::path& path) {
+    if (image.width < 1 || image.height < 1 ||
+        image.rgb.size() != std::size_t(image.width) * std::size_t(image.height) * 3)
+        fail_write(path, "the image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                             " but holds " + std::to_string(image.rgb.size()) + " floats");
+}
+
+// Owns the temporary file until it has been renamed into place; on any failure closes and removes it.
+class TempFile {
+public:
+    TempFile(fs::path path, int fd) : path_(std::move(path)), fd_(fd) {}
+    TempFile(const TempFile&) = delete;
+    TempFile& operator=(const TempFile&) = delete;
+    ~TempFile() {
+        if (fd_ >= 0) ::close(fd_);
+        if (!committed_) ::unlink(path_.c_str());
+    }
+    int fd() const { return fd_; }
+    const fs::path& path() const { return path_; }
+    // Closing can report a delayed write error (NFS, quotas), so it is checked, not left to the destructor.
+    int close() {
+        const int r = ::close(fd_);
+        fd_ = -1;
+        return r;
+    }
+    void commit() { committed_ = true; }
+
+private:
+    fs::path path_;
+    int fd_;
+    bool committed_ = false;
+};
+
+// Creates a uniquely named file beside the target; the name starts with '.' so listings hide it.
+TempFile create_temp_beside(const fs::path& path) {
+    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    // Keep the temporary name within NAME_MAX even when the target's name is already long.
+    const std::string stem = path.filename().string().substr(0, 200);
+    std::random_device random;
+    for (int attempt = 0; attempt < 64; ++attempt) {
+        char suffix[16];
+        std::snprintf(suffix, sizeof suffix, "%08x", static_cast<unsigned>(random()));
+        fs::path temp = dir / ("." + stem + ".tmp-" + suffix);
+        // 0666 before the umask: the finished file gets the permissions of any newly created file.
+        const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0) return TempFile(std::move(temp), fd);
+        if (errno != EEXIST) {
+            const int err = errno;
+            fail_write(path, "cannot create a temporary file in " + dir.string() + ": " + os_reason(err));
+        }
+    }
+    fail_write(path, "cannot find a free temporary file name in " + dir.string());
+}
+
+// Write, flush to disk, then rename: readers see either the old file or the complete new one.
+void write_file_atomically(const fs::path& path, std::string_view bytes) {
+    if (!path.has_filename()) fail_write(path, "not a file name");
+    TempFile temp = create_temp_beside(path);
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n = ::write(temp.fd(), bytes.data() + done, bytes.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            const int err = errno;
+            fail_write(path, "writing " + temp.path().string() + ": " + os_reason(err));
+        }
+        done += static_cast<std::size_t>(n);
+    }
+    // Without fsync a crash soon after the rename can leave an empty file where the old good one was.
+    if (::fsync(temp.fd()) != 0) {
+        const int err = errno;
+        fail_write(path, "flushing " + temp.path().string() + ": " + os_reason(err));
+    }
+    if (temp.close() != 0) {
+        const int err = errno;
+        fail_write(path, "closing " + temp.path().string() + ": " + os_reason(err));
+    }
+    if (::rename(temp.path().c_str(), path.c_str()) != 0) {
+        const int err = errno;
+        fail_write(path, "renaming " + temp.path().string() + " into place: " + os_reason(err));
+    }
+    temp.commit();
+}
+
+std::string encode_exr(const Image& image) {
+    Imf::Header header(image.width, image.height);
+    for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    Imf::StdOSStream stream;
+    {
+        // The output file writes its offset table when destroyed, so it must close before str().
+        Imf::OutputFile out(stream, header);
+        Imf::FrameBuffer frame;
+        const std::size_t x_stride = 3 * sizeof(float);
+        const std::size_t y_stride = x_stride * std::size_t(image.width);
+        char* base = reinterpret_cast<char*>(const_cast<float*>(image.rgb.data()));  // only read
+        frame.insert("R", Imf::Slice(Imf::FLOAT, base + 0 * sizeof(float), x_stride, y_stride));
+        frame.insert("G", Imf::Slice(Imf::FLOAT, base + 1 * sizeof(float), x_stride, y_stride));
+        frame.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), x_stride, y_stride));
+        out.setFrameBuffer(frame);
+        out.writePixels(image.height);
+    }
+    return stream.str();
+}
+
+double srgb_encode_exact(double linear) {
+    return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+// Exposure, then the sRGB curve, then clamp; written so that NaN lands on 0 and +Inf on 255.
+unsigned char to_srgb8(float linear, double scale) {
+    const double v = double(linear) * scale;
+    if (!(v > 0.0)) return 0;
+    if (!(v < 1.0)) return 255;
+    const long code = std::lround(srgb_encode_exact(v) * 255.0);
+    return static_cast<unsigned char>(code < 255 ? code : 255);
+}
+
+std::string encode_png(const Image& image, double exposure_stops, const fs::path& path) {
+    if (!std::isfinite(exposure_stops)) fail_write(path, "exposure must be finite");
+    if (image.width > std::numeric_limits<int>::max() / 3) fail_write(path, "the image is too wide for PNG");
+    const double scale = std::exp2(exposure_stops);
+    std::vector<unsigned char> pixels(image.rgb.size());
+    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = to_srgb8(image.rgb[i], scale);
+    std::string bytes;
+    const auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
+    };
+    if (!stbi_write_png_to_func(append, &bytes, image.width, image.height, 3, pixels.data(), image.width * 3))
+        fail_write(path, "PNG encoding failed");
+    return bytes;
+}
+
+}  // namespace
+
+float srgb_encode(float linear) { return static_cast<float>(srgb_encode_exact(linear)); }
+
+void write_exr(const Image& image, const fs::path& path) {
+    check_image(image, path);
+    std::string bytes;
+    try {
+        bytes = encode_exr(image);
+    } catch (const std::exception& e) {
+        fail_write(path, std::string("EXR encoding failed: ") + e.what());
+    }
+    write_file_atomically(path, bytes);
+}
+
+Image read_exr(const fs::path& path) {
+    const std::string name = path.string();
+    // OpenEXR's own message for a missing file is wordy; the OS reason is what the user needs.
+    const int probe = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (probe < 0) {
+        const int err = errno;
+        throw ImageIoError("cannot read " + name + ": " + os_reason(err));
+    }
+    ::close(probe);
+    try {
+        Imf::InputFile in(path.c_str());
+        const Imath::Box2i window = in.header().dataWindow();
+        const std::int64_t width = std::int64_t(window.max.x) - window.min.x + 1;
+        const std::int64_t height = std::int64_t(window.max.y) - window.min.y + 1;
+        // A corrupt header must not turn into a giant allocation: bound each side and the total.
+        constexpr std::int64_t kMaxSide = 1 << 20;
+        if (width < 1 || height < 1 || width > kMaxSide || height > kMaxSide || width * height > (1ll << 31))
+            throw ImageIoError("cannot read " + name + ": unreasonable data window " + std::to_string(width) +
+                               "x" + std::to_string(height));
+        Image image(static_cast<int>(width), static_cast<int>(height));
+        const std::size_t x_stride = 3 * sizeof(float);
+        const std::size_t y_stride = x_stride * std::size_t(width);
+        Imf::FrameBuffer frame;
+        const char* names[3] = {"R", "G", "B"};
+        for (int c = 0; c < 3; ++c)
+            frame.insert(names[c], Imf::Slice::Make(Imf::FLOAT, image.rgb.data() + c, window, x_stride, y_stride));
+        in.setFrameBuffer(frame);
+        in.readPixels(window.min.y, window.max.y);
+        return image;
+    } catch (const ImageIoError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw ImageIoError("cannot read " + name + ": " + e.what());
+    }
+}
+
+void write_png(const Image& image, const fs::path& path, double exposure_stops) {
+    check_image(image, path);
+    write_file_atomically(path, encode_png(image, exposure_stops, path));
+}
+
+}  // namespace brume

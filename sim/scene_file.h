@@ -1,0 +1,56 @@
+// Scene files (GUIDE section 2): TOML in, validated Scene out, and Scene back to TOML.
+// Everything a renderer could choke on (unknown keys, wrong types, NaN/Inf, negative or absurd sizes)
+// is rejected here with the file, line and key, so no renderer has to re-check its input.
+#pragma once
+
+#include "sim/scene.h"
+
+#include <cstddef>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace brume {
+
+// Beyond these a scene is rejected as absurd rather than rendered slowly or wrongly.
+inline constexpr std::size_t kMaxSpheres = 50'000'000;
+inline constexpr std::size_t kMaxBoxes = 100'000;
+inline constexpr int kMaxImageSide = 16384;         // camera.width and camera.height
+inline constexpr double kMaxCoordinate = 1e7;       // |any coordinate|, any radius
+inline constexpr double kMaxExtinction = 1e9;       // sphere.extinction
+inline constexpr double kMaxRadiance = 1e9;         // any radiance, ambient or sun component
+inline constexpr double kMaxFovYDeg = 179.0;
+
+// what() reads "scene.toml:12: sphere[3].radius: must be positive and finite (got -1)".
+// Array indices in key paths count from 0, in file order. line/column are 0 when unknown.
+class SceneFileError : public std::runtime_error {
+public:
+    SceneFileError(std::string file, int line, int column, std::string key_path, std::string problem);
+
+    const std::string& file() const { return file_; }
+    int line() const { return line_; }
+    int column() const { return column_; }
+    const std::string& key_path() const { return key_path_; }  // empty for syntax and I/O errors
+    const std::string& problem() const { return problem_; }
+
+private:
+    std::string file_;
+    int line_;
+    int column_;
+    std::string key_path_;
+    std::string problem_;
+};
+
+// Parses and validates a scene; source_name stands for the file in messages and becomes Scene::source.
+Scene parse_scene_toml(std::string_view text, const std::string& source_name);
+
+// Reads and parses a file; a missing or unreadable file is a SceneFileError naming it and the OS reason.
+Scene load_scene_file(const std::filesystem::path& path);
+
+// Writes every field in the schema parse_scene_toml reads. Numbers are printed as the shortest text that
+// reads back to the same double, so parse_scene_toml(scene_to_toml(s)) reproduces s exactly (bar source).
+// No validation: a scene with NaN or negative radii is written as is and rejected when read back.
+std::string scene_to_toml(const Scene& scene);
+
+}  // namespace brume

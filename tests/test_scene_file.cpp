@@ -1,0 +1,483 @@
+// Scene files: the schema is read exactly, written back exactly, and every bad input is rejected with
+// the file, line and key path (GUIDE section 2).
+#include "sim/builtin_scenes.h"
+#include "sim/scene_file.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <unistd.h>
+
+namespace brume {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The example from the schema, verbatim.
+constexpr const char* kExample = R"(
+[camera]
+position = [0.0, 1.0, 6.0]
+look_at = [0.0, 0.5, 0.0]
+up = [0.0, 1.0, 0.0]
+fov_y_deg = 40.0            # vertical field of view
+width = 160
+height = 120
+[lighting]
+ambient = [0.25, 0.27, 0.30]        # L_ambient
+sun = [1.0, 0.95, 0.85]             # L_sun, Rayleigh phase
+sun_direction = [-0.4, -1.0, -0.3]  # direction the sunlight travels
+background = [0.05, 0.06, 0.08]     # radiance where a ray meets no opaque surface
+[render]
+min_transmittance = 1e-4            # optional; stop integrating below this transmittance
+[[box]]                             # opaque, axis aligned, flat radiance toward the eye
+min = [-5.0, -1.0, -5.0]
+max = [5.0, 0.0, 5.0]
+radiance = [0.2, 0.2, 0.2]
+[[sphere]]                          # one particle: homogeneous medium
+center = [0.0, 0.6, 0.0]
+radius = 0.8
+extinction = 2.5                    # tau, per scene unit
+albedo = [0.9, 0.9, 0.95]
+)";
+
+// Every key set to something other than its default, so a key the parser ignored would show.
+constexpr const char* kEveryKey = R"(
+[camera]
+position = [1.5, 2.25, -7.0]
+look_at = [0.125, -0.5, 3.0]
+up = [0.1, 0.9, 0.2]
+fov_y_deg = 65.5
+width = 321
+height = 99
+[lighting]
+ambient = [0.1, 0.2, 0.3]
+sun = [4.0, 5.0, 6.0]
+sun_direction = [1, -2, 3]
+background = [0.7, 0.8, 0.9]
+[render]
+min_transmittance = 0
+[[box]]
+min = [-1, -2, -3]
+max = [1, 2, 3]
+radiance = [0.0, 0.5, 1.0]
+[[box]]
+min = [10, 10, 10]
+max = [10.5, 11, 12]
+radiance = [3, 2, 1]
+[[sphere]]
+center = [0.1, 0.2, 0.3]
+radius = 1
+extinction = 0
+albedo = [0, 1, 0.5]
+[[sphere]]
+center = [-4, -5, -6]
+radius = 2.5e-3
+extinction = 1e9
+albedo = [1, 1, 1]
+)";
+
+void expect_vec(const glm::dvec3& v, double x, double y, double z) {
+    EXPECT_EQ(v.x, x);
+    EXPECT_EQ(v.y, y);
+    EXPECT_EQ(v.z, z);
+}
+
+// Bitwise, so -0.0 and 0.0 count as different and any printing loss shows.
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(const glm::dvec3& a, const glm::dvec3& b) {
+    return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
+}
+
+void expect_identical(const Scene& a, const Scene& b) {
+    EXPECT_TRUE(same_bits(a.camera.position, b.camera.position));
+    EXPECT_TRUE(same_bits(a.camera.look_at, b.camera.look_at));
+    EXPECT_TRUE(same_bits(a.camera.up, b.camera.up));
+    EXPECT_TRUE(same_bits(a.camera.fov_y_deg, b.camera.fov_y_deg));
+    EXPECT_EQ(a.camera.width, b.camera.width);
+    EXPECT_EQ(a.camera.height, b.camera.height);
+    EXPECT_TRUE(same_bits(a.lighting.ambient, b.lighting.ambient));
+    EXPECT_TRUE(same_bits(a.lighting.sun, b.lighting.sun));
+    EXPECT_TRUE(same_bits(a.lighting.sun_direction, b.lighting.sun_direction));
+    EXPECT_TRUE(same_bits(a.lighting.background, b.lighting.background));
+    EXPECT_TRUE(same_bits(a.render.min_transmittance, b.render.min_transmittance));
+    ASSERT_EQ(a.boxes.size(), b.boxes.size());
+    for (std::size_t i = 0; i < a.boxes.size(); ++i) {
+        EXPECT_TRUE(same_bits(a.boxes[i].min, b.boxes[i].min)) << "box " << i;
+        EXPECT_TRUE(same_bits(a.boxes[i].max, b.boxes[i].max)) << "box " << i;
+        EXPECT_TRUE(same_bits(a.boxes[i].radiance, b.boxes[i].radiance)) << "box " << i;
+    }
+    ASSERT_EQ(a.spheres.size(), b.spheres.size());
+    for (std::size_t i = 0; i < a.spheres.size(); ++i) {
+        EXPECT_TRUE(same_bits(a.spheres[i].center, b.spheres[i].center)) << "sphere " << i;
+        EXPECT_TRUE(same_bits(a.spheres[i].radius, b.spheres[i].radius)) << "sphere " << i;
+        EXPECT_TRUE(same_bits(a.spheres[i].extinction, b.spheres[i].extinction)) << "sphere " << i;
+        EXPECT_TRUE(same_bits(a.spheres[i].albedo, b.spheres[i].albedo)) << "sphere " << i;
+    }
+}
+
+TEST(SceneFile, ExampleParsesToExactValues) {
+    const Scene s = parse_scene_toml(kExample, "example.toml");
+    expect_vec(s.camera.position, 0.0, 1.0, 6.0);
+    expect_vec(s.camera.look_at, 0.0, 0.5, 0.0);
+    expect_vec(s.camera.up, 0.0, 1.0, 0.0);
+    EXPECT_EQ(s.camera.fov_y_deg, 40.0);
+    EXPECT_EQ(s.camera.width, 160);
+    EXPECT_EQ(s.camera.height, 120);
+    expect_vec(s.lighting.ambient, 0.25, 0.27, 0.30);
+    expect_vec(s.lighting.sun, 1.0, 0.95, 0.85);
+    expect_vec(s.lighting.sun_direction, -0.4, -1.0, -0.3);
+    expect_vec(s.lighting.background, 0.05, 0.06, 0.08);
+    EXPECT_EQ(s.render.min_transmittance, 1e-4);
+    ASSERT_EQ(s.boxes.size(), 1u);
+    expect_vec(s.boxes[0].min, -5.0, -1.0, -5.0);
+    expect_vec(s.boxes[0].max, 5.0, 0.0, 5.0);
+    expect_vec(s.boxes[0].radiance, 0.2, 0.2, 0.2);
+    ASSERT_EQ(s.spheres.size(), 1u);
+    expect_vec(s.spheres[0].center, 0.0, 0.6, 0.0);
+    EXPECT_EQ(s.spheres[0].radius, 0.8);
+    EXPECT_EQ(s.spheres[0].extinction, 2.5);
+    expect_vec(s.spheres[0].albedo, 0.9, 0.9, 0.95);
+    EXPECT_EQ(s.source, "example.toml");
+}
+
+TEST(SceneFile, EveryKeyIsRead) {
+    const Scene s = parse_scene_toml(kEveryKey, "every.toml");
+    expect_vec(s.camera.position, 1.5, 2.25, -7.0);
+    expect_vec(s.camera.look_at, 0.125, -0.5, 3.0);
+    expect_vec(s.camera.up, 0.1, 0.9, 0.2);
+    EXPECT_EQ(s.camera.fov_y_deg, 65.5);
+    EXPECT_EQ(s.camera.width, 321);
+    EXPECT_EQ(s.camera.height, 99);
+    expect_vec(s.lighting.ambient, 0.1, 0.2, 0.3);
+    expect_vec(s.lighting.sun, 4.0, 5.0, 6.0);
+    expect_vec(s.lighting.sun_direction, 1.0, -2.0, 3.0);  // integers read as floats
+    expect_vec(s.lighting.background, 0.7, 0.8, 0.9);
+    EXPECT_EQ(s.render.min_transmittance, 0.0);
+    ASSERT_EQ(s.boxes.size(), 2u);
+    expect_vec(s.boxes[1].min, 10.0, 10.0, 10.0);
+    expect_vec(s.boxes[1].max, 10.5, 11.0, 12.0);
+    expect_vec(s.boxes[1].radiance, 3.0, 2.0, 1.0);
+    ASSERT_EQ(s.spheres.size(), 2u);  // file order is kept
+    expect_vec(s.spheres[0].center, 0.1, 0.2, 0.3);
+    EXPECT_EQ(s.spheres[0].radius, 1.0);
+    EXPECT_EQ(s.spheres[0].extinction, 0.0);
+    expect_vec(s.spheres[0].albedo, 0.0, 1.0, 0.5);
+    expect_vec(s.spheres[1].center, -4.0, -5.0, -6.0);
+    EXPECT_EQ(s.spheres[1].radius, 2.5e-3);
+    EXPECT_EQ(s.spheres[1].extinction, 1e9);
+}
+
+TEST(SceneFile, DefaultsApplyToAbsentTablesAndKeys) {
+    const Scene defaults;
+    const Scene empty = parse_scene_toml("", "empty.toml");
+    expect_identical(empty, defaults);
+    EXPECT_TRUE(empty.boxes.empty());
+    EXPECT_TRUE(empty.spheres.empty());
+    EXPECT_EQ(empty.source, "empty.toml");
+
+    const Scene partial = parse_scene_toml("[camera]\nwidth = 64\n[lighting]\nsun = [2, 2, 2]\n", "p.toml");
+    EXPECT_EQ(partial.camera.width, 64);
+    EXPECT_EQ(partial.camera.height, defaults.camera.height);
+    EXPECT_TRUE(same_bits(partial.camera.position, defaults.camera.position));
+    EXPECT_EQ(partial.camera.fov_y_deg, defaults.camera.fov_y_deg);
+    expect_vec(partial.lighting.sun, 2.0, 2.0, 2.0);
+    EXPECT_TRUE(same_bits(partial.lighting.ambient, defaults.lighting.ambient));
+    EXPECT_TRUE(same_bits(partial.lighting.sun_direction, defaults.lighting.sun_direction));
+    EXPECT_EQ(partial.render.min_transmittance, defaults.render.min_transmittance);
+}
+
+TEST(SceneFile, RoundTripIsExact) {
+    const Scene original = parse_scene_toml(kEveryKey, "every.toml");
+    const std::string text = scene_to_toml(original);
+    expect_identical(parse_scene_toml(text, "written.toml"), original);
+    // Floats stay floats in the written file, integers stay integers.
+    EXPECT_NE(text.find("radius = 1.0\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("width = 321\n"), std::string::npos) << text;
+}
+
+TEST(SceneFile, RoundTripKeepsEveryBitOfAwkwardValues) {
+    Scene s;
+    s.camera.position = {0.1, 1.0 / 3.0, -2.0 / 7.0};
+    s.camera.look_at = {-0.0, 5e-324, 1e-300};  // negative zero and the smallest subnormal survive
+    s.camera.fov_y_deg = 179.0;
+    s.camera.width = 16384;
+    s.camera.height = 1;
+    s.lighting.sun = {123456.789, 1e9, 0.30000000000000004};
+    s.render.min_transmittance = 0.9999999999999999;
+    s.boxes.push_back({{-1e7, -0.1, 3.0}, {1e7, 0.2, 3.0000000000000004}, {0.0, 0.0, 0.0}});
+    for (int i = 0; i < 50; ++i) {
+        const double x = std::sqrt(double(i) + 0.5);
+        s.spheres.push_back({{x, -x / 3.0, std::exp(x)}, x / 7.0, std::pow(x, 5.0), {1.0 / (i + 1), 0.0, 1.0}});
+    }
+    const Scene back = parse_scene_toml(scene_to_toml(s), "awkward.toml");
+    expect_identical(back, s);
+    EXPECT_EQ(back.source, "awkward.toml");
+}
+
+TEST(SceneFile, DefaultSceneHasItsStatedContent) {
+    const Scene s = default_scene();
+    EXPECT_EQ(s.source, "built-in default scene");
+    EXPECT_EQ(s.camera.width, 320);
+    EXPECT_EQ(s.camera.height, 240);
+    // A ground box whose top is y = 0 and that spans the view, then one or two more boxes.
+    ASSERT_GE(s.boxes.size(), 2u);
+    ASSERT_LE(s.boxes.size(), 3u);
+    EXPECT_EQ(s.boxes[0].max.y, 0.0);
+    EXPECT_LE(s.boxes[0].min.x, -10.0);
+    EXPECT_GE(s.boxes[0].max.x, 10.0);
+    // A plume of 40-80 spheres, varied in radius, extinction and albedo, each overlapping another.
+    ASSERT_GE(s.spheres.size(), 40u);
+    ASSERT_LE(s.spheres.size(), 80u);
+    double min_r = 1e30, max_r = 0, min_tau = 1e30, max_tau = 0, min_a = 1, max_a = 0;
+    for (std::size_t i = 0; i < s.spheres.size(); ++i) {
+        const Sphere& a = s.spheres[i];
+        min_r = std::min(min_r, a.radius);
+        max_r = std::max(max_r, a.radius);
+        min_tau = std::min(min_tau, a.extinction);
+        max_tau = std::max(max_tau, a.extinction);
+        min_a = std::min(min_a, a.albedo.x);
+        max_a = std::max(max_a, a.albedo.x);
+        bool overlaps = false;
+        for (std::size_t j = 0; j < s.spheres.size() && !overlaps; ++j)
+            overlaps = j != i && glm::length(a.center - s.spheres[j].center) < a.radius + s.spheres[j].radius;
+        EXPECT_TRUE(overlaps) << "sphere " << i << " overlaps no other";
+        EXPECT_GT(a.center.y + a.radius, 0.0) << "sphere " << i << " is buried in the ground";
+    }
+    EXPECT_GT(max_r, 2.0 * min_r);
+    EXPECT_GT(max_tau, 2.0 * min_tau);
+    EXPECT_GT(max_a - min_a, 0.2);
+}
+
+TEST(SceneFile, EmbeddedDefaultSceneMatchesThePresetFile) {
+    // The build embeds presets/default.toml; a stale copy would mean the build missed an edit.
+    const fs::path preset = fs::path(__FILE__).parent_path().parent_path() / "presets" / "default.toml";
+    std::ifstream in(preset, std::ios::binary);
+    ASSERT_TRUE(in) << preset;
+    std::ostringstream text;
+    text << in.rdbuf();
+    EXPECT_EQ(default_scene_toml(), text.str());
+}
+
+// --- Rejections -----------------------------------------------------------------------------------
+
+SceneFileError error_for(const std::string& text) {
+    try {
+        parse_scene_toml(text, "scene.toml");
+    } catch (const SceneFileError& e) {
+        return e;
+    }
+    ADD_FAILURE() << "accepted:\n" << text;
+    return SceneFileError("", 0, 0, "", "");
+}
+
+// The message must name the file, the line and the key path, and say what is wrong.
+void expect_rejected(const std::string& text, int line, const std::string& key_path, const std::string& problem) {
+    SCOPED_TRACE(text);
+    const SceneFileError e = error_for(text);
+    const std::string what = e.what();
+    EXPECT_EQ(e.file(), "scene.toml");
+    EXPECT_EQ(e.line(), line) << what;
+    EXPECT_EQ(e.key_path(), key_path) << what;
+    EXPECT_EQ(what.rfind("scene.toml:" + std::to_string(line) + ": " + key_path + ": ", 0), 0u) << what;
+    EXPECT_NE(what.find(problem), std::string::npos) << what << "\n  should contain: " << problem;
+}
+
+// A valid sphere whose radius sits on line 4 of the text.
+std::string sphere(const std::string& radius_line) {
+    return "# a sphere\n[[sphere]]\ncenter = [0, 0, 0]\n" + radius_line +
+           "\nextinction = 1\nalbedo = [0.5, 0.5, 0.5]\n";
+}
+
+TEST(SceneFileErrors, MessageReadsFileLineKeyProblem) {
+    const std::string text = sphere("radius = 1") + sphere("radius = -1");
+    EXPECT_STREQ(error_for(text).what(), "scene.toml:10: sphere[1].radius: must be positive and finite (got -1)");
+}
+
+TEST(SceneFileErrors, UnknownKeysAreNamedWithSuggestions) {
+    expect_rejected(sphere("raduis = 1"), 4, "sphere[0].raduis", "unknown key (did you mean \"radius\"?)");
+    expect_rejected("[camra]\nwidth = 3\n", 1, "camra", "unknown table (did you mean \"camera\"?)");
+    expect_rejected("[camera]\nwidht = 3\n", 2, "camera.widht", "did you mean \"width\"?");
+    expect_rejected("[lighting]\nsun_dir = [0, -1, 0]\n", 2, "lighting.sun_dir", "unknown key");
+    expect_rejected("[render]\nsamples = 4\n", 2, "render.samples", "allowed here: min_transmittance");
+    expect_rejected("width = 3\n", 1, "width", "belongs under [camera]");
+    expect_rejected("[[boxes]]\n", 1, "boxes", "unknown table (did you mean \"box\"?)");
+    expect_rejected("[camera.lens]\nf = 1\n", 1, "camera.lens", "unknown table");
+    // Of several unknown keys the first in the file is reported, not the first alphabetically.
+    expect_rejected("[camera]\nzoom = 1\naperture = 2\n", 2, "camera.zoom", "unknown key");
+}
+
+TEST(SceneFileErrors, WrongTypes) {
+    expect_rejected(sphere("radius = \"big\""), 4, "sphere[0].radius", "must be a number (got a string \"big\")");
+    expect_rejected(sphere("radius = true"), 4, "sphere[0].radius", "must be a number");
+    expect_rejected("\n[camera]\nposition = \"origin\"\n", 3, "camera.position", "must be an array of 3 numbers");
+    expect_rejected("camera = 5\n", 1, "camera", "must be a table");
+    expect_rejected("[box]\nmin = [0, 0, 0]\n", 1, "box", "write [[box]], not [box]");
+    expect_rejected("sphere = [1, 2]\n", 1, "sphere[0]", "must be a table");
+    expect_rejected("[camera]\nup = [0, \"1\", 0]\n", 2, "camera.up[1]", "must be a number");
+}
+
+TEST(SceneFileErrors, NanAndInfAnywhere) {
+    expect_rejected(sphere("radius = nan"), 4, "sphere[0].radius", "must be finite (got nan)");
+    expect_rejected(sphere("radius = inf"), 4, "sphere[0].radius", "must be finite (got inf)");
+    expect_rejected("[lighting]\n\nsun = [1, -inf, 1]\n", 3, "lighting.sun[1]", "must be finite (got -inf)");
+    expect_rejected("[render]\nmin_transmittance = -nan\n", 2, "render.min_transmittance", "must be finite");
+    expect_rejected("[camera]\nfov_y_deg = +inf\n", 2, "camera.fov_y_deg", "must be finite");
+}
+
+TEST(SceneFileErrors, SphereValues) {
+    expect_rejected(sphere("radius = 0"), 4, "sphere[0].radius", "must be positive and finite (got 0)");
+    expect_rejected(sphere("radius = -0.0"), 4, "sphere[0].radius", "must be positive");
+    expect_rejected(sphere("radius = 2e7"), 4, "sphere[0].radius", "absurd size");
+    expect_rejected("[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = -2\nalbedo = [0.5, 0.5, 0.5]\n", 4,
+                    "sphere[0].extinction", "must not be negative (got -2)");
+    expect_rejected("[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = 1e10\nalbedo = [0.5, 0.5, 0.5]\n", 4,
+                    "sphere[0].extinction", "absurd size");
+    expect_rejected("[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = 1\nalbedo = [0.9, 1.5, 0.9]\n", 5,
+                    "sphere[0].albedo[1]", "must be in [0, 1] (got 1.5)");
+    expect_rejected("[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = 1\nalbedo = [-0.1, 0.5, 0.9]\n", 5,
+                    "sphere[0].albedo[0]", "must be in [0, 1]");
+    expect_rejected("[[sphere]]\ncenter = [0, 1e8, 0]\nradius = 1\nextinction = 1\nalbedo = [0.5, 0.5, 0.5]\n", 2,
+                    "sphere[0].center[1]", "absurd size");
+    // Every sphere key is required; the error points at the sphere's header.
+    expect_rejected("[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = 1\n", 1, "sphere[0].albedo",
+                    "missing");
+    expect_rejected("\n[[sphere]]\ncenter = [0, 0, 0]\nextinction = 1\nalbedo = [1, 1, 1]\n", 2, "sphere[0].radius",
+                    "missing");
+}
+
+TEST(SceneFileErrors, VectorsNeedExactlyThreeNumbers) {
+    expect_rejected("[[sphere]]\ncenter = [0, 0]\nradius = 1\nextinction = 1\nalbedo = [0.5, 0.5, 0.5]\n", 2,
+                    "sphere[0].center", "must be an array of exactly 3 numbers (got 2)");
+    expect_rejected("[camera]\nup = [0, 1, 0, 0]\n", 2, "camera.up", "exactly 3 numbers (got 4)");
+    // An element on its own line is reported on that line.
+    expect_rejected("[lighting]\nambient = [\n  0.1,\n  -0.2,\n  0.3]\n", 4, "lighting.ambient[1]",
+                    "must not be negative (got -0.2)");
+}
+
+TEST(SceneFileErrors, CameraValues) {
+    expect_rejected("[camera]\nwidth = 0\n", 2, "camera.width", "must be between 1 and 16384 (got 0)");
+    expect_rejected("[camera]\nwidth = 100000\n", 2, "camera.width", "must be between 1 and 16384 (got 100000)");
+    expect_rejected("[camera]\nheight = 16385\n", 2, "camera.height", "must be between 1 and 16384");
+    expect_rejected("[camera]\nwidth = 160.0\n", 2, "camera.width",
+                    "must be an integer (got a floating-point number 160.0)");
+    expect_rejected("[camera]\nwidth = 9223372036854775807\n", 2, "camera.width", "must be between 1 and 16384");
+    expect_rejected("[camera]\nfov_y_deg = 0\n", 2, "camera.fov_y_deg", "must be in (0, 179] degrees (got 0)");
+    expect_rejected("[camera]\nfov_y_deg = 179.5\n", 2, "camera.fov_y_deg", "must be in (0, 179] degrees");
+    expect_rejected("[camera]\nposition = [1, 2, 3]\nlook_at = [1, 2, 3]\n", 3, "camera.look_at", "must differ");
+    expect_rejected("[camera]\nposition = [0, 0.5, 0]\n", 2, "camera.position", "must differ");  // default look_at
+    expect_rejected("[camera]\nposition = [0, 5, 0]\nlook_at = [0, 1, 0]\n", 3, "camera.up", "parallel");
+    expect_rejected("[camera]\nup = [0, -2, 0]\nposition = [0, 5, 0]\nlook_at = [0, 1, 0]\n", 4, "camera.up",
+                    "parallel");
+    expect_rejected("[camera]\nup = [0, 0, 0]\n", 2, "camera.up", "must not be zero");
+    expect_rejected("[camera]\nposition = [-1e8, 0, 0]\n", 2, "camera.position[0]", "absurd size");
+    // Near-parallel but well defined is fine.
+    EXPECT_NO_THROW(parse_scene_toml("[camera]\nposition = [0, 5, 0]\nlook_at = [0, 1, 0.01]\n", "ok.toml"));
+    EXPECT_NO_THROW(parse_scene_toml("[camera]\nfov_y_deg = 179\nwidth = 16384\nheight = 1\n", "ok.toml"));
+}
+
+TEST(SceneFileErrors, LightingAndRenderValues) {
+    expect_rejected("[lighting]\nsun_direction = [0, 0, 0]\n", 2, "lighting.sun_direction", "must not be zero");
+    expect_rejected("[lighting]\nsun = [1, 1, -0.5]\n", 2, "lighting.sun[2]", "must not be negative (got -0.5)");
+    expect_rejected("[lighting]\nbackground = [0, -1, 0]\n", 2, "lighting.background[1]", "must not be negative");
+    expect_rejected("[lighting]\nambient = [1e12, 0, 0]\n", 2, "lighting.ambient[0]", "absurd size");
+    expect_rejected("[render]\nmin_transmittance = 1\n", 2, "render.min_transmittance", "must be in [0, 1) (got 1)");
+    expect_rejected("[render]\nmin_transmittance = -0.1\n", 2, "render.min_transmittance", "must be in [0, 1)");
+}
+
+TEST(SceneFileErrors, BoxValues) {
+    expect_rejected("[[box]]\nmin = [0, 0, 0]\nmax = [1, 0, 1]\nradiance = [1, 1, 1]\n", 3, "box[0].max",
+                    "must exceed min on every axis (max.y = 0, min.y = 0)");
+    expect_rejected("[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nradiance = [1, 1, 1]\n"
+                    "[[box]]\nmin = [0, 0, 5]\nmax = [1, 1, 1]\nradiance = [1, 1, 1]\n",
+                    7, "box[1].max", "max.z = 1, min.z = 5");
+    expect_rejected("[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nradiance = [-1, 1, 1]\n", 4, "box[0].radiance[0]",
+                    "must not be negative");
+    expect_rejected("[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n", 1, "box[0].radiance", "missing");
+    expect_rejected("[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nradiance = [1, 1, 1]\nradiant = 1\n", 5,
+                    "box[0].radiant", "did you mean \"radiance\"?");
+}
+
+TEST(SceneFileErrors, TooManyBoxes) {
+    // The count is checked before the elements, so placeholders are enough to reach the limit.
+    std::string at_limit = "box = [";
+    for (std::size_t i = 0; i < kMaxBoxes; ++i) at_limit += "0,";
+    at_limit += "]\n";
+    expect_rejected(at_limit, 1, "box[0]", "must be a table");  // exactly the limit passes the count
+    const std::string over = "\n" + at_limit.substr(0, at_limit.size() - 2) + "0,]\n";
+    expect_rejected(over, 2, "box", "too many boxes (got 100001, the limit is 100000)");
+}
+
+TEST(SceneFileErrors, MalformedTomlReportsLineAndColumn) {
+    const SceneFileError e = error_for("[camera]\nwidth = 160\nheight = = 3\n");
+    const std::string what = e.what();
+    EXPECT_EQ(e.line(), 3) << what;
+    EXPECT_GT(e.column(), 0) << what;
+    EXPECT_EQ(what.rfind("scene.toml:3:", 0), 0u) << what;
+    EXPECT_NE(what.find("invalid TOML"), std::string::npos) << what;
+
+    const SceneFileError duplicate = error_for("[camera]\nwidth = 1\n\nwidth = 2\n");
+    EXPECT_EQ(duplicate.line(), 4) << duplicate.what();
+
+    const SceneFileError unclosed = error_for("[[sphere]]\ncenter = [0, 0, 0\nradius = 1\n");
+    EXPECT_GE(unclosed.line(), 2) << unclosed.what();
+}
+
+// --- Files ----------------------------------------------------------------------------------------
+
+class SceneFileOnDisk : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("brume_scene_file_" + std::to_string(::getpid()) + "_" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    fs::path dir_;
+};
+
+TEST_F(SceneFileOnDisk, LoadsAFileAndRecordsItsPath) {
+    const fs::path path = dir_ / "every.toml";
+    std::ofstream(path) << kEveryKey;
+    const Scene s = load_scene_file(path);
+    EXPECT_EQ(s.source, path.string());
+    expect_identical(s, parse_scene_toml(kEveryKey, "every.toml"));
+}
+
+TEST_F(SceneFileOnDisk, ErrorsInAFileNameThePath) {
+    const fs::path path = dir_ / "bad.toml";
+    std::ofstream(path) << sphere("radius = -3");
+    try {
+        load_scene_file(path);
+        FAIL() << "accepted a negative radius";
+    } catch (const SceneFileError& e) {
+        EXPECT_EQ(std::string(e.what()), path.string() + ":4: sphere[0].radius: must be positive and finite (got -3)");
+    }
+}
+
+TEST_F(SceneFileOnDisk, MissingFileNamesTheFileAndTheReason) {
+    const fs::path path = dir_ / "no_such_scene.toml";
+    try {
+        load_scene_file(path);
+        FAIL() << "loaded a missing file";
+    } catch (const SceneFileError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(e.file(), path.string());
+        EXPECT_NE(what.find(path.string()), std::string::npos) << what;
+        EXPECT_NE(what.find("No such file or directory"), std::string::npos) << what;
+    }
+    EXPECT_THROW(load_scene_file(dir_), SceneFileError);  // a directory is not a scene
+}
+
+}  // namespace
+}  // namespace brume

@@ -1,0 +1,407 @@
+// The CPU reference renderer. The light model is GUIDE section 1, computed in double precision:
+// exact chords, running sums of extinction and scattering, -expm1 for the segment opacity.
+//
+// Speed comes from binning spheres into 16x16 screen tiles by angular cones seen from the eye. The bins are
+// conservative (they may hold spheres a pixel misses, never the reverse), and a pixel's answer depends only
+// on the multiset of its events, so binning, sphere order and thread count cannot change a single bit.
+#include "render/reference.h"
+
+#include "sim/camera_rays.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace brume {
+namespace {
+
+using glm::dvec3;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kTile = 16;
+// Angular slack for the tile bins: far above double rounding in the directions and the chord test.
+constexpr double kConeMargin = 1e-6;
+
+// A sphere as the integrator sees it: entry adds (tau, tau * albedo), exit subtracts the same numbers.
+struct Medium {
+    dvec3 center;
+    double radius;
+    double radius2;
+    double tau;
+    dvec3 scatter;  // tau * albedo
+};
+
+struct Event {
+    double t;
+    bool entry;
+    double tau;
+    dvec3 scatter;
+};
+
+// A total order on event contents: equal distances are ordered by what the events carry, so the running
+// sums are accumulated in the same order whatever order the spheres were listed or binned in.
+bool event_before(const Event& a, const Event& b) {
+    if (a.t != b.t) return a.t < b.t;
+    if (a.entry != b.entry) return !a.entry;  // exits first: the sums return to exactly 0 sooner
+    if (a.tau != b.tau) return a.tau < b.tau;
+    if (a.scatter.x != b.scatter.x) return a.scatter.x < b.scatter.x;
+    if (a.scatter.y != b.scatter.y) return a.scatter.y < b.scatter.y;
+    return a.scatter.z < b.scatter.z;
+}
+bool event_after(const Event& a, const Event& b) { return event_before(b, a); }
+
+// (1 - exp(-x)) / x without cancellation for small x; 1 at x = 0.
+double phi(double x) { return x == 0.0 ? 1.0 : -std::expm1(-x) / x; }
+
+// Distance to a solid box along the ray, or +inf. A slab parallel to the ray is all-or-nothing: testing
+// the origin avoids the 0 * inf = NaN of the reciprocal form.
+double box_hit(const Box& box, const dvec3& o, const dvec3& d) {
+    double tn = -kInf;
+    double tf = kInf;
+    for (int a = 0; a < 3; ++a) {
+        if (d[a] == 0.0) {
+            if (o[a] < box.min[a] || o[a] > box.max[a]) return kInf;
+            continue;
+        }
+        double t1 = (box.min[a] - o[a]) / d[a];
+        double t2 = (box.max[a] - o[a]) / d[a];
+        if (t1 > t2) std::swap(t1, t2);
+        tn = std::max(tn, t1);
+        tf = std::min(tf, t2);
+    }
+    const double t_near = tn > 0.0 ? tn : 0.0;
+    if (tf < t_near || tn > tf) return kInf;
+    return t_near;
+}
+
+// Chord [t0, t1] of the line o + t d (d unit) through a sphere; false on a miss or a tangent (a zero-length
+// chord adds nothing). The discriminant from the perpendicular offset avoids b^2 - c cancellation far from
+// the sphere; the q-form avoids it in the near root.
+bool sphere_chord(const Medium& m, const dvec3& o, const dvec3& d, double& t0, double& t1) {
+    const dvec3 oc = o - m.center;
+    const double b = glm::dot(oc, d);
+    const dvec3 perp = oc - b * d;
+    const double disc = m.radius2 - glm::dot(perp, perp);
+    if (!(disc > 0.0)) return false;
+    const double s = std::sqrt(disc);
+    const double c = glm::dot(oc, oc) - m.radius2;
+    const double q = b >= 0.0 ? -(b + s) : s - b;  // |q| >= s > 0
+    const double ta = q;
+    const double tb = c / q;
+    t0 = std::min(ta, tb);
+    t1 = std::max(ta, tb);
+    return true;
+}
+
+struct Scratch {
+    std::vector<std::uint32_t> candidates;
+    std::vector<Event> events;
+};
+
+// The scene reduced to what a ray needs.
+class Tracer {
+public:
+    explicit Tracer(const Scene& scene)
+        : boxes_(scene.boxes), lighting_(scene.lighting), min_transmittance_(scene.render.min_transmittance) {
+        media_.reserve(scene.spheres.size());
+        for (const Sphere& s : scene.spheres)
+            media_.push_back({s.center, s.radius, s.radius * s.radius, s.extinction, s.extinction * s.albedo});
+        const double sun_len = glm::length(lighting_.sun_direction);
+        // A zero sun direction has no angle to the view; treat it as perpendicular rather than return NaN.
+        sun_unit_ = sun_len > 0.0 ? lighting_.sun_direction / sun_len : dvec3(0.0);
+    }
+
+    const std::vector<Medium>& media() const { return media_; }
+
+    // Radiance toward o along unit direction d, from the spheres listed in candidates (indices into media()).
+    dvec3 radiance(const dvec3& o, const dvec3& d, const std::vector<std::uint32_t>& candidates,
+                   std::vector<Event>& events) const {
+        double t_opaque = kInf;
+        dvec3 behind = lighting_.background;
+        for (const Box& box : boxes_) {
+            const double t = box_hit(box, o, d);
+            if (t < t_opaque) {
+                t_opaque = t;
+                behind = box.radiance;
+            }
+        }
+
+        events.clear();
+        for (const std::uint32_t k : candidates) {
+            const Medium& m = media_[k];
+            double t0, t1;
+            if (!sphere_chord(m, o, d, t0, t1)) continue;
+            const double start = t0 > 0.0 ? t0 : 0.0;  // media containing the eye count from the eye
+            const double end = std::min(t1, t_opaque);
+            if (!(end > start)) continue;
+            events.push_back({start, true, m.tau, m.scatter});
+            events.push_back({end, false, m.tau, m.scatter});
+        }
+
+        const double cos_theta = glm::dot(sun_unit_, d);
+        const dvec3 ls = lighting_.ambient + lighting_.sun * (3.0 / (16.0 * kPi) * (1.0 + cos_theta * cos_theta));
+
+        // A min-heap rather than a full sort: dense media usually stop early on transmittance.
+        std::make_heap(events.begin(), events.end(), event_after);
+        dvec3 radiance(0.0);
+        double transmittance = 1.0;
+        double sigma_t = 0.0;
+        dvec3 sigma_s(0.0);
+        int active = 0;
+        double t_prev = 0.0;
+        for (auto last = events.end(); last != events.begin(); --last) {
+            std::pop_heap(events.begin(), last, event_after);
+            const Event& e = *(last - 1);
+            const double l = e.t - t_prev;
+            if (l > 0.0) {
+                const double x = sigma_t * l;
+                const dvec3 c = sigma_s * ls * l * phi(x);
+                radiance += transmittance * c;
+                transmittance *= std::exp(-x);
+                if (transmittance < min_transmittance_) return radiance;
+            }
+            if (e.entry) {
+                sigma_t += e.tau;
+                sigma_s += e.scatter;
+                ++active;
+            } else {
+                sigma_t -= e.tau;
+                sigma_s -= e.scatter;
+                --active;
+                if (active == 0) {
+                    sigma_t = 0.0;
+                    sigma_s = dvec3(0.0);
+                } else {
+                    sigma_t = std::max(sigma_t, 0.0);
+                    sigma_s = glm::max(sigma_s, dvec3(0.0));
+                }
+            }
+            t_prev = e.t;
+        }
+        return radiance + transmittance * behind;
+    }
+
+private:
+    std::vector<Medium> media_;
+    std::vector<Box> boxes_;
+    Lighting lighting_;
+    dvec3 sun_unit_;
+    double min_transmittance_;
+};
+
+// A screen tile and the cone (around axis, half angle beta) holding all its pixel-centre directions.
+struct Tile {
+    int i0, j0, i1, j1;  // pixel range [i0, i1) x [j0, j1)
+    dvec3 axis;
+    double beta;
+    double cos_beta, sin_beta;
+    bool everything;  // so wide that the cone test is not worth trusting
+};
+
+double angle_between(const dvec3& a, const dvec3& b) {
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+std::vector<Tile> make_tiles(const CameraRays& rays) {
+    std::vector<Tile> tiles;
+    for (int j0 = 0; j0 < rays.height; j0 += kTile) {
+        for (int i0 = 0; i0 < rays.width; i0 += kTile) {
+            Tile t{};
+            t.i0 = i0;
+            t.j0 = j0;
+            t.i1 = std::min(i0 + kTile, rays.width);
+            t.j1 = std::min(j0 + kTile, rays.height);
+            t.axis = rays.direction(0.5 * (t.i0 + t.i1), 0.5 * (t.j0 + t.j1));
+            // Pixel directions meet the image plane in a rectangle; a solid cone narrower than a half space
+            // meets that plane in a convex set, so covering the four corner pixels covers the tile.
+            t.beta = 0.0;
+            for (const int i : {t.i0, t.i1 - 1})
+                for (const int j : {t.j0, t.j1 - 1})
+                    t.beta = std::max(t.beta, angle_between(t.axis, rays.pixel_direction(i, j)));
+            t.cos_beta = std::cos(t.beta);
+            t.sin_beta = std::sin(t.beta);
+            t.everything = t.beta > 1.0;
+            tiles.push_back(t);
+        }
+    }
+    return tiles;
+}
+
+// The cone of directions from the eye that can meet a sphere grown by `grow`, widened by `widen` radians.
+struct SphereCone {
+    dvec3 dir;
+    double alpha;
+    double cos_alpha, sin_alpha;
+    bool everywhere;  // contains (or nearly touches) the eye
+};
+
+std::vector<SphereCone> make_sphere_cones(const std::vector<Medium>& media, const dvec3& eye, double grow,
+                                          double widen) {
+    std::vector<SphereCone> cones;
+    cones.reserve(media.size());
+    for (const Medium& m : media) {
+        SphereCone c{};
+        const dvec3 v = m.center - eye;
+        const double dist = glm::length(v);
+        const double r = m.radius + grow;
+        c.everywhere = !(dist > r * (1.0 + 1e-9));
+        if (!c.everywhere) {
+            c.dir = v / dist;
+            c.alpha = std::asin(std::min(1.0, r / dist)) + kConeMargin + widen;
+            c.cos_alpha = std::cos(c.alpha);
+            c.sin_alpha = std::sin(c.alpha);
+        }
+        cones.push_back(c);
+    }
+    return cones;
+}
+
+// True when some direction within beta of the tile axis lies within alpha of the sphere direction:
+// angle(dir, axis) <= alpha + beta, tested as cos(angle) >= cos(alpha + beta) while alpha + beta < pi.
+bool cone_overlaps(const SphereCone& s, const Tile& t) {
+    if (s.everywhere || t.everything || s.alpha + t.beta >= kPi) return true;
+    return glm::dot(s.dir, t.axis) >= s.cos_alpha * t.cos_beta - s.sin_alpha * t.sin_beta;
+}
+
+void gather_candidates(const std::vector<SphereCone>* cones, std::size_t sphere_count, const Tile& tile,
+                       std::vector<std::uint32_t>& out) {
+    out.clear();
+    for (std::size_t k = 0; k < sphere_count; ++k)
+        if (!cones || cone_overlaps((*cones)[k], tile)) out.push_back(std::uint32_t(k));
+}
+
+int worker_count(int requested, std::size_t work_items) {
+    unsigned n = requested > 0 ? unsigned(requested) : std::thread::hardware_concurrency();
+    if (n == 0) n = 1;
+    return int(std::min<std::size_t>(n, std::max<std::size_t>(work_items, 1)));
+}
+
+// Hands tiles out through an atomic counter; each worker owns its scratch. Exceptions reach the caller.
+template <class Work>
+void parallel_tiles(std::size_t tile_count, int threads, const Work& work) {
+    std::atomic<std::size_t> next{0};
+    const int n = worker_count(threads, tile_count);
+    std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
+    auto worker = [&](int w) {
+        try {
+            Scratch scratch;
+            for (std::size_t tile; (tile = next.fetch_add(1, std::memory_order_relaxed)) < tile_count;)
+                work(tile, scratch);
+        } catch (...) {
+            errors[std::size_t(w)] = std::current_exception();
+            next.store(tile_count);  // the others stop at their next tile
+        }
+    };
+    std::vector<std::thread> pool;
+    pool.reserve(std::size_t(n - 1));
+    for (int w = 1; w < n; ++w) pool.emplace_back(worker, w);
+    worker(0);
+    for (std::thread& t : pool) t.join();
+    for (const std::exception_ptr& e : errors)
+        if (e) std::rethrow_exception(e);
+}
+
+void store(Image& image, int i, int j, const dvec3& v) {
+    float* p = image.pixel(i, j);
+    p[0] = float(v.x);
+    p[1] = float(v.y);
+    p[2] = float(v.z);
+}
+
+void check_camera(const Scene& scene) {
+    if (scene.camera.width <= 0 || scene.camera.height <= 0)
+        throw std::invalid_argument("reference renderer: camera of " + std::to_string(scene.camera.width) + "x" +
+                                    std::to_string(scene.camera.height) + " pixels");
+}
+
+double scene_scale(const Scene& scene) {
+    double scale = std::max(1.0, glm::length(scene.camera.position));
+    for (const Sphere& s : scene.spheres) scale = std::max(scale, glm::length(s.center) + s.radius);
+    for (const Box& b : scene.boxes)
+        scale = std::max(scale, glm::length(0.5 * (b.min + b.max)) + 0.5 * glm::length(b.max - b.min));
+    return scale;
+}
+
+}  // namespace
+
+Image render_reference(const Scene& scene, const ReferenceOptions& options) {
+    check_camera(scene);
+    const Tracer tracer(scene);
+    const CameraRays rays = make_camera_rays(scene.camera);
+    const std::vector<Tile> tiles = make_tiles(rays);
+    const std::vector<SphereCone> cones = make_sphere_cones(tracer.media(), rays.eye, 0.0, 0.0);
+    const std::vector<SphereCone>* bins = options.brute_force ? nullptr : &cones;
+
+    Image image(rays.width, rays.height);
+    parallel_tiles(tiles.size(), options.threads, [&](std::size_t k, Scratch& s) {
+        const Tile& tile = tiles[k];
+        gather_candidates(bins, tracer.media().size(), tile, s.candidates);
+        for (int j = tile.j0; j < tile.j1; ++j)
+            for (int i = tile.i0; i < tile.i1; ++i)
+                store(image, i, j, tracer.radiance(rays.eye, rays.pixel_direction(i, j), s.candidates, s.events));
+    });
+    return image;
+}
+
+glm::dvec3 reference_radiance(const Scene& scene, const glm::dvec3& origin, const glm::dvec3& unit_dir) {
+    const Tracer tracer(scene);
+    std::vector<std::uint32_t> all(tracer.media().size());
+    for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
+    std::vector<Event> events;
+    return tracer.radiance(origin, unit_dir, all, events);
+}
+
+Image reference_tolerance(const Scene& scene, double rel_error, const ReferenceOptions& options) {
+    check_camera(scene);
+    if (!(rel_error >= 0.0) || !std::isfinite(rel_error))
+        throw std::invalid_argument("reference_tolerance: rel_error must be finite and >= 0");
+    const Tracer tracer(scene);
+    const CameraRays rays = make_camera_rays(scene.camera);
+    const std::vector<Tile> tiles = make_tiles(rays);
+    const double offset = rel_error * scene_scale(scene);
+    // A ray from eye + delta (|delta| <= offset) that meets a sphere has a parallel twin from the eye that
+    // meets the sphere grown by offset; the tilt widens the cone by rel_error.
+    const std::vector<SphereCone> cones = make_sphere_cones(tracer.media(), rays.eye, offset, rel_error);
+    const std::vector<SphereCone>* bins = options.brute_force ? nullptr : &cones;
+    const dvec3 right = glm::normalize(rays.right);
+    const double cos_e = std::cos(rel_error);
+    const double sin_e = std::sin(rel_error);
+
+    Image image(rays.width, rays.height);
+    parallel_tiles(tiles.size(), options.threads, [&](std::size_t k, Scratch& s) {
+        const Tile& tile = tiles[k];
+        gather_candidates(bins, tracer.media().size(), tile, s.candidates);
+        for (int j = tile.j0; j < tile.j1; ++j) {
+            for (int i = tile.i0; i < tile.i1; ++i) {
+                const dvec3 d = rays.pixel_direction(i, j);
+                const dvec3 base = tracer.radiance(rays.eye, d, s.candidates, s.events);
+                // Lateral basis around this ray, aligned with the camera's right and up.
+                const dvec3 r = glm::normalize(right - glm::dot(right, d) * d);
+                const dvec3 u = glm::cross(r, d);
+                dvec3 worst(0.0);
+                for (int n = 0; n < 8; ++n) {
+                    const double a = n * (kPi / 4.0);
+                    const dvec3 w = std::cos(a) * r + std::sin(a) * u;
+                    const dvec3 dp = glm::normalize(cos_e * d + sin_e * w);
+                    const dvec3 v = tracer.radiance(rays.eye + offset * w, dp, s.candidates, s.events);
+                    worst = glm::max(worst, glm::abs(v - base));
+                }
+                store(image, i, j, worst);
+            }
+        }
+    });
+    return image;
+}
+
+}  // namespace brume

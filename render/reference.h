@@ -1,0 +1,32 @@
+// The CPU reference renderer (`--method reference`): the ground truth every GPU method is measured against.
+// Double precision, analytic ray/sphere and ray/box intersection, the exact light model of GUIDE section 1.
+#pragma once
+
+#include "render/image.h"
+#include "sim/scene.h"
+
+#include <glm/vec3.hpp>
+
+namespace brume {
+
+struct ReferenceOptions {
+    int threads = 0;           // 0: std::thread::hardware_concurrency()
+    bool brute_force = false;  // test every sphere against every pixel (checks the screen-tile binning)
+};
+
+// One ray per pixel centre (sim/camera_rays.h). Bit-identical for any thread count, sphere order and
+// brute_force setting. Throws std::invalid_argument for a camera with no pixels.
+Image render_reference(const Scene& scene, const ReferenceOptions& options = {});
+
+// Radiance along one ray (brute force over all spheres). unit_dir must be unit length.
+glm::dvec3 reference_radiance(const Scene& scene, const glm::dvec3& origin, const glm::dvec3& unit_dir);
+
+// Float-conditioning tolerance per pixel: the largest change of each channel when the pixel ray is
+// perturbed laterally (8 directions around the ray, angle k*pi/4 in the camera right/up plane): direction
+// tilted by rel_error radians and origin offset by rel_error * scale in the same lateral direction, with
+// scale = max(1, |eye|, max over spheres of |centre| + radius and over boxes of |centre| + half diagonal).
+// A float32 GPU renderer can only place its rays to about this precision, so near silhouettes and box
+// edges its answer legitimately differs from the double-precision one by up to this much.
+Image reference_tolerance(const Scene& scene, double rel_error, const ReferenceOptions& options = {});
+
+}  // namespace brume

@@ -72,7 +72,7 @@ int run_bench(const BenchArgs& args) {
             Image image = ppll.render(scene, &stats);  // warm-up, and sizes the pool
             std::vector<double> opaque, particles, resolve, total;
             for (int f = 0; f < args.frames; ++f) {
-                image = ppll.render(scene, &stats);
+                image = ppll.render(scene, &stats, false);
                 opaque.push_back(stats.passes[0].ms);
                 particles.push_back(stats.passes[1].ms);
                 resolve.push_back(stats.passes[2].ms);

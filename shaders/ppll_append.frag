@@ -11,15 +11,14 @@
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
 layout(location = 0) flat in uint v_sphere;
+layout(location = 1) noperspective in vec3 v_ray;
+layout(location = 2) flat in vec4 v_offset_r2;
 
 void main() {
     if (gl_HelperInvocation) return;  // no derivatives are used; helpers must not take part in the ballot
     ivec2 px = ivec2(gl_FragCoord.xy);
-    GpuSphere s = spheres[v_sphere];
     float t0, t1;
-    if (!intersect_sphere(frame.eye.xyz, pixel_ray_direction(gl_FragCoord.xy), s.center_radius.xyz,
-                          s.center_radius.w, t0, t1))
-        return;
+    if (!intersect_sphere(v_offset_r2.xyz, v_offset_r2.w, normalize(v_ray), t0, t1)) return;
     t0 = t0 > 0.0 ? t0 : 0.0;  // written so, never max(): -0.0 would sort after every distance as bits
     t1 = min(t1, imageLoad(opaque_image, px).a);
     if (!(t1 > t0)) return;

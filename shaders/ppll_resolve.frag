@@ -2,105 +2,137 @@
 // ppll, pass 2: sort each pixel's events and integrate the intersecting homogeneous media exactly
 // (GUIDE section 1), front to back from the eye.
 //
-// Lists of any length resolve exactly: the events are consumed in windows of WINDOW. Each window is
-// the WINDOW smallest (distance, id) keys greater than the last key already integrated, gathered by
-// one walk of the list with an insertion into a sorted local array. A list that fits (the usual case)
-// takes one walk, i.e. an insertion sort; a longer one takes ceil(2n / WINDOW) walks and no memory
-// beyond the window. Keys are unique (id = sphere * 2 + is_exit), so no event is taken twice or lost.
+// Events are keyed by (distance, sphere * 2 + is_exit): unique per pixel, so the order is fixed
+// whatever order the fragments were appended in. The events are consumed in batches of WINDOW:
+// each walk of the list keeps the WINDOW smallest keys greater than the last key integrated, in a
+// sorted array held in registers (every index a literal constant: an insertion is a fixed chain of
+// compare-and-shift steps). A list of n nodes takes ceil(2n / WINDOW) walks, exact for any length,
+// with no per-pixel array in memory. (Dynamically indexed local arrays, as in a textbook insertion
+// sort, become per-lane scatters on a CPU device and cost several times more; see docs/performance.md.)
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #include "bindings.glsl"
-#include "rays.glsl"
 #include "medium.glsl"
 #include "ppll_storage.glsl"
 
-layout(constant_id = 0) const uint WINDOW = 64;
+const uint WINDOW = 8;  // events per walk; BRUME_INSERT and BRUME_SWEEP below are written for 8
+const uvec2 NO_KEY = uvec2(0xffffffffu);
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
+layout(location = 0) noperspective in vec3 v_ray;
 layout(location = 0) out vec4 out_radiance;
+
+// Front-to-back state of one ray.
+struct Integrator {
+    vec3 radiance;
+    float transmittance;
+    float sigma_t;   // running extinction of the media the ray is in
+    vec3 sigma_s;    // running scattering coefficient (tau * albedo summed)
+    int inside;      // how many media the ray is in
+    float t_prev;
+    bool stopped;    // transmittance fell below the scene's threshold
+};
 
 // Distances are >= +0.0, so their bit patterns order like the floats.
 bool key_less(uvec2 a, uvec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }
+
+// Integrates the segment up to the event's distance, then enters or leaves the event's medium.
+void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
+    float t = uintBitsToFloat(key.x);
+    float len = t - it.t_prev;
+    if (len > 0.0) {
+        float x = it.sigma_t * len;
+        it.radiance += it.transmittance * it.sigma_s * source * (len * one_minus_exp_over_x(x));
+        it.transmittance *= exp(-x);
+        if (it.transmittance < frame.params.x) {
+            it.stopped = true;
+            return;
+        }
+    }
+    vec4 medium = spheres[key.y >> 1u].albedo_extinction;
+    float tau = medium.w;
+    vec3 tau_albedo = tau * medium.rgb;
+    if ((key.y & 1u) == 0u) {
+        it.sigma_t += tau;
+        it.sigma_s += tau_albedo;
+        ++it.inside;
+    } else if (--it.inside == 0) {
+        it.sigma_t = 0.0;  // back in free space: drop the rounding left by add/subtract
+        it.sigma_s = vec3(0.0);
+    } else {
+        it.sigma_t = max(it.sigma_t - tau, 0.0);
+        it.sigma_s = max(it.sigma_s - tau_albedo, vec3(0.0));
+    }
+    it.t_prev = t;
+}
 
 void main() {
     if (gl_HelperInvocation) return;
     ivec2 px = ivec2(gl_FragCoord.xy);
     uint head = heads[uint(px.y) * frame.counts.x + uint(px.x)];
     vec4 opaque = imageLoad(opaque_image, px);  // rgb: what lies behind the media, a: its distance
-    vec3 dir = pixel_ray_direction(gl_FragCoord.xy);
-    vec3 source = source_radiance(dir);
-
-    vec3 radiance = vec3(0.0);
-    float transmittance = 1.0;
-    bool stopped = false;
-    uint list_length = 0u, windows = 0u;
-
-    if (head != LIST_END) {
-        uvec2 window[WINDOW];
-        uvec2 last = uvec2(0u);
-        float sigma_t = 0.0;       // running extinction of the media the ray is in
-        vec3 sigma_s = vec3(0.0);  // running scattering coefficient (tau * albedo summed)
-        int inside = 0;  // how many media the ray is in
-        float t_prev = 0.0;
-        for (;;) {
-            uint n = 0u;
-            for (uint node = head; node != LIST_END;) {
-                uvec4 v = load_node(node);
-                if (windows == 0u) ++list_length;
-                for (uint e = 0u; e < 2u; ++e) {
-                    uvec2 key = uvec2(e == 0u ? v.x : v.y, v.z * 2u + e);
-                    if (windows > 0u && !key_less(last, key)) continue;  // integrated already
-                    if (n == WINDOW) {
-                        if (!key_less(key, window[WINDOW - 1u])) continue;
-                        n = WINDOW - 1u;  // the largest key drops out; a later window takes it
-                    }
-                    uint j = n;
-                    for (; j > 0u && key_less(key, window[j - 1u]); --j) window[j] = window[j - 1u];
-                    window[j] = key;
-                    ++n;
-                }
-                node = v.w;
-            }
-            ++windows;
-            for (uint k = 0u; k < n; ++k) {
-                float t = uintBitsToFloat(window[k].x);
-                float len = t - t_prev;
-                if (len > 0.0) {
-                    float x = sigma_t * len;
-                    radiance += transmittance * sigma_s * source * (len * one_minus_exp_over_x(x));
-                    transmittance *= exp(-x);
-                    if (transmittance < frame.params.x) {
-                        stopped = true;
-                        break;
-                    }
-                }
-                GpuSphere s = spheres[window[k].y >> 1u];
-                float tau = s.albedo_extinction.w;
-                vec3 tau_albedo = tau * s.albedo_extinction.rgb;
-                if ((window[k].y & 1u) == 0u) {
-                    sigma_t += tau;
-                    sigma_s += tau_albedo;
-                    ++inside;
-                } else if (--inside == 0) {
-                    sigma_t = 0.0;  // back in free space: drop the rounding left by add/subtract
-                    sigma_s = vec3(0.0);
-                } else {
-                    sigma_t = max(sigma_t - tau, 0.0);
-                    sigma_s = max(sigma_s - tau_albedo, vec3(0.0));
-                }
-                t_prev = t;
-            }
-            if (stopped || n < WINDOW) break;
-            last = window[WINDOW - 1u];
-        }
+    if (head == LIST_END) {
+        out_radiance = vec4(opaque.rgb, 1.0);
+        return;  // empty pixels take no part in the statistics below: they add nothing to them
     }
-    if (!stopped) radiance += transmittance * opaque.rgb;
-    out_radiance = vec4(radiance, 1.0);
+    vec3 dir = normalize(v_ray);
+    float cos_theta = dot(frame.sun_dir.xyz, dir);
+    vec3 source = frame.ambient.rgb + frame.sun.rgb * (0.05968310365946075 * (1.0 + cos_theta * cos_theta));
+    Integrator it = Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), 0, 0.0, false);
 
-    // Statistics, one atomic per subgroup.
+    uvec2 w[WINDOW];  // the batch, sorted; NO_KEY marks empty slots (it sorts after every real key)
+    // Inserts `key` into the sorted batch, dropping the largest: slot i takes its left neighbour if
+    // key sorts before that, else key if key sorts before slot i, else keeps its own.
+#define BRUME_SHIFT(i) w[i] = key_less(key, w[i - 1]) ? w[i - 1] : (key_less(key, w[i]) ? key : w[i]);
+#define BRUME_INSERT(k)                                                                           \
+    {                                                                                             \
+        uvec2 key = k;                                                                            \
+        BRUME_SHIFT(7) BRUME_SHIFT(6) BRUME_SHIFT(5) BRUME_SHIFT(4)                               \
+        BRUME_SHIFT(3) BRUME_SHIFT(2) BRUME_SHIFT(1)                                              \
+        w[0] = key_less(key, w[0]) ? key : w[0];                                                  \
+    }
+
+    uvec2 last = uvec2(0u);
+    uint list_length = 0u, events = 0u, taken = 0u, walks = 0u;
+    for (;;) {
+        w[0] = w[1] = w[2] = w[3] = w[4] = w[5] = w[6] = w[7] = NO_KEY;
+        for (uint node = head; node != LIST_END;) {
+            uvec4 v = load_node(node);
+            uvec2 entry = uvec2(v.x, v.z * 2u), exit = uvec2(v.y, v.z * 2u + 1u);
+            if (walks == 0u) {
+                ++list_length;
+                BRUME_INSERT(entry)
+                BRUME_INSERT(exit)
+            } else {
+                if (key_less(last, entry)) BRUME_INSERT(entry)  // not integrated yet
+                if (key_less(last, exit)) BRUME_INSERT(exit)
+            }
+            node = v.w;
+        }
+        if (walks == 0u) events = 2u * list_length;
+        ++walks;
+        last = w[WINDOW - 1u];  // only read when this batch was full
+        // Integrate the batch front to back, shifting it left so the next event is always in
+        // slot 0: a loop ends once every lane is done, where unused slots would cost full events.
+        while (!it.stopped && w[0] != NO_KEY) {
+            integrate_event(it, source, w[0]);
+            w[0] = w[1]; w[1] = w[2]; w[2] = w[3]; w[3] = w[4]; w[4] = w[5]; w[5] = w[6]; w[6] = w[7];
+            w[7] = NO_KEY;
+        }
+        taken += WINDOW;
+        if (it.stopped || taken >= events) break;
+    }
+#undef BRUME_INSERT
+#undef BRUME_SHIFT
+
+    if (!it.stopped) it.radiance += it.transmittance * opaque.rgb;
+    out_radiance = vec4(it.radiance, 1.0);
+
+    // Statistics, one atomic per subgroup, on request (the flag is uniform: no divergence here).
+    if ((frame.pool.w & FRAME_COLLECT_LIST_STATS) == 0u) return;
     uint longest = subgroupMax(list_length);
-    uint nonempty = subgroupAdd(list_length > 0u ? 1u : 0u);
-    uint long_lists = subgroupAdd(windows > 1u ? 1u : 0u);
+    uint nonempty = subgroupAdd(1u);
+    uint long_lists = subgroupAdd(walks > 1u ? 1u : 0u);
     if (subgroupElect()) {
         atomicMax(counters.max_length, longest);
         atomicAdd(counters.nonempty_pixels, nonempty);

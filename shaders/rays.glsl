@@ -2,23 +2,24 @@
 #ifndef BRUME_RAYS_GLSL
 #define BRUME_RAYS_GLSL
 
+// Unnormalised ray direction at a point of the screen in Vulkan NDC (y down). It is affine in NDC,
+// so vertex shaders emit it for noperspective interpolation.
+vec3 ndc_ray(vec2 ndc) { return frame.forward.xyz + ndc.x * frame.right.xyz - ndc.y * frame.up.xyz; }
+
 // Unit direction of the ray through framebuffer position p (pixel centres are at i + 0.5).
-vec3 pixel_ray_direction(vec2 p) {
-    vec2 ndc = 2.0 * p / vec2(frame.counts.xy) - 1.0;
-    return normalize(frame.forward.xyz + ndc.x * frame.right.xyz - ndc.y * frame.up.xyz);
-}
+vec3 pixel_ray_direction(vec2 p) { return normalize(ndc_ray(2.0 * p / vec2(frame.counts.xy) - 1.0)); }
 
 // Entry and exit distances of a unit ray through a sphere; returns false on a miss.
 // The discriminant is r^2 - |oc - (oc.d) d|^2 rather than b^2 - c: no cancellation far from the sphere.
-bool intersect_sphere(vec3 origin, vec3 dir, vec3 centre, float radius, out float t0, out float t1) {
-    vec3 oc = origin - centre;
+// `oc` is origin - centre, `r2` the squared radius.
+bool intersect_sphere(vec3 oc, float r2, vec3 dir, out float t0, out float t1) {
     float b = dot(oc, dir);
     vec3 closest = oc - b * dir;
-    float disc = radius * radius - dot(closest, closest);
+    float disc = r2 - dot(closest, closest);
     if (disc < 0.0) return false;
     // q-form: the root of larger magnitude without cancellation, the other from the product c / q.
     float q = -b - (b >= 0.0 ? sqrt(disc) : -sqrt(disc));
-    float c = dot(oc, oc) - radius * radius;
+    float c = dot(oc, oc) - r2;
     float ta = q, tb = (q != 0.0) ? c / q : 0.0;  // q == 0 only for a ray tangent at its own origin
     t0 = min(ta, tb);
     t1 = max(ta, tb);

@@ -32,6 +32,9 @@ BRUME_CONST MAX_POOL_PARTS = 8;
 BRUME_CONST BINDING_COUNT = BINDING_POOL + 1;
 
 BRUME_CONST LIST_END = 0xFFFFFFFFu;
+// The resolve gathers list statistics (max length, non-empty pixels) only when asked: their atomics
+// on one shared cache line cost as much as resolving a short list on a 2-core CPU device.
+BRUME_CONST FRAME_COLLECT_LIST_STATS = 1u;
 BRUME_CONST NODE_BYTES = 16;  // one uvec4 per node; asserted against the GLSL stride below
 
 // One list node is one sphere's whole visible interval along the pixel ray:
@@ -48,7 +51,7 @@ struct FrameUniforms {
     vec4 sun_dir;     // xyz: unit direction the sunlight travels
     vec4 background;  // rgb: radiance where a ray meets no opaque surface
     uvec4 counts;     // x: width, y: height, z: sphere count, w: box count
-    uvec4 pool;       // x: node capacity, y: log2(nodes per pool part), z: pool parts, w: unused
+    uvec4 pool;       // x: node capacity, y: log2(nodes per pool part), z: pool parts, w: FRAME_* flags
     vec4 params;      // x: min transmittance, yzw: unused
 };
 

@@ -1,11 +1,17 @@
 #version 460
 // One impostor rectangle per sphere, read straight from the sphere buffer (no CPU-built mesh):
 // instance i draws sphere i as 6 vertices. Spheres without extinction change no pixel and are culled.
+// Per-sphere constants travel as flat varyings and the pixel ray as a noperspective one (it is
+// linear in screen space), so the fragment shader reads no buffer and divides nothing to set up
+// its intersection: on a CPU device those gathers and divisions were most of the append cost.
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
+#include "rays.glsl"
 #include "screen_bounds.glsl"
 
 layout(location = 0) flat out uint v_sphere;
+layout(location = 1) noperspective out vec3 v_ray;  // unnormalised direction of the pixel ray
+layout(location = 2) flat out vec4 v_offset_r2;     // xyz: eye - centre, w: radius^2
 
 void main() {
     v_sphere = gl_InstanceIndex;
@@ -13,4 +19,6 @@ void main() {
     vec4 rect;
     bool visible = s.albedo_extinction.w > 0.0 && sphere_screen_rect(s.center_radius.xyz, s.center_radius.w, rect);
     gl_Position = visible ? rect_corner(rect, gl_VertexIndex) : vec4(2.0, 2.0, 0.0, 1.0);
+    v_ray = ndc_ray(gl_Position.xy);
+    v_offset_r2 = vec4(frame.eye.xyz - s.center_radius.xyz, s.center_radius.w * s.center_radius.w);
 }

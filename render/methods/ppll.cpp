@@ -1,6 +1,6 @@
 #include "render/methods/ppll.h"
 
-#include "fullscreen.vert.h"
+#include "fullscreen_ray.vert.h"
 #include "ppll_append.frag.h"
 #include "ppll_resolve.frag.h"
 #include "render/vk/pipelines.h"
@@ -66,20 +66,6 @@ std::uint64_t estimate_fragments(const Scene& scene) {
 
 PpllMethod::PpllMethod(Device& device, PpllOptions options)
     : device_(device), options_(options), descriptors_(device), frame_(device, descriptors_), timer_(device, 4, "ppll.timestamps") {
-    GraphicsPipelineDesc append;
-    append.name = "ppll_append";
-    append.vertex = BRUME_SPIRV(spv_sphere_impostor_vert);
-    append.fragment = BRUME_SPIRV(spv_ppll_append_frag);
-    append_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), append);
-
-    GraphicsPipelineDesc resolve;
-    resolve.name = "ppll_resolve";
-    resolve.vertex = BRUME_SPIRV(spv_fullscreen_vert);
-    resolve.fragment = BRUME_SPIRV(spv_ppll_resolve_frag);
-    resolve.color_formats = {FrameResources::kHdrFormat};
-    resolve.fragment_constants = {std::max<std::uint32_t>(options.window, 2)};
-    resolve_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), resolve);
-
     counters_ = Buffer(device, sizeof(gpu::ListCounters),
                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
@@ -95,6 +81,27 @@ PpllMethod::PpllMethod(Device& device, PpllOptions options)
     const std::uint64_t addressable = std::uint64_t(gpu::MAX_POOL_PARTS) << part_shift_;
     max_pool_bytes_ = options.max_pool_bytes ? options.max_pool_bytes : device.device_local_bytes() / 2;
     max_nodes_ = std::min(addressable, max_pool_bytes_ / gpu::NODE_BYTES);
+}
+
+void PpllMethod::ensure_pipelines(std::uint32_t parts) {
+    if (parts == pipeline_parts_) return;
+    // Specialization constant 1: pool parts (see ppll_storage.glsl); 0 is unused.
+    const std::vector<std::uint32_t> constants = {0u, parts};
+    GraphicsPipelineDesc append;
+    append.name = "ppll_append";
+    append.vertex = BRUME_SPIRV(spv_sphere_impostor_vert);
+    append.fragment = BRUME_SPIRV(spv_ppll_append_frag);
+    append.fragment_constants = constants;
+    append_pipeline_ = create_graphics_pipeline(device_, descriptors_.pipeline_layout(), append);
+
+    GraphicsPipelineDesc resolve;
+    resolve.name = "ppll_resolve";
+    resolve.vertex = BRUME_SPIRV(spv_fullscreen_ray_vert);
+    resolve.fragment = BRUME_SPIRV(spv_ppll_resolve_frag);
+    resolve.color_formats = {FrameResources::kHdrFormat};
+    resolve.fragment_constants = constants;
+    resolve_pipeline_ = create_graphics_pipeline(device_, descriptors_.pipeline_layout(), resolve);
+    pipeline_parts_ = parts;
 }
 
 void PpllMethod::ensure_heads(VkExtent2D extent) {
@@ -124,6 +131,7 @@ void PpllMethod::allocate_pool(std::uint64_t nodes) {
     while (handles.size() < gpu::MAX_POOL_PARTS) handles.push_back(handles.front());
     descriptors_.write_storage_array(gpu::BINDING_POOL, handles);
     capacity_ = nodes;
+    ensure_pipelines(std::uint32_t(pool_parts_.size()));
 }
 
 void PpllMethod::record_frame(VkCommandBuffer cmd) {
@@ -171,7 +179,7 @@ void PpllMethod::record_frame(VkCommandBuffer cmd) {
                    VK_ACCESS_2_HOST_READ_BIT);
 }
 
-Image PpllMethod::render(const Scene& scene, FrameStats* stats) {
+Image PpllMethod::render(const Scene& scene, FrameStats* stats, bool list_stats) {
     frame_.upload(scene);
     ensure_heads(frame_.extent());
     if (capacity_ == 0) {
@@ -187,7 +195,8 @@ Image PpllMethod::render(const Scene& scene, FrameStats* stats) {
     gpu::ListCounters counters{};
     for (;;) {
         gpu::FrameUniforms& u = frame_.uniforms();
-        u.pool = gpu::uvec4(std::uint32_t(capacity_), part_shift_, std::uint32_t(pool_parts_.size()), 0);
+        const std::uint32_t flags = (stats && list_stats) ? gpu::FRAME_COLLECT_LIST_STATS : 0u;
+        u.pool = gpu::uvec4(std::uint32_t(capacity_), part_shift_, std::uint32_t(pool_parts_.size()), flags);
         device_.submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd); });
         std::memcpy(&counters, counters_readback_.mapped(), sizeof counters);
         if (counters.allocated <= capacity_) break;
@@ -207,6 +216,7 @@ Image PpllMethod::render(const Scene& scene, FrameStats* stats) {
         stats->pool_capacity = capacity_;
         stats->pool_bytes = nodes_bytes(capacity_);
         stats->regrows = regrows;
+        stats->list_stats = list_stats;
         stats->max_list_length = counters.max_length;
         stats->nonempty_pixels = counters.nonempty_pixels;
         stats->mean_list_length = counters.nonempty_pixels ? double(counters.allocated) / counters.nonempty_pixels : 0.0;

@@ -22,7 +22,6 @@ namespace brume {
 struct PpllOptions {
     std::uint64_t max_pool_bytes = 0;  // node-pool budget; 0: half the device-local heap (capped by the parts)
     std::uint64_t initial_nodes = 0;   // first pool size; 0: estimated from the scene's projected spheres
-    std::uint32_t window = 64;         // events the resolve sorts at once (longer lists take more walks)
 };
 
 // The scene needs more list memory than the budget allows.
@@ -45,12 +44,16 @@ public:
     explicit PpllMethod(vk::Device& device, PpllOptions options = {});
 
     // Renders one frame and reads it back. Throws PoolBudgetError when the lists cannot fit.
-    Image render(const Scene& scene, FrameStats* stats = nullptr);
+    // With `stats`, GPU times and pool figures are filled in; the list-length statistics
+    // (max_list_length, nonempty_pixels, ...) cost extra atomics and are gathered only when
+    // `list_stats` is also set.
+    Image render(const Scene& scene, FrameStats* stats = nullptr, bool list_stats = true);
 
     std::uint64_t max_pool_nodes() const { return max_nodes_; }
     std::uint64_t pool_capacity() const { return capacity_; }
 
 private:
+    void ensure_pipelines(std::uint32_t pool_parts);
     void ensure_heads(VkExtent2D extent);
     void allocate_pool(std::uint64_t nodes);
     void record_frame(VkCommandBuffer cmd);
@@ -66,7 +69,8 @@ private:
     vk::Buffer counters_;
     vk::Buffer counters_readback_;
     std::vector<vk::Buffer> pool_parts_;
-    std::uint32_t part_shift_ = 0;  // log2(nodes per part)
+    std::uint32_t pipeline_parts_ = 0;  // pool parts the pipelines were specialised for
+    std::uint32_t part_shift_ = 0;      // log2(nodes per part)
     std::uint64_t capacity_ = 0;    // nodes
     std::uint64_t max_nodes_ = 0;
     std::uint64_t max_pool_bytes_ = 0;

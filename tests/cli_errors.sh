@@ -1,0 +1,298 @@
+#!/usr/bin/env bash
+# End-to-end checks of the `brume` command line (GUIDE section 2): every failure exits non-zero with a
+# message that names the problem (file, line and key for scene errors), a failed run loses nothing already
+# written, and the successful paths write what they promise.
+#
+# Usage: tests/cli_errors.sh BRUME_BINARY SCRATCH_DIR
+# Registered with ctest as cli.errors (tests/CMakeLists.txt). Needs only bash, coreutils and grep.
+# Each check prints "ok NAME" or "FAIL NAME: why"; the last line is "N passed, M failed".
+# Each run works in a fresh directory under SCRATCH_DIR, removed when every check passed and kept otherwise.
+set -u
+
+if [ $# -ne 2 ]; then
+    echo "usage: $0 BRUME_BINARY SCRATCH_DIR" >&2
+    exit 2
+fi
+brume=$1
+scratch=$2
+data=$(cd "$(dirname "${BASH_SOURCE[0]}")/data" && pwd) || exit 2
+if [ ! -x "$brume" ]; then
+    echo "$0: '$brume' is not an executable" >&2
+    exit 2
+fi
+case $brume in /*) ;; *) brume=$PWD/$brume ;; esac
+mkdir -p "$scratch" || exit 2
+scratch=$(cd "$scratch" && pwd) || exit 2
+work=$(mktemp -d "$scratch/cli_errors.XXXXXX") || exit 2
+
+# Only lavapipe's driver is loaded, as in the GPU tests (tests/gpu_test_env.h).
+lavapipe=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json
+export VK_DRIVER_FILES=$lavapipe VK_ICD_FILENAMES=$lavapipe
+
+passed=0
+failed=0
+ok() {
+    echo "ok $1"
+    passed=$((passed + 1))
+}
+fail() {
+    echo "FAIL $1: $2"
+    failed=$((failed + 1))
+}
+
+# brume ARGS...: runs the binary in the current directory; sets rc and leaves its output in $out and $err.
+out=$work/stdout
+err=$work/stderr
+run() {
+    "$brume" "$@" >"$out" 2>"$err"
+    rc=$?
+}
+# The first line of stderr, for failure messages.
+first_err() { head -n 1 "$err"; }
+
+# expect_error NAME PATTERN...: the last run failed cleanly (exit status 1-127, not a crash) and one line of
+# its stderr contains every PATTERN (fixed strings).
+expect_error() {
+    local name=$1
+    shift
+    if [ "$rc" -eq 0 ]; then
+        fail "$name" "exit status 0, expected a failure"
+        return 1
+    fi
+    if [ "$rc" -ge 128 ]; then
+        fail "$name" "exit status $rc (killed by a signal?): $(first_err)"
+        return 1
+    fi
+    local lines
+    lines=$(cat "$err")
+    local p
+    for p in "$@"; do
+        lines=$(printf '%s\n' "$lines" | grep -F -- "$p")
+        if [ -z "$lines" ]; then
+            fail "$name" "no stderr line contains '$p' together with the earlier patterns; stderr: $(first_err)"
+            return 1
+        fi
+    done
+    return 0
+}
+
+# expect_success NAME: the last run exited 0.
+expect_success() {
+    if [ "$rc" -ne 0 ]; then
+        fail "$1" "exit status $rc: $(first_err)"
+        return 1
+    fi
+    return 0
+}
+
+# The line of FILE marked "# <- error" (the header comment mentions the marker too, so skip comment lines).
+error_line() { grep -n '^[^#].*# <- error' "$1" | head -n 1 | cut -d: -f1; }
+
+# Exactly the names given, nothing else (no temporary files), in directory DIR.
+dir_holds() {
+    local dir=$1
+    shift
+    local want have
+    want=$(printf '%s\n' "$@" | LC_ALL=C sort)
+    have=$(cd "$dir" && LC_ALL=C ls -A | LC_ALL=C sort)
+    [ "$want" = "$have" ]
+}
+listing() { (cd "$1" && ls -A | tr '\n' ' '); }
+
+# A file whose first bytes are the given hex string (e.g. EXR 762f3101, PNG 89504e47).
+has_magic() { [ -s "$1" ] && [ "$(head -c 4 "$1" | od -An -tx1 | tr -d ' \n')" = "$2" ]; }
+EXR_MAGIC=762f3101
+PNG_MAGIC=89504e47
+
+cd "$work" || exit 2
+
+# --- 1, 2. Scene files: syntax errors and invalid values name the file, the line and the key. ---------------
+# check_scene NAME FIXTURE KEY VALUE: the message holds FIXTURE:LINE: (LINE marked in the fixture), KEY and
+# VALUE (the offending text), and no output file is created.
+check_scene() {
+    local name=$1 file=$data/$2 key=$3 value=$4
+    local line
+    line=$(error_line "$file")
+    if [ -z "$line" ]; then
+        fail "$name" "fixture $file has no '# <- error' marker"
+        return
+    fi
+    rm -f never.exr never.png
+    run render "$file" -o never.exr --png never.png
+    expect_error "$name" "$file:$line:" "$key" "$value" || return
+    if [ -e never.exr ] || [ -e never.png ]; then
+        fail "$name" "a rejected scene still wrote output"
+        return
+    fi
+    ok "$name"
+}
+check_scene scene.syntax_error bad_syntax.toml "invalid TOML" "expected value"
+check_scene scene.unknown_key bad_unknown_key.toml "sphere[1].raduis" "unknown key"
+check_scene scene.wrong_type bad_wrong_type.toml "sphere[1].radius" "must be a number"
+check_scene scene.nan_radius bad_nan_radius.toml "sphere[1].radius" "nan"
+check_scene scene.negative_radius bad_negative_radius.toml "sphere[1].radius" "-0.5"
+check_scene scene.negative_extinction bad_negative_extinction.toml "sphere[1].extinction" "-2"
+check_scene scene.width_zero bad_width_zero.toml "camera.width" "got 0)"
+check_scene scene.width_huge bad_width_huge.toml "camera.width" "100000"
+
+# --- 3. A missing scene file is named. ---------------------------------------------------------------------
+run render "$work/no-such-scene.toml" -o never.exr
+expect_error scene.missing_file "$work/no-such-scene.toml" && ok scene.missing_file
+
+# --- 4. An unknown device is named and the available ones listed. ------------------------------------------
+run render "$data/small.toml" --device no-such-device -o never.exr
+expect_error device.unknown "no-such-device" "available" "llvmpipe" && ok device.unknown
+
+# --- 5. A node-pool budget too small for the scene says how many bytes it needs. ---------------------------
+run render "$data/many_spheres.toml" --max-memory 1K -o never.exr
+if expect_error budget.too_small "--max-memory" "budget"; then
+    if grep -Eq 'need [^;]*[0-9]+ bytes' "$err"; then
+        ok budget.too_small
+    else
+        fail budget.too_small "the message does not state the bytes needed: $(first_err)"
+    fi
+fi
+
+# --- 6. A failed run loses nothing already written and leaves no temporary files. --------------------------
+keep=$work/keep
+mkdir -p "$keep"
+run render "$data/small.toml" -o "$keep/out.exr" --png "$keep/out.png" --stats "$keep/out.json"
+if expect_success keep.setup; then
+    if has_magic "$keep/out.exr" $EXR_MAGIC && has_magic "$keep/out.png" $PNG_MAGIC && [ -s "$keep/out.json" ]; then
+        ok keep.setup
+    else
+        fail keep.setup "the first render did not write out.exr, out.png and out.json"
+    fi
+fi
+before=$(cd "$keep" && cksum out.exr out.png out.json 2>&1)
+# check_kept NAME: the three files are byte for byte as before and nothing else is in the directory.
+check_kept() {
+    local now
+    now=$(cd "$keep" && cksum out.exr out.png out.json 2>&1)
+    if [ "$now" != "$before" ]; then
+        fail "$1" "the existing outputs changed: $(printf '%s' "$now" | tr '\n' ';')"
+    elif ! dir_holds "$keep" out.exr out.png out.json; then
+        fail "$1" "the output directory holds more than the outputs: $(listing "$keep")"
+    else
+        ok "$1"
+    fi
+}
+run render "$data/bad_nan_radius.toml" -o "$keep/out.exr" --png "$keep/out.png" --stats "$keep/out.json"
+expect_error keep.after_bad_scene "bad_nan_radius.toml" && check_kept keep.after_bad_scene
+run render "$data/many_spheres.toml" --max-memory 1K -o "$keep/out.exr" --png "$keep/out.png" \
+    --stats "$keep/out.json"
+expect_error keep.after_budget_error "budget" && check_kept keep.after_budget_error
+run render "$data/small.toml" --device no-such-device -o "$keep/out.exr" --png "$keep/out.png" \
+    --stats "$keep/out.json"
+expect_error keep.after_device_error "no-such-device" && check_kept keep.after_device_error
+
+# --- 7. Output into a directory that does not exist: non-zero and the path named. ---------------------------
+missing_dir=$work/no/such/dir
+run render "$data/small.toml" -o "$missing_dir/out.exr"
+expect_error output.missing_dir_exr "$missing_dir/out.exr" && ok output.missing_dir_exr
+run render "$data/small.toml" --png "$missing_dir/out.png"
+expect_error output.missing_dir_png "$missing_dir/out.png" && ok output.missing_dir_png
+run render "$data/small.toml" -o "$work/stats_run.exr" --png "$work/stats_run.png" --stats "$missing_dir/out.json"
+expect_error output.missing_dir_stats "$missing_dir/out.json" && ok output.missing_dir_stats
+if [ -e "$work/no" ]; then
+    fail output.missing_dir_not_created "a failed write created $work/no"
+else
+    ok output.missing_dir_not_created
+fi
+
+# --- 8. Bad option values. ---------------------------------------------------------------------------------
+run render "$data/small.toml" --size 0x10 -o never.exr
+expect_error option.size_zero "0x10" && ok option.size_zero
+run render "$data/small.toml" --size abc -o never.exr
+expect_error option.size_text "abc" && ok option.size_text
+run render "$data/small.toml" --repeat 0 -o never.exr
+expect_error option.repeat_zero "repeat" && ok option.repeat_zero
+run render "$data/small.toml" --max-memory lots -o never.exr
+expect_error option.max_memory_text "lots" && ok option.max_memory_text
+run render "$data/small.toml" --method magic -o never.exr
+expect_error option.method_unknown "magic" && ok option.method_unknown
+if [ -e never.exr ]; then
+    fail option.no_output "a rejected command line still wrote never.exr"
+else
+    ok option.no_output
+fi
+
+# --- 9. Successful runs write what they promise. ------------------------------------------------------------
+ok_dir=$work/ok
+mkdir -p "$ok_dir"
+run render "$data/small.toml" -o "$ok_dir/s.exr" --png "$ok_dir/s.png" --stats "$ok_dir/s.json"
+if expect_success render.ppll_outputs; then
+    if ! has_magic "$ok_dir/s.exr" $EXR_MAGIC; then
+        fail render.ppll_outputs "s.exr is missing or not an OpenEXR file"
+    elif ! has_magic "$ok_dir/s.png" $PNG_MAGIC; then
+        fail render.ppll_outputs "s.png is missing or not a PNG file"
+    elif [ ! -s "$ok_dir/s.json" ]; then
+        fail render.ppll_outputs "s.json is missing or empty"
+    elif ! dir_holds "$ok_dir" s.exr s.png s.json; then
+        fail render.ppll_outputs "unexpected files beside the outputs: $(listing "$ok_dir")"
+    else
+        ok render.ppll_outputs
+    fi
+fi
+missing_keys=
+for key in gpu_ms total fragments pool_capacity pool_bytes regrows max_list_length mean_list_length; do
+    grep -q "\"$key\"" "$ok_dir/s.json" 2>/dev/null || missing_keys="$missing_keys $key"
+done
+if [ -n "$missing_keys" ]; then
+    fail render.stats_keys "the stats JSON lacks:$missing_keys"
+else
+    ok render.stats_keys
+fi
+
+run render "$data/small.toml" --method reference -o "$ok_dir/ref.exr"
+if expect_success render.reference_exr; then
+    if has_magic "$ok_dir/ref.exr" $EXR_MAGIC; then
+        ok render.reference_exr
+    else
+        fail render.reference_exr "ref.exr is missing or not an OpenEXR file"
+    fi
+fi
+
+run devices
+if expect_success devices.lists_llvmpipe; then
+    if grep -q llvmpipe "$out"; then
+        ok devices.lists_llvmpipe
+    else
+        fail devices.lists_llvmpipe "llvmpipe is not listed: $(head -n 1 "$out")"
+    fi
+fi
+
+empty=$work/empty
+mkdir -p "$empty"
+(cd "$empty" && run render --size 64x48 && echo "$rc" >"$work/default_rc")
+rc=$(cat "$work/default_rc" 2>/dev/null || echo 255)
+if expect_success render.default_outputs; then
+    if ! has_magic "$empty/brume.exr" $EXR_MAGIC || ! has_magic "$empty/brume.png" $PNG_MAGIC; then
+        fail render.default_outputs "brume.exr and brume.png were not written: $(listing "$empty")"
+    elif ! dir_holds "$empty" brume.exr brume.png; then
+        fail render.default_outputs "unexpected files beside brume.exr and brume.png: $(listing "$empty")"
+    else
+        ok render.default_outputs
+    fi
+fi
+
+# --- 10. The validation layer has nothing to report. --------------------------------------------------------
+run render "$data/small.toml" --validate -o "$ok_dir/validated.exr"
+if expect_success render.validate_clean; then
+    if [ -s "$err" ]; then
+        fail render.validate_clean "stderr is not empty: $(first_err)"
+    elif ! has_magic "$ok_dir/validated.exr" $EXR_MAGIC; then
+        fail render.validate_clean "validated.exr is missing or not an OpenEXR file"
+    else
+        ok render.validate_clean
+    fi
+fi
+
+echo "$passed passed, $failed failed"
+cd "$scratch" || exit 1
+if [ "$failed" -ne 0 ]; then
+    echo "outputs kept in $work"
+    exit 1
+fi
+rm -rf -- "$work"
+exit 0

@@ -17,8 +17,7 @@ std::vector<int> parse_int_list(const std::string& text);
 
 double median(std::vector<double> values);
 
-// Writes text to a temporary file beside `path` and renames it into place: an interrupted run
-// never leaves a half-written file and never damages the one that was there.
-void write_file_atomically(const std::filesystem::path& path, const std::string& text);
+// A JSON string literal (quotes, backslashes and control characters escaped).
+std::string json_string(const std::string& text);
 
 }  // namespace brume::app

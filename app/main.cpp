@@ -2,6 +2,7 @@
 // Every failure reaches the user as one line naming the problem and a non-zero exit status.
 #include "app/bench_command.h"
 #include "app/render_command.h"
+#include "render/atomic_file.h"
 #include "render/image_io.h"
 #include "render/methods/ppll.h"
 #include "render/vk/device.h"
@@ -39,7 +40,16 @@ int main(int argc, char** argv) {
     brume::app::BenchArgs bench_args;
     brume::app::add_bench_command(app, bench_args);
     app.add_subcommand("devices", "List the Vulkan devices Brume can use");
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "brume: error: %s (see brume --help)\n", e.what());
+        return 2;
+    }
 
     try {
         if (app.got_subcommand("render")) return brume::app::run_render(render_args);
@@ -48,6 +58,8 @@ int main(int argc, char** argv) {
     } catch (const brume::SceneFileError& e) {
         return fail(e.what());
     } catch (const brume::ImageIoError& e) {
+        return fail(e.what());
+    } catch (const brume::FileWriteError& e) {
         return fail(e.what());
     } catch (const brume::PoolBudgetError& e) {
         return fail(e.what());

@@ -1,6 +1,7 @@
 #include "app/render_command.h"
 
 #include "app/cli_util.h"
+#include "render/atomic_file.h"
 #include "render/image_io.h"
 #include "render/methods/ppll.h"
 #include "render/reference.h"
@@ -9,6 +10,7 @@
 #include "sim/scene_file.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -29,7 +31,8 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
     cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
     cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers; any message fails the run");
     cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M (default: half the device heap)");
-    cmd->add_option("--pool-nodes", args.pool_nodes, "Initial node-pool size (default: estimated from the scene)");
+    cmd->add_option("--pool-nodes", args.pool_nodes, "Initial node-pool size (default: estimated from the scene)")
+        ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 40));
     cmd->add_option("--threads", args.threads, "CPU threads for --method reference (default: all)")->check(CLI::Range(0, 1024));
 }
 
@@ -46,9 +49,9 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
     std::ostringstream j;
     j.precision(10);
     j << "{\n";
-    j << "  \"scene\": \"" << scene.source << "\",\n";
-    j << "  \"method\": \"" << args.method << "\",\n";
-    j << "  \"device\": \"" << device << "\",\n";
+    j << "  \"scene\": " << json_string(scene.source) << ",\n";
+    j << "  \"method\": " << json_string(args.method) << ",\n";
+    j << "  \"device\": " << json_string(device) << ",\n";
     j << "  \"width\": " << scene.camera.width << ",\n  \"height\": " << scene.camera.height << ",\n";
     j << "  \"spheres\": " << scene.spheres.size() << ",\n  \"boxes\": " << scene.boxes.size() << ",\n";
     j << "  \"frames\": " << timing.total_ms.size() << ",\n";
@@ -81,6 +84,10 @@ int run_render(const RenderArgs& args) {
         exr = "brume.exr";
         png = "brume.png";
     }
+    // Refuse before rendering rather than fail after writing some outputs and not others.
+    if (!std::isfinite(args.exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");
+    for (const std::string& out : {exr, png, args.stats})
+        if (!out.empty()) check_writable_path(out);
 
     Timing timing;
     FrameStats last{};

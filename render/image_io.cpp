@@ -1,5 +1,7 @@
 #include "render/image_io.h"
 
+#include "render/atomic_file.h"
+
 #include <ImathBox.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -43,81 +45,13 @@ void check_image(const Image& image, const fs::path& path) {
                              " but holds " + std::to_string(image.rgb.size()) + " floats");
 }
 
-// Owns the temporary file until it has been renamed into place; on any failure closes and removes it.
-class TempFile {
-public:
-    TempFile(fs::path path, int fd) : path_(std::move(path)), fd_(fd) {}
-    TempFile(const TempFile&) = delete;
-    TempFile& operator=(const TempFile&) = delete;
-    ~TempFile() {
-        if (fd_ >= 0) ::close(fd_);
-        if (!committed_) ::unlink(path_.c_str());
+// Writes through the shared atomic writer, reporting failures as image errors.
+void write_image_file(const fs::path& path, std::string_view bytes) {
+    try {
+        write_file_atomically(path, bytes);
+    } catch (const FileWriteError& e) {
+        throw ImageIoError(e.what());
     }
-    int fd() const { return fd_; }
-    const fs::path& path() const { return path_; }
-    // Closing can report a delayed write error (NFS, quotas), so it is checked, not left to the destructor.
-    int close() {
-        const int r = ::close(fd_);
-        fd_ = -1;
-        return r;
-    }
-    void commit() { committed_ = true; }
-
-private:
-    fs::path path_;
-    int fd_;
-    bool committed_ = false;
-};
-
-// Creates a uniquely named file beside the target; the name starts with '.' so listings hide it.
-TempFile create_temp_beside(const fs::path& path) {
-    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-    // Keep the temporary name within NAME_MAX even when the target's name is already long.
-    const std::string stem = path.filename().string().substr(0, 200);
-    std::random_device random;
-    for (int attempt = 0; attempt < 64; ++attempt) {
-        char suffix[16];
-        std::snprintf(suffix, sizeof suffix, "%08x", static_cast<unsigned>(random()));
-        fs::path temp = dir / ("." + stem + ".tmp-" + suffix);
-        // 0666 before the umask: the finished file gets the permissions of any newly created file.
-        const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0) return TempFile(std::move(temp), fd);
-        if (errno != EEXIST) {
-            const int err = errno;
-            fail_write(path, "cannot create a temporary file in " + dir.string() + ": " + os_reason(err));
-        }
-    }
-    fail_write(path, "cannot find a free temporary file name in " + dir.string());
-}
-
-// Write, flush to disk, then rename: readers see either the old file or the complete new one.
-void write_file_atomically(const fs::path& path, std::string_view bytes) {
-    if (!path.has_filename()) fail_write(path, "not a file name");
-    TempFile temp = create_temp_beside(path);
-    std::size_t done = 0;
-    while (done < bytes.size()) {
-        const ssize_t n = ::write(temp.fd(), bytes.data() + done, bytes.size() - done);
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            const int err = errno;
-            fail_write(path, "writing " + temp.path().string() + ": " + os_reason(err));
-        }
-        done += static_cast<std::size_t>(n);
-    }
-    // Without fsync a crash soon after the rename can leave an empty file where the old good one was.
-    if (::fsync(temp.fd()) != 0) {
-        const int err = errno;
-        fail_write(path, "flushing " + temp.path().string() + ": " + os_reason(err));
-    }
-    if (temp.close() != 0) {
-        const int err = errno;
-        fail_write(path, "closing " + temp.path().string() + ": " + os_reason(err));
-    }
-    if (::rename(temp.path().c_str(), path.c_str()) != 0) {
-        const int err = errno;
-        fail_write(path, "renaming " + temp.path().string() + " into place: " + os_reason(err));
-    }
-    temp.commit();
 }
 
 std::string encode_exr(const Image& image) {
@@ -180,7 +114,7 @@ void write_exr(const Image& image, const fs::path& path) {
     } catch (const std::exception& e) {
         fail_write(path, std::string("EXR encoding failed: ") + e.what());
     }
-    write_file_atomically(path, bytes);
+    write_image_file(path, bytes);
 }
 
 Image read_exr(const fs::path& path) {
@@ -221,7 +155,7 @@ Image read_exr(const fs::path& path) {
 
 void write_png(const Image& image, const fs::path& path, double exposure_stops) {
     check_image(image, path);
-    write_file_atomically(path, encode_png(image, exposure_stops, path));
+    write_image_file(path, encode_png(image, exposure_stops, path));
 }
 
 }  // namespace brume

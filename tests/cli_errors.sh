@@ -288,6 +288,40 @@ if expect_success render.validate_clean; then
     fi
 fi
 
+# --- 11. Regressions found by this script: each was a real bug. ---------------------------------------------
+reg=$work/regressions
+mkdir -p "$reg"
+# A budget below the pool's minimum size was silently raised to that size.
+run render "$data/small.toml" --size 16x12 --max-memory 20 -o "$reg/tiny.exr"
+expect_error regress.budget_below_pool_floor "budget" "bytes" && ok regress.budget_below_pool_floor
+# A negative pool size wrapped around to the largest pool.
+run render "$data/small.toml" --pool-nodes -5 -o "$reg/neg.exr"
+expect_error regress.negative_pool_nodes "--pool-nodes" && ok regress.negative_pool_nodes
+# A run that fails on its second output must not have written its first.
+run render "$data/small.toml" --size 16x12 -o "$reg/first.exr" --png "$reg/nodir/second.png"
+if expect_error regress.no_partial_outputs "$reg/nodir/second.png"; then
+    if [ -e "$reg/first.exr" ]; then fail regress.no_partial_outputs "first.exr was written"; else ok regress.no_partial_outputs; fi
+fi
+run render "$data/small.toml" --size 16x12 --exposure nan -o "$reg/nan.exr" --png "$reg/nan.png"
+if expect_error regress.bad_exposure_first "exposure"; then
+    if [ -e "$reg/nan.exr" ]; then fail regress.bad_exposure_first "nan.exr was written"; else ok regress.bad_exposure_first; fi
+fi
+# Statistics are valid JSON even when the scene's path holds quotes and backslashes.
+cp "$data/small.toml" "$reg/we\"ird.toml"
+run render "$reg/we\"ird.toml" --size 16x12 -o "$reg/w.exr" --stats "$reg/w.json"
+if expect_success regress.json_escaping; then
+    if grep -qF '"scene": "' "$reg/w.json" && grep -qF 'we\"ird.toml' "$reg/w.json"; then
+        ok regress.json_escaping
+    else
+        fail regress.json_escaping "scene path not escaped: $(grep scene "$reg/w.json")"
+    fi
+fi
+# Option errors are one line with the brume: prefix.
+run render "$data/small.toml" --repeat 0 -o "$reg/r.exr"
+if expect_error regress.option_error_one_line "brume: error:" "--repeat"; then
+    if [ "$(wc -l <"$err")" -eq 1 ]; then ok regress.option_error_one_line; else fail regress.option_error_one_line "$(wc -l <"$err") lines"; fi
+fi
+
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1
 if [ "$failed" -ne 0 ]; then

@@ -117,7 +117,8 @@ void PpllMethod::ensure_heads(VkExtent2D extent) {
 }
 
 void PpllMethod::allocate_pool(std::uint64_t nodes) {
-    nodes = std::max<std::uint64_t>(nodes, 1024);
+    // A small floor saves regrowing for trivial scenes, but never beyond the budget.
+    nodes = std::min(std::max<std::uint64_t>(nodes, 1024), std::max<std::uint64_t>(max_nodes_, 1));
     pool_parts_.clear();  // free the old pool before allocating the new one
     const std::uint64_t per_part = 1ull << part_shift_;
     std::vector<VkBuffer> handles;

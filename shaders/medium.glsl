@@ -3,17 +3,18 @@
 #ifndef BRUME_MEDIUM_GLSL
 #define BRUME_MEDIUM_GLSL
 
-// (1 - exp(-x)) / x for x >= 0. Below 1/8 the series (error < x^6/5040 < 1e-9) avoids the
-// cancellation of 1 - exp(-x); it is 1 at x = 0, so empty space and tau -> 0 need no special case.
-float one_minus_exp_over_x(float x) {
+// (1 - exp(-x)) / x for x >= 0, given exp_minus_x = exp(-x) (the caller needs it for the
+// transmittance too). Below 1/8 the series (error < x^6/5040 < 1e-9) avoids the cancellation of
+// 1 - exp(-x); it is 1 at x = 0, so empty space and tau -> 0 need no special case.
+float one_minus_exp_over_x(float x, float exp_minus_x) {
     if (x < 0.125)
         return 1.0 - x / 2.0 * (1.0 - x / 3.0 * (1.0 - x / 4.0 * (1.0 - x / 5.0 * (1.0 - x / 6.0))));
-    return (1.0 - exp(-x)) / x;
+    return (1.0 - exp_minus_x) / x;
 }
 
 // L_s = L_ambient + L_sun * 3/(16 pi) * (1 + cos^2 theta), theta between sunlight and view ray.
-vec3 source_radiance(vec3 dir) {
-    float cos_theta = dot(frame.sun_dir.xyz, dir);
+vec3 source_radiance(vec3 unit_dir) {
+    float cos_theta = dot(frame.sun_dir.xyz, unit_dir);
     return frame.ambient.rgb + frame.sun.rgb * (0.05968310365946075 * (1.0 + cos_theta * cos_theta));
 }
 

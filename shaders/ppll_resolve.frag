@@ -42,8 +42,9 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
     float len = t - it.t_prev;
     if (len > 0.0) {
         float x = it.sigma_t * len;
-        it.radiance += it.transmittance * it.sigma_s * source * (len * one_minus_exp_over_x(x));
-        it.transmittance *= exp(-x);
+        float segment_transmittance = exp(-x);
+        it.radiance += it.transmittance * it.sigma_s * source * (len * one_minus_exp_over_x(x, segment_transmittance));
+        it.transmittance *= segment_transmittance;
         if (it.transmittance < frame.params.x) {
             it.stopped = true;
             return;
@@ -75,21 +76,24 @@ void main() {
         out_radiance = vec4(opaque.rgb, 1.0);
         return;  // empty pixels take no part in the statistics below: they add nothing to them
     }
-    vec3 dir = normalize(v_ray);
-    float cos_theta = dot(frame.sun_dir.xyz, dir);
-    vec3 source = frame.ambient.rgb + frame.sun.rgb * (0.05968310365946075 * (1.0 + cos_theta * cos_theta));
+    vec3 source = source_radiance(normalize(v_ray));
     Integrator it = Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), 0, 0.0, false);
 
     uvec2 w[WINDOW];  // the batch, sorted; NO_KEY marks empty slots (it sorts after every real key)
-    // Inserts `key` into the sorted batch, dropping the largest: slot i takes its left neighbour if
-    // key sorts before that, else key if key sorts before slot i, else keeps its own.
-#define BRUME_SHIFT(i) w[i] = key_less(key, w[i - 1]) ? w[i - 1] : (key_less(key, w[i]) ? key : w[i]);
+    // Inserts `key` into the sorted batch, dropping the largest: with c_i = (key sorts before slot i),
+    // slot i takes its left neighbour if c_(i-1), else key if c_i, else keeps its own. All eight
+    // comparisons use the batch as it was, so they are made once, before any slot moves.
+#define BRUME_SHIFT(i, c_left, c) w[i] = c_left ? w[i - 1] : (c ? key : w[i]);
 #define BRUME_INSERT(k)                                                                           \
     {                                                                                             \
         uvec2 key = k;                                                                            \
-        BRUME_SHIFT(7) BRUME_SHIFT(6) BRUME_SHIFT(5) BRUME_SHIFT(4)                               \
-        BRUME_SHIFT(3) BRUME_SHIFT(2) BRUME_SHIFT(1)                                              \
-        w[0] = key_less(key, w[0]) ? key : w[0];                                                  \
+        bool c0 = key_less(key, w[0]), c1 = key_less(key, w[1]), c2 = key_less(key, w[2]);       \
+        bool c3 = key_less(key, w[3]), c4 = key_less(key, w[4]), c5 = key_less(key, w[5]);       \
+        bool c6 = key_less(key, w[6]), c7 = key_less(key, w[7]);                                 \
+        BRUME_SHIFT(7, c6, c7) BRUME_SHIFT(6, c5, c6) BRUME_SHIFT(5, c4, c5)                      \
+        BRUME_SHIFT(4, c3, c4) BRUME_SHIFT(3, c2, c3) BRUME_SHIFT(2, c1, c2)                      \
+        BRUME_SHIFT(1, c0, c1)                                                                    \
+        w[0] = c0 ? key : w[0];                                                                   \
     }
 
     uvec2 last = uvec2(0u);

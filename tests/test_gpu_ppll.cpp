@@ -238,6 +238,37 @@ TEST_F(Ppll, BudgetTooSmallStatesTheBytesNeeded) {
     }
 }
 
+TEST_F(Ppll, PoolSplitIntoPartsStaysExact) {
+    // Parts of 8,192 nodes stand in for the 128 MiB storage-buffer limit: a scene needing several
+    // parts must resolve exactly, lists linking nodes in different parts included.
+    const Scene s = random_scene(300, 13, true);
+    PpllOptions options;
+    options.part_nodes = 8192;
+    options.initial_nodes = 16;  // and grow across part counts on the way
+    PpllMethod ppll(device(), options);
+    FrameStats stats;
+    const Image img = ppll.render(s, &stats);
+    ASSERT_GT(stats.fragments, 3u * 8192u) << "the scene must need several parts";
+    EXPECT_GE(stats.regrows, 1);
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+TEST_F(Ppll, MorePartsThanAddressableIsABudgetError) {
+    // Eight parts of 1,024 nodes address 8,192 nodes: a scene needing more must say so.
+    const Scene s = random_scene(300, 13, true);
+    PpllOptions options;
+    options.part_nodes = 1024;
+    PpllMethod ppll(device(), options);
+    EXPECT_EQ(ppll.max_pool_nodes(), 8u * 1024u);
+    try {
+        ppll.render(s);
+        FAIL() << "expected PoolBudgetError";
+    } catch (const PoolBudgetError& e) {
+        EXPECT_NE(std::string(e.what()).find("can address"), std::string::npos) << e.what();
+    }
+}
+
 TEST_F(Ppll, ListsLongerThanTheResolveWindowStayExact) {
     // 60 spheres on the view axis: 60 nodes = 120 events per pixel, 15 batches of the resolve's
     // 8-event window, with many ties in distance between neighbouring spheres' surfaces.

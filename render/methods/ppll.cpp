@@ -32,9 +32,13 @@ void tangent_slopes(double lateral, double depth, double r, double& lo, double& 
 
 }  // namespace
 
-PoolBudgetError::PoolBudgetError(std::uint64_t needed, std::uint64_t allowed)
-    : std::runtime_error("the per-pixel lists need " + format_bytes(needed) + " of node pool but the budget is " +
-                         format_bytes(allowed) + "; raise --max-memory, lower the resolution or the particle count"),
+PoolBudgetError::PoolBudgetError(std::uint64_t needed, std::uint64_t allowed, bool addressable)
+    : std::runtime_error(
+          "the per-pixel lists need " + format_bytes(needed) + " of node pool but " +
+          (addressable ? "the " + std::to_string(gpu::MAX_POOL_PARTS) + " pool parts this device can address hold " +
+                             format_bytes(allowed) + "; lower the resolution or the particle count"
+                       : "the budget is " + format_bytes(allowed) +
+                             "; raise --max-memory, lower the resolution or the particle count")),
       needed_(needed),
       allowed_(allowed) {}
 
@@ -78,6 +82,11 @@ PpllMethod::PpllMethod(Device& device, PpllOptions options)
     const std::uint64_t range = device.properties().limits.maxStorageBufferRange;
     part_shift_ = 0;
     while (part_shift_ < 28 && nodes_bytes(2ull << part_shift_) <= range) ++part_shift_;
+    if (options.part_nodes) {
+        if (options.part_nodes & (options.part_nodes - 1))
+            throw std::invalid_argument("PpllOptions::part_nodes must be a power of two");
+        while ((1ull << part_shift_) > options.part_nodes) --part_shift_;
+    }
     const std::uint64_t addressable = std::uint64_t(gpu::MAX_POOL_PARTS) << part_shift_;
     max_pool_bytes_ = options.max_pool_bytes ? options.max_pool_bytes : device.device_local_bytes() / 2;
     max_nodes_ = std::min(addressable, max_pool_bytes_ / gpu::NODE_BYTES);
@@ -204,7 +213,9 @@ Image PpllMethod::render(const Scene& scene, FrameStats* stats, bool list_stats)
         // Overflow: nothing past capacity was written and the frame is discarded. Grow to what this
         // frame needed plus headroom for the next one, and render again.
         const std::uint64_t needed = counters.allocated;
-        if (needed > max_nodes_) throw PoolBudgetError(nodes_bytes(needed), nodes_bytes(max_nodes_));
+        if (needed > max_nodes_)
+            throw PoolBudgetError(nodes_bytes(needed), nodes_bytes(max_nodes_),
+                                  max_nodes_ < max_pool_bytes_ / gpu::NODE_BYTES);
         allocate_pool(std::min(max_nodes_, needed + needed / 4));
         ++regrows;
     }

@@ -22,12 +22,15 @@ namespace brume {
 struct PpllOptions {
     std::uint64_t max_pool_bytes = 0;  // node-pool budget; 0: half the device-local heap (capped by the parts)
     std::uint64_t initial_nodes = 0;   // first pool size; 0: estimated from the scene's projected spheres
+    std::uint64_t part_nodes = 0;      // nodes per pool part, a power of two; 0: the most one
+                                       // storage-buffer descriptor can address (tests use small parts)
 };
 
 // The scene needs more list memory than the budget allows.
 class PoolBudgetError : public std::runtime_error {
 public:
-    PoolBudgetError(std::uint64_t needed, std::uint64_t allowed);
+    // `addressable` when the limit is what the pool parts can address rather than the budget.
+    PoolBudgetError(std::uint64_t needed, std::uint64_t allowed, bool addressable = false);
     std::uint64_t bytes_needed() const { return needed_; }
     std::uint64_t bytes_allowed() const { return allowed_; }
 

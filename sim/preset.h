@@ -111,7 +111,7 @@ struct CameraKey {
 struct CameraPath {
     enum class Kind { Static, Keyframes, Orbit };
     Kind kind = Kind::Static;        // Static: the scene's [camera] for every frame
-    std::vector<CameraKey> keys;     // Keyframes: time ascending, Catmull-Rom, held at the ends
+    std::vector<CameraKey> keys;     // Keyframes: time ascending, cubic Hermite (C1), held at the ends
     glm::dvec3 orbit_center{0.0};    // Orbit: around the vertical axis through orbit_center
     double orbit_radius = 5.0;
     double orbit_height = 1.0;       // eye height above orbit_center

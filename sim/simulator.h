@@ -1,0 +1,98 @@
+// The CPU particle simulator: a Preset's emitters, forces and obstacles stepped on a fixed clock.
+//
+// Clock. Step k ends at time k / (fps * substeps) seconds, computed from the integer k (no drift).
+// Time 0 is the start of the simulation; the preroll is round(preroll * fps * substeps) steps
+// simulated at construction, and frame f is the state after preroll + f * substeps steps, at time
+// preroll_steps / (fps * substeps) + f / fps. Emitter times are on this clock.
+//
+// One step [t0, t1]: (1) every live particle is advanced by dt = t1 - t0 (sim/forces.h: exact for the
+// linear part, turbulence frozen at t0), pushed out of the scene's boxes, and aged; (2) particles with
+// age >= lifetime are removed, in index order by swap-and-pop; (3) births in (t0, t1] are added in
+// emitter order, each emitter's bursts (by time) before its continuous particles, each advanced by
+// its own age t1 - birth from its birth position (emitters.h), with the same field as the step, and
+// pushed out of the boxes (one born inside a box it cannot leave dies at once). The state at time 0
+// holds the births at times <= 0, at age 0.
+//
+// Budget (Timeline::max_particles). A birth finding the live count at the budget is skipped: it still
+// takes its emission counter (so ids and every other particle stay the same), it is just never
+// added. Deaths are removed before births, so a step's deaths free room for that step's births.
+//
+// Determinism. Single-threaded, counter-based randomness, fixed visiting order: the same preset
+// gives bit-identical particles on the same build, and advance_to_frame(f) equals f step_frame()s.
+#pragma once
+
+#include "sim/forces.h"
+#include "sim/particles.h"
+#include "sim/preset.h"
+#include "sim/scene.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace brume {
+
+class Simulator {
+public:
+    // Throws std::invalid_argument for a timeline it cannot step (fps or substeps not positive,
+    // preroll negative) or more than 65536 emitters (the id's emitter field).
+    explicit Simulator(const Preset& preset);
+
+    void step_frame();
+    // Steps forward to frame f (f >= 0), replaying from the start if f is behind the current frame.
+    void advance_to_frame(int frame);
+
+    int frame() const;
+    double time() const;  // seconds since the start of the simulation, preroll included
+    const Particles& particles() const { return particles_; }
+    std::size_t size() const { return particles_.size(); }
+
+    // The live particles as spheres with the age curves applied; those whose radius or extinction
+    // comes out zero are skipped. Appends, so fixed scene spheres can already be in `out`.
+    void append_spheres(std::vector<Sphere>& out) const;
+
+    // Births so far per emitter (the emission counter, budget-skipped ones included), and births the
+    // budget skipped in total.
+    std::uint64_t emitted(std::size_t emitter) const { return emitters_[emitter].counter; }
+    std::uint64_t skipped() const { return skipped_; }
+    std::uint64_t step_index() const { return step_; }
+    double step_seconds() const { return 1.0 / steps_per_second_; }
+
+private:
+    struct EmitterState {
+        std::vector<EmitterDesc::Burst> bursts;  // sorted by time (stable)
+        std::uint64_t counter = 0;               // births so far, the id's low bits
+        std::uint64_t continuous = 0;            // continuous births so far
+    };
+
+    void reset();
+    void substep();
+    // Births in (t_begin, t_end], or at times <= 0 for the initial state.
+    void add_births(double t_begin, double t_end, bool initial);
+    void birth(std::uint32_t emitter, double birth_time, double t_end, bool initial);
+    void advance_new(std::size_t first);
+    void remove_dead(std::size_t first);
+    double time_at(std::uint64_t step) const { return double(step) / steps_per_second_; }
+
+    Preset preset_;
+    ForceField forces_;
+    BoxObstacles obstacles_;
+    double steps_per_second_ = 1.0;
+    std::uint64_t substeps_ = 1;
+    std::uint64_t preroll_steps_ = 0;
+
+    Particles particles_;
+    std::vector<EmitterState> emitters_;
+    std::uint64_t step_ = 0;
+    std::uint64_t skipped_ = 0;
+    std::vector<float> phases_;     // the noise phases of the current step
+    std::vector<double> new_ages_;  // age of each particle born in the current step
+};
+
+// Median wall-clock milliseconds per simulation step over `steps` steps, on this thread, for a fixed
+// synthetic plume: `particles` live particles (one burst, lifetimes longer than the run), gravity,
+// buoyancy, wind, drag, 2-octave turbulence and a ground box. Each timed step includes applying the
+// age curves to every particle (append_spheres), so it is the cost of a frame with one substep.
+double benchmark_step_ms(std::size_t particles, int steps);
+
+}  // namespace brume

@@ -6,6 +6,7 @@
 #include "render/reference.h"
 #include "render/vk/device.h"
 #include "sim/layers_scene.h"
+#include "sim/simulator.h"
 
 #include <chrono>
 #include <cstdio>
@@ -29,7 +30,10 @@ double paper_fps(int width, int layers) {
 
 void add_bench_command(CLI::App& app, BenchArgs& args) {
     CLI::App* cmd = app.add_subcommand("bench", "Benchmarks that print figures side by side");
-    cmd->add_option("which", args.which, "Benchmark to run")->check(CLI::IsMember({"layers"}));
+    cmd->add_option("which", args.which, "layers (seed 000 Tables 1-2) or sim (simulation step)")
+        ->check(CLI::IsMember({"layers", "sim"}));
+    cmd->add_option("--particles", args.particles, "bench sim: live particles")->check(CLI::Range(std::size_t(1), std::size_t(10000000)));
+    cmd->add_option("--steps", args.steps, "bench sim: steps timed (median reported)")->check(CLI::Range(1, 100000));
     cmd->add_option("--sizes", args.sizes, "Resolutions, e.g. 800x600,1024x768");
     cmd->add_option("--layers", args.layers, "Layer counts, e.g. 2-16:2 or 2,8,16 (even)");
     cmd->add_option("--frames", args.frames, "ppll frames per point (median reported)")->check(CLI::Range(1, 10000));
@@ -39,7 +43,21 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
     cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers");
 }
 
+namespace {
+
+int run_bench_sim(const BenchArgs& args) {
+    const double ms = benchmark_step_ms(args.particles, args.steps);
+    std::printf("# brume bench sim: one simulation step of a plume (gravity, buoyancy, wind, drag, 2-octave curl\n"
+                "# noise, age curves, box collisions), one core, median of %d steps\n", args.steps);
+    std::printf("%10s %10s %14s\n", "particles", "ms/step", "ns/particle");
+    std::printf("%10zu %10.3f %14.1f\n", args.particles, ms, ms * 1e6 / double(args.particles));
+    return 0;
+}
+
+}  // namespace
+
 int run_bench(const BenchArgs& args) {
+    if (args.which == "sim") return run_bench_sim(args);
     std::vector<std::pair<int, int>> sizes;
     for (std::size_t start = 0; start <= args.sizes.size();) {
         const std::size_t comma = args.sizes.find(',', start);

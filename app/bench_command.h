@@ -1,5 +1,5 @@
 // `brume bench layers`: the full-screen-layers benchmark of seed 000 (Tables 1-2) for ppll, with
-// the CPU reference timed on the same frames.
+// the CPU reference timed on the same frames. `brume bench sim`: milliseconds per simulation step.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -14,6 +14,8 @@ struct BenchArgs {
     std::string layers = "2-16:2";
     std::string device;
     int frames = 9;
+    std::size_t particles = 100000;  // bench sim
+    int steps = 50;                   // bench sim
     int reference_frames = 1;
     bool validate = false;
     bool no_reference = false;

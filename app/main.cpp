@@ -1,6 +1,7 @@
 // The `brume` command: subcommands for rendering, benchmarking and inspecting devices.
 // Every failure reaches the user as one line naming the problem and a non-zero exit status.
 #include "app/bench_command.h"
+#include "app/play_command.h"
 #include "app/render_command.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
@@ -37,6 +38,8 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     brume::app::RenderArgs render_args;
     brume::app::add_render_command(app, render_args);
+    brume::app::PlayArgs play_args;
+    brume::app::add_play_command(app, play_args);
     brume::app::BenchArgs bench_args;
     brume::app::add_bench_command(app, bench_args);
     app.add_subcommand("devices", "List the Vulkan devices Brume can use");
@@ -53,6 +56,7 @@ int main(int argc, char** argv) {
 
     try {
         if (app.got_subcommand("render")) return brume::app::run_render(render_args);
+        if (app.got_subcommand("play")) return brume::app::run_play(play_args);
         if (app.got_subcommand("bench")) return brume::app::run_bench(bench_args);
         if (app.got_subcommand("devices")) return list_devices();
     } catch (const brume::SceneFileError& e) {

@@ -1,12 +1,17 @@
 // Scene files (GUIDE section 2): TOML in, validated Scene out, and Scene back to TOML.
 // Everything a renderer could choke on (unknown keys, wrong types, NaN/Inf, negative or absurd sizes)
-// is rejected here with the file, line and key, so no renderer has to re-check its input.
+// is rejected with the file, line and key, so no renderer has to re-check its input. A scene file is a
+// preset file without the preset sections: one reader serves both (sim/preset_file.cpp).
 #pragma once
 
 #include "sim/scene.h"
 
+#include <glm/vec3.hpp>
+
 #include <cstddef>
 #include <filesystem>
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -43,6 +48,7 @@ private:
 };
 
 // Parses and validates a scene; source_name stands for the file in messages and becomes Scene::source.
+// A preset section ([timeline], [[emitter]], ...) is an error here: presets are read by sim/preset_file.h.
 Scene parse_scene_toml(std::string_view text, const std::string& source_name);
 
 // Reads and parses a file; a missing or unreadable file is a SceneFileError naming it and the OS reason.
@@ -52,5 +58,26 @@ Scene load_scene_file(const std::filesystem::path& path);
 // reads back to the same double, so parse_scene_toml(scene_to_toml(s)) reproduces s exactly (bar source).
 // No validation: a scene with NaN or negative radii is written as is and rejected when read back.
 std::string scene_to_toml(const Scene& scene);
+
+// Text helpers shared by the scene and preset readers and writers.
+namespace toml_text {
+
+// Shortest text that reads back to the same double: "1", "0.1", "nan", "-inf" (for messages).
+std::string shortest(double v);
+// As shortest, but always a TOML float ("1.0", not "1"), so written files keep their types.
+void append_float(std::string& out, double v);
+// `key = [x, y, z]` and `key = v`, each on its own line, as TOML floats.
+void append_vec3(std::string& out, std::string_view key, const glm::dvec3& v);
+void append_number(std::string& out, std::string_view key, double v);
+// The entry of `known` closest to `unknown` within two edits (typos, transpositions): did-you-mean.
+std::optional<std::string_view> suggest(std::string_view unknown, std::span<const std::string_view> known);
+// A TOML basic string, quoted and escaped so that it stays on one line.
+std::string quoted(std::string_view s);
+// The whole file; a missing or unreadable file is a SceneFileError naming it and the OS reason.
+std::string read_file(const std::filesystem::path& path);
+// The [camera], [lighting], [render], [[box]] and [[sphere]] sections, as scene_to_toml writes them.
+void append_scene_sections(std::string& out, const Scene& scene);
+
+}  // namespace toml_text
 
 }  // namespace brume

@@ -1,0 +1,92 @@
+#include "app/video.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+extern char** environ;
+
+namespace brume::app {
+namespace {
+
+// Runs argv with stdout and stderr sent to `log` (or /dev/null); returns the exit status, -1 if it
+// could not start. No shell: paths need no quoting.
+int run(const std::vector<std::string>& args, const std::string& log) {
+    std::vector<char*> argv;
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    const char* sink = log.empty() ? "/dev/null" : log.c_str();
+    posix_spawn_file_actions_addopen(&actions, 1, sink, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    pid_t pid = 0;
+    const int spawned = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned != 0) return -1;
+    int status = 0;
+    if (waitpid(pid, &status, 0) < 0) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+std::string tail_of(const std::filesystem::path& file, std::size_t lines) {
+    std::ifstream in(file);
+    std::vector<std::string> all;
+    for (std::string line; std::getline(in, line);) all.push_back(line);
+    std::string out;
+    for (std::size_t i = all.size() > lines ? all.size() - lines : 0; i < all.size(); ++i) out += "\n  " + all[i];
+    return out;
+}
+
+}  // namespace
+
+std::string ffmpeg_version() {
+    const std::string log = std::filesystem::temp_directory_path() / ("brume-ffmpeg-probe-" + std::to_string(::getpid()));
+    if (run({"ffmpeg", "-hide_banner", "-version"}, log) != 0) {
+        std::filesystem::remove(log);
+        return "";
+    }
+    std::ifstream in(log);
+    std::string first;
+    std::getline(in, first);
+    in.close();
+    std::filesystem::remove(log);
+    return first;
+}
+
+void encode_video(const std::string& pattern, int first, int count, double fps, const std::filesystem::path& output,
+                  const std::filesystem::path& log) {
+    const std::filesystem::path dir = output.has_parent_path() ? output.parent_path() : ".";
+    // Hidden, beside the output, keeping its extension (ffmpeg picks the container from it).
+    std::string temp_name = ".";
+    temp_name += output.filename().string();
+    temp_name += ".tmp-" + std::to_string(::getpid()) + output.extension().string();
+    const std::filesystem::path temp = dir / temp_name;
+    char rate[32];
+    std::snprintf(rate, sizeof rate, "%.6g", fps);
+    const std::vector<std::string> args = {
+        "ffmpeg", "-hide_banner", "-y", "-framerate", rate, "-start_number", std::to_string(first), "-i", pattern,
+        "-frames:v", std::to_string(count), "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18",
+        // H.264 in yuv420p needs even sizes: pad by one pixel where the frame is odd.
+        "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", temp.string()};
+    const int status = run(args, log.string());
+    if (status != 0) {
+        std::error_code ec;
+        std::filesystem::remove(temp, ec);
+        throw std::runtime_error("ffmpeg failed (" + (status < 0 ? std::string("could not start") : "exit " + std::to_string(status)) +
+                                 ") encoding " + output.string() + "; its log " + log.string() + " ends:" + tail_of(log, 6));
+    }
+    std::error_code ec;
+    std::filesystem::rename(temp, output, ec);
+    if (ec) throw std::runtime_error("cannot write " + output.string() + ": " + ec.message());
+}
+
+}  // namespace brume::app

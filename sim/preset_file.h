@@ -1,0 +1,75 @@
+// Preset files: the scene file format (sim/scene_file.h) plus the sections that make a scene move,
+// read into a validated Preset and written back exactly. One reader serves both: a static scene file
+// is a preset document without the preset sections, and parse_scene_toml is this reader told so.
+//
+// Schema (every section optional; [[...]] may repeat; a range is [min, max] or one number):
+//   [preset]          name (default: the file's stem; letters, digits, - _ .), description (one line)
+//   [timeline]        fps, duration, substeps, preroll, seed, max_particles, resolution = [w, h]
+//                     (resolution overrides [camera] width and height)
+//   [camera] [lighting] [render] [[box]] [[sphere]]     as in a scene file
+//   [[emitter]]       name, shape = "point"|"sphere"|"box"|"disc", center, radius (sphere, disc),
+//                     half_extent (box), normal (disc), rate, start, stop, bursts = [{ time, count }],
+//                     direction, speed, cone_deg, jitter, lifetime, particle_radius, extinction,
+//                     albedo = [r, g, b] or { min = [r, g, b], max = [r, g, b] }
+//   [emitter.curves]  radius_growth, fade_in, fade_out, albedo_ramp = [{ age, multiplier = [r, g, b] }]
+//   [[force]]         type = "gravity" (vector) | "buoyancy" (strength) | "wind" (vector, strength)
+//                     | "drag" (strength) | "turbulence" (strength; scale, speed, octaves, lacunarity,
+//                     gain) | "vortex" (strength; center, axis, radius)
+//   [camera_path]     type = "static" | "keyframes" (keys = [{ time, position, look_at }], 2 or more)
+//                     | "orbit" (center, radius, height, start_deg, deg_per_second)
+//   [render_settings] method = "ppll"|"reference", exposure (stops)
+// A key another shape or type uses is an error, as is an unknown one. Times (start, stop, bursts,
+// camera keys) are seconds on the simulation clock (sim/simulator.h), which starts at 0 and includes
+// the preroll. Errors are SceneFileErrors: "plume.toml:31: emitter[0].speed: min must not exceed max
+// (got [2, 1])".
+#pragma once
+
+#include "sim/preset.h"
+#include "sim/scene_file.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace brume {
+
+// Beyond these a preset is rejected as absurd rather than simulated slowly or wrongly.
+inline constexpr double kMaxFps = 240.0;
+inline constexpr double kMaxDurationSeconds = 3600.0;  // also the bound on preroll
+inline constexpr int kMaxSubsteps = 64;
+inline constexpr std::uint32_t kMaxParticles = 10'000'000;
+inline constexpr std::uint32_t kMaxBurstCount = 10'000'000;
+inline constexpr double kMaxEmissionRate = 10'000'000.0;  // particles per second
+inline constexpr double kMaxTimeSeconds = 1e6;             // emission windows, bursts, camera keys (>= 0)
+inline constexpr double kMaxForce = 1e6;                   // accelerations, velocities, strengths
+inline constexpr double kMaxExposureStops = 64.0;
+inline constexpr std::size_t kMaxEmitters = 10'000;
+inline constexpr std::size_t kMaxForces = 10'000;
+inline constexpr std::size_t kMaxListEntries = 1'000'000;  // bursts, ramp keys, camera keys
+
+// Which sections a document may hold.
+enum class DocumentKind {
+    Scene,   // [camera], [lighting], [render], [[box]], [[sphere]]: parse_scene_toml
+    Preset,  // those and the preset sections
+};
+
+// The one reader behind parse_scene_toml and parse_preset_toml. For DocumentKind::Scene a preset
+// section is an error and the result holds the scene alone (and defaults elsewhere).
+Preset parse_toml_document(std::string_view text, const std::string& source_name, DocumentKind kind);
+
+// Parses and validates a preset; source_name stands for the file in messages, becomes scene.source,
+// and its stem is the name unless [preset] sets one.
+Preset parse_preset_toml(std::string_view text, const std::string& source_name);
+
+// Reads and parses a file; a missing or unreadable file is a SceneFileError naming it and the OS reason.
+Preset load_preset_file(const std::filesystem::path& path);
+
+// Writes every field parse_preset_toml reads, numbers as their shortest exact text, so that
+// parse_preset_toml(preset_to_toml(p)) reproduces p (bar scene.source). The camera's width and height
+// are also written as [timeline] resolution; fields the emitter's shape, force's type or path's type
+// does not use are left out (they read back as defaults). No validation, as for scene_to_toml.
+std::string preset_to_toml(const Preset& preset);
+
+}  // namespace brume

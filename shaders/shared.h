@@ -29,7 +29,13 @@ BRUME_CONST BINDING_POOL = 6;      // buffer uvec4[] x MAX_POOL_PARTS: the node 
 // Shaders pick a part with a switch over constant indices, which needs no descriptor-indexing
 // feature (lavapipe 22.3 has none).
 BRUME_CONST MAX_POOL_PARTS = 8;
-BRUME_CONST BINDING_COUNT = BINDING_POOL + 1;
+// Bindings a method may use for its own data (e.g. a sort order, per-pixel k-buffers, peeling
+// depths). Formats and meanings are each method's own; a binding no pipeline uses stays unwritten.
+BRUME_CONST BINDING_AUX_BUFFER0 = 7;  // storage buffers 7..10
+BRUME_CONST AUX_BUFFERS = 4;
+BRUME_CONST BINDING_AUX_IMAGE0 = 11;  // storage images 11..14 (layout GENERAL)
+BRUME_CONST AUX_IMAGES = 4;
+BRUME_CONST BINDING_COUNT = BINDING_AUX_IMAGE0 + AUX_IMAGES;
 
 BRUME_CONST LIST_END = 0xFFFFFFFFu;
 // The resolve gathers list statistics (max length, non-empty pixels) only when asked: their atomics

@@ -15,6 +15,7 @@ struct PassTime {
 struct FrameStats {
     std::vector<PassTime> passes;  // GPU time of each pass, in order
     double total_ms = 0.0;         // GPU time of the whole frame (sum of the passes)
+    std::uint64_t memory_bytes = 0;  // GPU memory the method holds beyond the shared frame targets
     std::uint64_t fragments = 0;   // list nodes written: one per (sphere, pixel) whose ray meets the medium
     std::uint64_t pool_capacity = 0;  // nodes the pool holds
     std::uint64_t pool_bytes = 0;

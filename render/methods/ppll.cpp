@@ -227,6 +227,7 @@ Image PpllMethod::render(const Scene& scene, FrameStats* stats, bool list_stats)
         stats->fragments = counters.allocated;
         stats->pool_capacity = capacity_;
         stats->pool_bytes = nodes_bytes(capacity_);
+        stats->memory_bytes = stats->pool_bytes + heads_.size() + counters_.size();
         stats->regrows = regrows;
         stats->list_stats = list_stats;
         stats->max_list_length = counters.max_length;

@@ -6,6 +6,7 @@
 #include "render/image.h"
 #include "render/methods/frame_resources.h"
 #include "render/methods/frame_stats.h"
+#include "render/methods/method.h"
 #include "render/vk/descriptors.h"
 #include "render/vk/device.h"
 #include "render/vk/gpu_timer.h"
@@ -42,15 +43,19 @@ private:
 // ignores occlusion by boxes and the eye's clipping), used only to size the first pool.
 std::uint64_t estimate_fragments(const Scene& scene);
 
-class PpllMethod {
+class PpllMethod : public Method {
 public:
     explicit PpllMethod(vk::Device& device, PpllOptions options = {});
 
+    std::string name() const override { return "ppll"; }
+    bool exact() const override { return true; }
     // Renders one frame and reads it back. Throws PoolBudgetError when the lists cannot fit.
     // With `stats`, GPU times and pool figures are filled in; the list-length statistics
     // (max_list_length, nonempty_pixels, ...) cost extra atomics and are gathered only when
     // `list_stats` is also set.
-    Image render(const Scene& scene, FrameStats* stats = nullptr, bool list_stats = true);
+    Image render(const Scene& scene, FrameStats* stats, bool list_stats);
+    Image render(const Scene& scene, FrameStats* stats) override { return render(scene, stats, true); }
+    Image render(const Scene& scene) { return render(scene, nullptr, false); }
 
     std::uint64_t max_pool_nodes() const { return max_nodes_; }
     std::uint64_t pool_capacity() const { return capacity_; }

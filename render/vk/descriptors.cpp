@@ -3,12 +3,14 @@
 #include "render/vk/vk_check.h"
 #include "shaders/shared.h"
 
+#include <stdexcept>
+
 namespace brume::vk {
 
 SharedDescriptors::SharedDescriptors(const Device& device) : device_(device) {
     using namespace gpu;
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorSetLayoutBinding bindings[] = {
+    std::vector<VkDescriptorSetLayoutBinding> bindings = {
         {BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, stages, nullptr},
         {BINDING_SPHERES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr},
         {BINDING_BOXES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr},
@@ -17,10 +19,14 @@ SharedDescriptors::SharedDescriptors(const Device& device) : device_(device) {
         {BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr},
         {BINDING_POOL, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, MAX_POOL_PARTS, stages, nullptr},
     };
-    static_assert(sizeof(bindings) / sizeof(bindings[0]) == BINDING_COUNT);
+    for (uint i = 0; i < AUX_BUFFERS; ++i)
+        bindings.push_back({BINDING_AUX_BUFFER0 + i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr});
+    for (uint i = 0; i < AUX_IMAGES; ++i)
+        bindings.push_back({BINDING_AUX_IMAGE0 + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, stages, nullptr});
+    if (bindings.size() != BINDING_COUNT) throw std::logic_error("descriptor bindings out of step with shared.h");
     VkDescriptorSetLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    layout_info.bindingCount = BINDING_COUNT;
-    layout_info.pBindings = bindings;
+    layout_info.bindingCount = std::uint32_t(bindings.size());
+    layout_info.pBindings = bindings.data();
     VkDescriptorSetLayout set_layout;
     VK_CHECK(vkCreateDescriptorSetLayout(device.get(), &layout_info, nullptr, &set_layout));
     set_layout_ = UniqueDescriptorSetLayout(device.get(), set_layout);
@@ -35,8 +41,8 @@ SharedDescriptors::SharedDescriptors(const Device& device) : device_(device) {
     device.set_name(VK_OBJECT_TYPE_PIPELINE_LAYOUT, pipeline_layout, "brume.pipeline_layout");
 
     const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 + MAX_POOL_PARTS},
-                                          {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1}};
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 + MAX_POOL_PARTS + AUX_BUFFERS},
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1 + AUX_IMAGES}};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = 1;
     pool_info.poolSizeCount = 3;

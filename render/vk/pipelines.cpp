@@ -47,16 +47,16 @@ UniquePipeline create_graphics_pipeline(const Device& device, VkPipelineLayout l
     raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     raster.lineWidth = 1.0f;
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    multisample.rasterizationSamples = desc.samples;
+    multisample.sampleShadingEnable = desc.sample_shading;
+    multisample.minSampleShading = desc.sample_shading ? 1.0f : 0.0f;
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     const bool has_depth = desc.depth_format != VK_FORMAT_UNDEFINED;
     depth.depthTestEnable = has_depth;
-    depth.depthWriteEnable = has_depth;
+    depth.depthWriteEnable = has_depth && desc.depth_write;
     depth.depthCompareOp = desc.depth_compare;
-    std::vector<VkPipelineColorBlendAttachmentState> blends(desc.color_formats.size());
-    for (auto& b : blends)
-        b.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                           VK_COLOR_COMPONENT_A_BIT;
+    std::vector<VkPipelineColorBlendAttachmentState> blends = desc.blends;
+    if (blends.empty()) blends.assign(desc.color_formats.size(), blend_none());
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     blend.attachmentCount = std::uint32_t(blends.size());
     blend.pAttachments = blends.data();
@@ -86,6 +86,53 @@ UniquePipeline create_graphics_pipeline(const Device& device, VkPipelineLayout l
     VK_CHECK(vkCreateGraphicsPipelines(device.get(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
     device.set_name(VK_OBJECT_TYPE_PIPELINE, pipeline, desc.name.c_str());
     return UniquePipeline(device.get(), pipeline);
+}
+
+namespace {
+constexpr VkColorComponentFlags kAllChannels =
+    VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+}  // namespace
+
+VkPipelineColorBlendAttachmentState blend_none() {
+    VkPipelineColorBlendAttachmentState b{};
+    b.colorWriteMask = kAllChannels;
+    return b;
+}
+
+VkPipelineColorBlendAttachmentState blend_premultiplied_over() {
+    VkPipelineColorBlendAttachmentState b = blend_none();
+    b.blendEnable = VK_TRUE;
+    b.srcColorBlendFactor = VK_BLEND_FACTOR_ONE;
+    b.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    b.colorBlendOp = VK_BLEND_OP_ADD;
+    b.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+    b.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    b.alphaBlendOp = VK_BLEND_OP_ADD;
+    return b;
+}
+
+VkPipelineColorBlendAttachmentState blend_additive() {
+    VkPipelineColorBlendAttachmentState b = blend_none();
+    b.blendEnable = VK_TRUE;
+    b.srcColorBlendFactor = VK_BLEND_FACTOR_ONE;
+    b.dstColorBlendFactor = VK_BLEND_FACTOR_ONE;
+    b.colorBlendOp = VK_BLEND_OP_ADD;
+    b.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+    b.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+    b.alphaBlendOp = VK_BLEND_OP_ADD;
+    return b;
+}
+
+VkPipelineColorBlendAttachmentState blend_multiply_one_minus_src() {
+    VkPipelineColorBlendAttachmentState b = blend_none();
+    b.blendEnable = VK_TRUE;
+    b.srcColorBlendFactor = VK_BLEND_FACTOR_ZERO;
+    b.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_COLOR;
+    b.colorBlendOp = VK_BLEND_OP_ADD;
+    b.srcAlphaBlendFactor = VK_BLEND_FACTOR_ZERO;
+    b.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    b.alphaBlendOp = VK_BLEND_OP_ADD;
+    return b;
 }
 
 void set_viewport(VkCommandBuffer cmd, VkExtent2D extent) {

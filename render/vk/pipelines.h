@@ -26,8 +26,23 @@ struct GraphicsPipelineDesc {
     std::vector<VkFormat> color_formats;  // may be empty: a pass with no attachments
     VkFormat depth_format = VK_FORMAT_UNDEFINED;
     VkCompareOp depth_compare = VK_COMPARE_OP_ALWAYS;
+    bool depth_write = true;  // with a depth format
+    // One per colour attachment; empty: no blending, all channels written.
+    std::vector<VkPipelineColorBlendAttachmentState> blends;
+    VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
+    bool sample_shading = false;  // run the fragment shader per sample (with samples > 1)
     std::vector<std::uint32_t> fragment_constants;  // specialization constants 0, 1, ... (uint)
 };
+
+// Blend states for the common cases.
+VkPipelineColorBlendAttachmentState blend_none();
+// dst = src + (1 - src.a) * dst for premultiplied colour ("over"): back-to-front compositing.
+VkPipelineColorBlendAttachmentState blend_premultiplied_over();
+// dst = src + dst: accumulation (weighted sums).
+VkPipelineColorBlendAttachmentState blend_additive();
+// dst = dst * (1 - src) per channel, alpha likewise with src alpha: products of transmittances
+// (revealage in weighted blended OIT).
+VkPipelineColorBlendAttachmentState blend_multiply_one_minus_src();
 
 UniqueShaderModule create_shader_module(const Device& device, Spirv spirv, const std::string& name);
 UniquePipeline create_graphics_pipeline(const Device& device, VkPipelineLayout layout, const GraphicsPipelineDesc& desc);

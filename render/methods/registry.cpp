@@ -1,0 +1,39 @@
+// The method catalogue and `--method NAME[:SETTING]` parsing.
+#include "render/methods/method.h"
+
+#include "render/methods/ppll.h"
+#include "render/methods/reference_method.h"
+
+#include <stdexcept>
+
+namespace brume {
+
+const std::vector<MethodInfo>& method_catalogue() {
+    static const std::vector<MethodInfo> catalogue = {
+        {"ppll", "", "", "per-pixel linked lists, exact intersecting media (GPU)"},
+        {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)"},
+    };
+    return catalogue;
+}
+
+std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec) {
+    const std::size_t colon = spec.find(':');
+    const std::string name = spec.substr(0, colon);
+    const std::string setting = colon == std::string::npos ? "" : spec.substr(colon + 1);
+    const MethodInfo* info = nullptr;
+    for (const MethodInfo& m : method_catalogue())
+        if (m.name == name) info = &m;
+    if (!info) {
+        std::string known;
+        for (const MethodInfo& m : method_catalogue()) known += (known.empty() ? "" : ", ") + m.name;
+        throw std::invalid_argument("unknown method '" + name + "'; known: " + known);
+    }
+    if (!setting.empty() && info->setting.empty())
+        throw std::invalid_argument("method '" + name + "' takes no setting (got ':" + setting + "')");
+    if (name == "reference") return std::make_unique<ReferenceMethod>();
+    if (!device) throw std::invalid_argument("method '" + name + "' needs a Vulkan device");
+    if (name == "ppll") return std::make_unique<PpllMethod>(*device);
+    throw std::logic_error("method '" + name + "' is catalogued but not constructed");
+}
+
+}  // namespace brume

@@ -1,5 +1,6 @@
 #include "app/bench_command.h"
 
+#include "app/bench_methods.h"
 #include "app/cli_util.h"
 #include "render/image_compare.h"
 #include "render/methods/ppll.h"
@@ -30,8 +31,11 @@ double paper_fps(int width, int layers) {
 
 void add_bench_command(CLI::App& app, BenchArgs& args) {
     CLI::App* cmd = app.add_subcommand("bench", "Benchmarks that print figures side by side");
-    cmd->add_option("which", args.which, "layers (seed 000 Tables 1-2) or sim (simulation step)")
-        ->check(CLI::IsMember({"layers", "sim"}));
+    cmd->add_option("which", args.which,
+                    "methods (default: every method on every scene, charted), layers (seed 000 Tables 1-2), "
+                    "or sim (simulation step)")
+        ->check(CLI::IsMember({"methods", "layers", "sim"}));
+    add_bench_methods_options(*cmd, args);
     cmd->add_option("--particles", args.particles, "bench sim: live particles")->check(CLI::Range(std::size_t(1), std::size_t(10000000)));
     cmd->add_option("--steps", args.steps, "bench sim: steps timed (median reported)")->check(CLI::Range(1, 100000));
     cmd->add_option("--sizes", args.sizes, "Resolutions, e.g. 800x600,1024x768");
@@ -58,6 +62,7 @@ int run_bench_sim(const BenchArgs& args) {
 
 int run_bench(const BenchArgs& args) {
     if (args.which == "sim") return run_bench_sim(args);
+    if (args.which == "methods") return run_bench_methods(args);
     std::vector<std::pair<int, int>> sizes;
     for (std::size_t start = 0; start <= args.sizes.size();) {
         const std::size_t comma = args.sizes.find(',', start);

@@ -9,7 +9,7 @@
 namespace brume::app {
 
 struct BenchArgs {
-    std::string which = "layers";
+    std::string which = "methods";
     std::string sizes = "800x600,1024x768";
     std::string layers = "2-16:2";
     std::string device;
@@ -19,6 +19,12 @@ struct BenchArgs {
     int reference_frames = 1;
     bool validate = false;
     bool no_reference = false;
+    // bench methods
+    std::string output_dir;
+    std::string methods;
+    std::string scenes = "default,cloud-1000,layers-8,crossing,plume,fog-bank,explosion";
+    std::string size;
+    int anim_frames = 16;
 };
 
 void add_bench_command(CLI::App& app, BenchArgs& args);

@@ -5,6 +5,7 @@
 #include "app/render_command.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
+#include "render/methods/method.h"
 #include "render/methods/ppll.h"
 #include "render/vk/device.h"
 #include "render/vk/vk_check.h"
@@ -26,6 +27,15 @@ int list_devices() {
     return 0;
 }
 
+int list_methods() {
+    for (const brume::MethodInfo& m : brume::method_catalogue()) {
+        std::string name = m.name + (m.setting.empty() ? "" : ":" + m.setting);
+        std::printf("%-22s %s%s\n", name.c_str(), m.summary.c_str(),
+                    m.default_setting.empty() ? "" : (" (default " + m.default_setting + ")").c_str());
+    }
+    return 0;
+}
+
 int fail(const char* what) {
     std::fprintf(stderr, "brume: error: %s\n", what);
     return 1;
@@ -43,6 +53,7 @@ int main(int argc, char** argv) {
     brume::app::BenchArgs bench_args;
     brume::app::add_bench_command(app, bench_args);
     app.add_subcommand("devices", "List the Vulkan devices Brume can use");
+    app.add_subcommand("methods", "List the rendering methods and their settings");
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -59,6 +70,7 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("play")) return brume::app::run_play(play_args);
         if (app.got_subcommand("bench")) return brume::app::run_bench(bench_args);
         if (app.got_subcommand("devices")) return list_devices();
+        if (app.got_subcommand("methods")) return list_methods();
     } catch (const brume::SceneFileError& e) {
         return fail(e.what());
     } catch (const brume::ImageIoError& e) {

@@ -66,8 +66,8 @@ void add_play_command(CLI::App& app, PlayArgs& args) {
     cmd->add_option("--format", args.formats, "Comma-separated: png, exr (default png)");
     cmd->add_option("--video", args.video, "Also encode the frames with ffmpeg, e.g. out/plume.mp4");
     cmd->add_option("--size", args.size, "Override the preset's resolution, WxH");
-    cmd->add_option("--method", args.method, "ppll or reference (default: the preset's)")
-        ->check(CLI::IsMember({"ppll", "reference"}));
+    cmd->add_option("--method", args.method,
+                    "NAME[:SETTING] (default: the preset's): ppll, reference or a comparison method (brume methods)");
     cmd->add_option("--exposure", args.exposure, "PNG exposure in stops (default: the preset's)")
         ->each([&args](const std::string&) { args.exposure_set = true; });
     cmd->add_flag("--list", args.list, "List the built-in presets and exit");
@@ -119,15 +119,21 @@ int run_play(const PlayArgs& args) {
     }
 
     std::unique_ptr<vk::Device> device;
-    std::unique_ptr<PpllMethod> ppll;
-    if (method == "ppll") {
+    std::unique_ptr<Method> renderer;
+    if (method == "reference") {
+        renderer = make_method(nullptr, method);
+    } else {
         vk::DeviceOptions device_options;
         device_options.device_name = args.device;
         device_options.validate = args.validate;
         device = std::make_unique<vk::Device>(device_options);
-        PpllOptions options;
-        if (!args.max_memory.empty()) options.max_pool_bytes = parse_bytes(args.max_memory);
-        ppll = std::make_unique<PpllMethod>(*device, options);
+        if (method == "ppll") {  // the ppll options apply to ppll alone
+            PpllOptions options;
+            if (!args.max_memory.empty()) options.max_pool_bytes = parse_bytes(args.max_memory);
+            renderer = std::make_unique<PpllMethod>(*device, options);
+        } else {
+            renderer = make_method(device.get(), method);
+        }
     }
 
     g_stop_requested = false;
@@ -162,7 +168,7 @@ int run_play(const PlayArgs& args) {
         scene.camera = camera_at(preset, sim.time());
         scene.camera.width = preset.scene.camera.width;
         scene.camera.height = preset.scene.camera.height;
-        const Image image = ppll ? ppll->render(scene) : render_reference(scene);
+        const Image image = renderer->render(scene, nullptr);
         if (exr) write_exr(image, frame_path(dir, preset.name, frame, "exr"));
         if (png) write_png(image, frame_path(dir, preset.name, frame, "png"), exposure);
         ++written;

@@ -22,8 +22,9 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
     cmd->add_option("scene", args.scene, "Scene file (TOML); none renders the built-in default scene");
     cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output");
     cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB)");
-    cmd->add_option("--method", args.method, "ppll (GPU, exact) or reference (CPU, double precision)")
-        ->check(CLI::IsMember({"ppll", "reference"}));
+    cmd->add_option("--method", args.method,
+                    "NAME[:SETTING]: ppll (GPU, exact), reference (CPU, double precision) or a comparison method "
+                    "(brume methods lists them)");
     cmd->add_option("--stats", args.stats, "Write frame statistics as JSON");
     cmd->add_option("--repeat", args.repeat, "Render N frames; statistics report medians")->check(CLI::Range(1, 100000));
     cmd->add_option("--size", args.size, "Override the scene's resolution, WxH");
@@ -112,15 +113,20 @@ int run_render(const RenderArgs& args) {
         device_options.validate = args.validate;
         device = std::make_unique<vk::Device>(device_options);
         device_name = device->name();
-        PpllOptions options;
-        if (!args.max_memory.empty()) options.max_pool_bytes = parse_bytes(args.max_memory);
-        options.initial_nodes = args.pool_nodes;
-        PpllMethod ppll(*device, options);
+        std::unique_ptr<Method> method;
+        if (args.method == "ppll") {  // the ppll options apply to ppll alone
+            PpllOptions options;
+            if (!args.max_memory.empty()) options.max_pool_bytes = parse_bytes(args.max_memory);
+            options.initial_nodes = args.pool_nodes;
+            method = std::make_unique<PpllMethod>(*device, options);
+        } else {
+            method = make_method(device.get(), args.method);
+        }
         // Timed frames follow one untimed frame: lavapipe compiles shaders and the first frame
         // touches fresh memory, which would otherwise dominate a short run's figures.
-        if (!args.stats.empty() || args.repeat > 1) ppll.render(scene, nullptr);
+        if (!args.stats.empty() || args.repeat > 1) method->render(scene, nullptr);
         for (int f = 0; f < args.repeat; ++f) {
-            image = ppll.render(scene, &last);
+            image = method->render(scene, &last);
             if (timing.pass_names.empty()) {
                 for (const PassTime& p : last.passes) timing.pass_names.push_back(p.name);
                 timing.pass_ms.resize(last.passes.size());

@@ -1,8 +1,7 @@
 #include "app/video.h"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
+#include "app/process.h"
+
 #include <unistd.h>
 
 #include <cstdio>
@@ -11,31 +10,8 @@
 #include <stdexcept>
 #include <vector>
 
-extern char** environ;
-
 namespace brume::app {
 namespace {
-
-// Runs argv with stdout and stderr sent to `log` (or /dev/null); returns the exit status, -1 if it
-// could not start. No shell: paths need no quoting.
-int run(const std::vector<std::string>& args, const std::string& log) {
-    std::vector<char*> argv;
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    const char* sink = log.empty() ? "/dev/null" : log.c_str();
-    posix_spawn_file_actions_addopen(&actions, 1, sink, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    pid_t pid = 0;
-    const int spawned = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (spawned != 0) return -1;
-    int status = 0;
-    if (waitpid(pid, &status, 0) < 0) return -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-}
 
 std::string tail_of(const std::filesystem::path& file, std::size_t lines) {
     std::ifstream in(file);
@@ -50,7 +26,7 @@ std::string tail_of(const std::filesystem::path& file, std::size_t lines) {
 
 std::string ffmpeg_version() {
     const std::string log = std::filesystem::temp_directory_path() / ("brume-ffmpeg-probe-" + std::to_string(::getpid()));
-    if (run({"ffmpeg", "-hide_banner", "-version"}, log) != 0) {
+    if (run_process({"ffmpeg", "-hide_banner", "-version"}, log) != 0) {
         std::filesystem::remove(log);
         return "";
     }
@@ -77,7 +53,7 @@ void encode_video(const std::string& pattern, int first, int count, double fps, 
         "-frames:v", std::to_string(count), "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18",
         // H.264 in yuv420p needs even sizes: pad by one pixel where the frame is odd.
         "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", temp.string()};
-    const int status = run(args, log.string());
+    const int status = run_process(args, log.string());
     if (status != 0) {
         std::error_code ec;
         std::filesystem::remove(temp, ec);

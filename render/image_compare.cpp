@@ -74,3 +74,20 @@ std::string describe(const ImageDiff& d) {
 }
 
 }  // namespace brume
+
+namespace brume {
+
+double temporal_error(const Image& method_now, const Image& method_prev, const Image& ref_now, const Image& ref_prev) {
+    const std::size_t n = ref_now.rgb.size();
+    if (method_now.rgb.size() != n || method_prev.rgb.size() != n || ref_prev.rgb.size() != n)
+        throw std::invalid_argument("temporal_error: the four images must have the same size");
+    double peak = 0.0, sum = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+        if (std::isfinite(ref_now.rgb[k])) peak = std::max(peak, double(ref_now.rgb[k]));
+        const double d = (double(method_now.rgb[k]) - method_prev.rgb[k]) - (double(ref_now.rgb[k]) - ref_prev.rgb[k]);
+        sum += std::isfinite(d) ? std::abs(d) : std::numeric_limits<double>::infinity();
+    }
+    return n == 0 ? 0.0 : sum / double(n) / (peak > 0.0 ? peak : 1.0);
+}
+
+}  // namespace brume

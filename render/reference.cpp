@@ -124,11 +124,10 @@ public:
 
     const std::vector<Medium>& media() const { return media_; }
 
-    // Radiance toward o along unit direction d, from the spheres listed in candidates (indices into media()).
-    dvec3 radiance(const dvec3& o, const dvec3& d, const std::vector<std::uint32_t>& candidates,
-                   std::vector<Event>& events) const {
+    // The opaque hit along o + t d (distance, +inf if none) and the radiance behind the media.
+    double opaque_hit(const dvec3& o, const dvec3& d, dvec3& behind) const {
         double t_opaque = kInf;
-        dvec3 behind = lighting_.background;
+        behind = lighting_.background;
         for (const Box& box : boxes_) {
             const double t = box_hit(box, o, d);
             if (t < t_opaque) {
@@ -136,7 +135,12 @@ public:
                 behind = box.radiance;
             }
         }
+        return t_opaque;
+    }
 
+    // Entry and exit events of the candidate spheres' clipped intervals, unsorted.
+    void collect_events(const dvec3& o, const dvec3& d, double t_opaque, const std::vector<std::uint32_t>& candidates,
+                        std::vector<Event>& events) const {
         events.clear();
         for (const std::uint32_t k : candidates) {
             const Medium& m = media_[k];
@@ -148,6 +152,14 @@ public:
             events.push_back({start, true, m.tau, m.scatter});
             events.push_back({end, false, m.tau, m.scatter});
         }
+    }
+
+    // Radiance toward o along unit direction d, from the spheres listed in candidates (indices into media()).
+    dvec3 radiance(const dvec3& o, const dvec3& d, const std::vector<std::uint32_t>& candidates,
+                   std::vector<Event>& events) const {
+        dvec3 behind;
+        const double t_opaque = opaque_hit(o, d, behind);
+        collect_events(o, d, t_opaque, candidates, events);
 
         const double cos_theta = glm::dot(sun_unit_, d);
         const dvec3 ls = lighting_.ambient + lighting_.sun * (3.0 / (16.0 * kPi) * (1.0 + cos_theta * cos_theta));
@@ -360,6 +372,29 @@ glm::dvec3 reference_radiance(const Scene& scene, const glm::dvec3& origin, cons
     for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
     std::vector<Event> events;
     return tracer.radiance(origin, unit_dir, all, events);
+}
+
+std::vector<std::uint32_t> reference_list_lengths(const Scene& scene, const ReferenceOptions& options) {
+    check_camera(scene);
+    const Tracer tracer(scene);
+    const CameraRays rays = make_camera_rays(scene.camera);
+    const std::vector<Tile> tiles = make_tiles(rays);
+    const std::vector<SphereCone> cones = make_sphere_cones(tracer.media(), rays.eye, 0.0, 0.0);
+    const std::vector<SphereCone>* bins = options.brute_force ? nullptr : &cones;
+    std::vector<std::uint32_t> lengths(std::size_t(rays.width) * std::size_t(rays.height), 0);
+    parallel_tiles(tiles.size(), options.threads, [&](std::size_t k, Scratch& s) {
+        const Tile& tile = tiles[k];
+        gather_candidates(bins, tracer.media().size(), tile, s.candidates);
+        for (int j = tile.j0; j < tile.j1; ++j) {
+            for (int i = tile.i0; i < tile.i1; ++i) {
+                const dvec3 d = rays.pixel_direction(i, j);
+                dvec3 behind;
+                tracer.collect_events(rays.eye, d, tracer.opaque_hit(rays.eye, d, behind), s.candidates, s.events);
+                lengths[std::size_t(j) * std::size_t(rays.width) + std::size_t(i)] = std::uint32_t(s.events.size() / 2);
+            }
+        }
+    });
+    return lengths;
 }
 
 Image reference_tolerance(const Scene& scene, double rel_error, const ReferenceOptions& options) {

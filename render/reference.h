@@ -7,6 +7,9 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstdint>
+#include <vector>
+
 namespace brume {
 
 struct ReferenceOptions {
@@ -28,5 +31,9 @@ glm::dvec3 reference_radiance(const Scene& scene, const glm::dvec3& origin, cons
 // A float32 GPU renderer can only place its rays to about this precision, so near silhouettes and box
 // edges its answer legitimately differs from the double-precision one by up to this much.
 Image reference_tolerance(const Scene& scene, double rel_error, const ReferenceOptions& options = {});
+
+// Depth complexity per pixel (row-major, top row first): how many spheres' clipped intervals the
+// pixel ray meets, i.e. the length ppll's list for that pixel will have (twice as many surfaces).
+std::vector<std::uint32_t> reference_list_lengths(const Scene& scene, const ReferenceOptions& options = {});
 
 }  // namespace brume

@@ -299,6 +299,25 @@ TEST_F(Ppll, LayersSceneHasExactlyTheStatedLayersEverywhere) {
     }
 }
 
+TEST_F(Ppll, ListStatisticsMatchTheCpuDepthComplexity) {
+    const Scene s = random_scene(400, 17, true);
+    PpllMethod ppll(device());
+    FrameStats stats;
+    ppll.render(s, &stats);
+    const std::vector<std::uint32_t> lengths = reference_list_lengths(s);
+    std::uint64_t total = 0, nonempty = 0;
+    std::uint32_t longest = 0;
+    for (std::uint32_t n : lengths) {
+        total += n;
+        nonempty += n > 0;
+        longest = std::max(longest, n);
+    }
+    // Rays grazing a silhouette may round either way in float: allow a few in a thousand.
+    EXPECT_NEAR(double(stats.fragments), double(total), 3e-3 * double(total));
+    EXPECT_NEAR(double(stats.nonempty_pixels), double(nonempty), 3e-3 * double(nonempty));
+    EXPECT_NEAR(double(stats.max_list_length), double(longest), 1.0);
+}
+
 TEST_F(Ppll, EmptySceneShowsBackgroundAndBoxes) {
     Scene s = small_scene(32, 24);
     PpllMethod ppll(device());

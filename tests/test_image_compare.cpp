@@ -164,3 +164,28 @@ TEST(ImageCompare, DescribeNamesTheWorstPixel) {
 
 }  // namespace
 }  // namespace brume
+
+namespace brume {
+namespace {
+
+TEST(TemporalError, ZeroWhenTheMethodChangesLikeTheReference) {
+    Image r0(2, 1), r1(2, 1), m0(2, 1), m1(2, 1);
+    r0.rgb = {0, 0, 0, 1, 1, 1};
+    r1.rgb = {0.5f, 0.5f, 0.5f, 1, 1, 1};
+    m0.rgb = {0.1f, 0.1f, 0.1f, 1, 1, 1};  // a constant offset from the reference: no popping
+    m1.rgb = {0.6f, 0.6f, 0.6f, 1, 1, 1};
+    EXPECT_NEAR(temporal_error(m1, m0, r1, r0), 0.0, 1e-7);
+}
+
+TEST(TemporalError, MeasuresAJumpTheReferenceDoesNotMake) {
+    Image r(2, 1), m0(2, 1), m1(2, 1);
+    r.rgb = {1, 1, 1, 1, 1, 1};  // the reference is still
+    m0.rgb = {1, 1, 1, 1, 1, 1};
+    m1.rgb = {1, 1, 1, 0.4f, 0.4f, 0.4f};  // one pixel of two pops by 0.6
+    EXPECT_NEAR(temporal_error(m1, m0, r, r), 0.6 / 2.0, 1e-6);
+    Image wrong(3, 1);
+    EXPECT_THROW(temporal_error(wrong, m0, r, r), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace brume

@@ -1,0 +1,296 @@
+#include "app/bench_methods.h"
+
+#include "app/charts.h"
+#include "app/cli_util.h"
+#include "render/atomic_file.h"
+#include "render/image_compare.h"
+#include "render/methods/method.h"
+#include "render/reference.h"
+#include "render/vk/device.h"
+#include "sim/builtin_presets.h"
+#include "sim/builtin_scenes.h"
+#include "sim/camera_path.h"
+#include "sim/layers_scene.h"
+#include "sim/simulator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <sstream>
+
+namespace brume::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One scene of the chart: a static scene (one frame) or consecutive frames of a preset.
+struct BenchScene {
+    std::string name;
+    std::vector<Scene> frames;
+};
+
+Scene cloud_scene(int count, int width, int height) {
+    Scene s;
+    s.source = "cloud-" + std::to_string(count);
+    s.camera.position = {0.3, 1.2, 7.0};
+    s.camera.look_at = {0.0, 0.2, 0.0};
+    s.camera.width = width;
+    s.camera.height = height;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < count; ++i) {
+        Sphere sp;
+        sp.center = {u(rng) * 4 - 2, u(rng) * 3 - 1, u(rng) * 4 - 2};
+        sp.radius = 0.1 + 0.5 * u(rng);
+        sp.extinction = std::pow(10.0, u(rng) * 2.5 - 2.0);
+        sp.albedo = {u(rng), u(rng), u(rng)};
+        s.spheres.push_back(sp);
+    }
+    s.boxes.push_back(Box{{-5, -1.5, -5}, {5, -1, 5}, {0.3, 0.3, 0.3}});
+    return s;
+}
+
+BenchScene preset_frames(const std::string& name, int frames, int width, int height) {
+    const std::optional<Preset> preset = builtin_preset(name);
+    if (!preset) throw std::invalid_argument("no built-in preset '" + name + "'");
+    BenchScene out{name, {}};
+    Simulator sim(*preset);
+    // Start a quarter in, where emitters have filled the view, and take consecutive frames.
+    const int first = std::max(0, std::min(preset->timeline.frame_count() / 4, preset->timeline.frame_count() - frames));
+    sim.advance_to_frame(first);
+    for (int f = 0; f < frames; ++f) {
+        if (f > 0) sim.step_frame();
+        Scene scene = preset->scene;
+        sim.append_spheres(scene.spheres);
+        scene.camera = camera_at(*preset, sim.time());
+        scene.camera.width = width;
+        scene.camera.height = height;
+        out.frames.push_back(std::move(scene));
+    }
+    return out;
+}
+
+std::vector<BenchScene> make_scenes(const std::vector<std::string>& names, int frames, int w, int h) {
+    std::vector<BenchScene> scenes;
+    for (const std::string& name : names) {
+        if (name == "default") {
+            Scene s = default_scene();
+            s.camera.width = w;
+            s.camera.height = h;
+            scenes.push_back({name, {s}});
+        } else if (name == "cloud-1000") {
+            scenes.push_back({name, {cloud_scene(1000, w, h)}});
+        } else if (name == "layers-8") {
+            scenes.push_back({name, {make_layers_scene(8, w, h)}});
+        } else {
+            scenes.push_back(preset_frames(name, frames, w, h));
+        }
+    }
+    return scenes;
+}
+
+std::vector<std::string> split(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');)
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+// Every catalogued method with its default setting, plus settings that show a trade-off.
+std::vector<std::string> default_method_specs() {
+    std::vector<std::string> specs;
+    for (const MethodInfo& m : method_catalogue()) {
+        if (m.name == "reference") continue;
+        specs.push_back(m.name);
+        if (m.name == "kbuf") specs.insert(specs.end(), {"kbuf:4", "kbuf:16"});
+        if (m.name == "peel") specs.insert(specs.end(), {"peel:4", "peel:16", "peel:dual:8"});
+        if (m.name == "stochastic") specs.insert(specs.end(), {"stochastic:4", "stochastic:16"});
+        if (m.name == "screendoor") specs.insert(specs.end(), {"screendoor:2"});
+    }
+    return specs;
+}
+
+struct Row {
+    std::string method, scene;
+    bool exact = false;
+    int frames = 0;
+    double median_ms = 0, memory_bytes = 0, rmse = 0, psnr_db = 0, max_error = 0, temporal_mean = 0, temporal_max = 0;
+    std::vector<double> temporal;  // per frame step
+};
+
+std::string short_bytes(double bytes) {
+    char text[32];
+    if (bytes >= 1024.0 * 1024.0) std::snprintf(text, sizeof text, "%.1f MiB", bytes / (1024.0 * 1024.0));
+    else if (bytes >= 1024.0) std::snprintf(text, sizeof text, "%.1f KiB", bytes / 1024.0);
+    else std::snprintf(text, sizeof text, "%.0f B", bytes);
+    return text;
+}
+
+std::string number(double v) {
+    if (!std::isfinite(v)) return v > 0 ? "\"inf\"" : "null";
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", v);
+    return text;
+}
+
+}  // namespace
+
+void add_bench_methods_options(CLI::App& cmd, BenchArgs& args) {
+    cmd.add_option("-o,--output", args.output_dir, "bench methods: directory for results.csv/json and charts");
+    cmd.add_option("--methods", args.methods, "bench methods: comma-separated specs (default: all, with settings sweeps)");
+    cmd.add_option("--scenes", args.scenes, "bench methods: comma-separated scenes/presets");
+    cmd.add_option("--size", args.size, "bench methods: resolution WxH (default 160x120)");
+    cmd.add_option("--anim-frames", args.anim_frames, "bench methods: consecutive frames per animated preset")
+        ->check(CLI::Range(2, 1000));
+}
+
+int run_bench_methods(const BenchArgs& args) {
+    int w = 160, h = 120;
+    if (!args.size.empty()) parse_size(args.size, w, h);
+    const fs::path dir = args.output_dir.empty() ? fs::path("bench") : fs::path(args.output_dir);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
+    check_writable_path(dir / "results.csv");
+
+    const std::vector<std::string> specs = args.methods.empty() ? default_method_specs() : split(args.methods);
+    const std::vector<BenchScene> scenes = make_scenes(split(args.scenes), args.anim_frames, w, h);
+    vk::DeviceOptions device_options;
+    device_options.device_name = args.device;
+    device_options.validate = args.validate;
+    vk::Device device(device_options);
+    // Build every method first so a bad spec fails before any work.
+    std::vector<std::unique_ptr<Method>> methods;
+    for (const std::string& spec : specs) methods.push_back(make_method(&device, spec));
+
+    std::printf("# brume bench: %zu methods x %zu scenes at %dx%d on %s; errors against the CPU reference\n",
+                methods.size(), scenes.size(), w, h, device.name().c_str());
+    std::printf("%-16s %-12s %9s %12s %10s %9s %10s %11s %11s\n", "method", "scene", "ms", "memory", "rmse/peak",
+                "psnr_db", "max/peak", "temporal", "temp_max");
+
+    std::vector<Row> rows;
+    std::map<std::string, std::map<std::uint32_t, std::pair<double, double>>> depth_error;  // method -> n -> (sum, count)
+    for (const BenchScene& scene : scenes) {
+        // Reference frames once per scene; every method is compared with the same images.
+        std::vector<Image> refs;
+        for (const Scene& s : scene.frames) refs.push_back(render_reference(s));
+        std::vector<std::uint32_t> complexity;
+        if (scene.frames.size() == 1) complexity = reference_list_lengths(scene.frames[0]);
+
+        for (std::size_t m = 0; m < methods.size(); ++m) {
+            Method& method = *methods[m];
+            Row row;
+            row.method = method.name();
+            row.scene = scene.name;
+            row.exact = method.exact();
+            std::vector<double> ms;
+            Image prev;
+            double rmse_sum = 0, psnr_sum = 0;
+            FrameStats stats;
+            // An untimed first frame: shader compilation and first-touch memory are not the method's cost.
+            method.render(scene.frames[0], nullptr);
+            for (std::size_t f = 0; f < scene.frames.size(); ++f) {
+                const Image img = method.render(scene.frames[f], &stats);
+                ms.push_back(stats.total_ms);
+                row.memory_bytes = std::max(row.memory_bytes, double(stats.memory_bytes));
+                const ImageDiff d = compare_images(img, refs[f], 0.0);
+                rmse_sum += d.peak > 0 ? d.rmse / d.peak : d.rmse;
+                psnr_sum += std::isfinite(d.psnr_db) ? d.psnr_db : 200.0;
+                row.max_error = std::max(row.max_error, d.peak > 0 ? d.max_abs / d.peak : d.max_abs);
+                if (f > 0) row.temporal.push_back(temporal_error(img, prev, refs[f], refs[f - 1]));
+                if (!complexity.empty()) {
+                    double peak = d.peak > 0 ? d.peak : 1.0;
+                    for (std::size_t p = 0; p < complexity.size(); ++p) {
+                        double e = 0;
+                        for (int c = 0; c < 3; ++c) e += std::abs(double(img.rgb[p * 3 + c]) - refs[f].rgb[p * 3 + c]);
+                        auto& bin = depth_error[row.method][complexity[p]];
+                        bin.first += e / 3.0 / peak;
+                        bin.second += 1;
+                    }
+                }
+                prev = img;
+            }
+            row.frames = int(scene.frames.size());
+            row.median_ms = median(ms);
+            row.rmse = rmse_sum / double(scene.frames.size());
+            row.psnr_db = psnr_sum / double(scene.frames.size());
+            if (!row.temporal.empty()) {
+                for (double t : row.temporal) {
+                    row.temporal_mean += t / double(row.temporal.size());
+                    row.temporal_max = std::max(row.temporal_max, t);
+                }
+            }
+            std::printf("%-16s %-12s %9.2f %12s %10.2e %9.1f %10.2e %11s %11s\n", row.method.c_str(), row.scene.c_str(),
+                        row.median_ms, short_bytes(row.memory_bytes).c_str(), row.rmse, row.psnr_db, row.max_error,
+                        row.temporal.empty() ? "-" : number(row.temporal_mean).c_str(),
+                        row.temporal.empty() ? "-" : number(row.temporal_max).c_str());
+            std::fflush(stdout);
+            rows.push_back(std::move(row));
+        }
+    }
+    if (device.validation_message_count() > 0) {
+        for (const std::string& msg : device.take_validation_messages()) std::fprintf(stderr, "%s\n", msg.c_str());
+        return 3;
+    }
+
+    // results.csv / results.json
+    std::ostringstream csv, json;
+    csv << "method,scene,exact,frames,median_gpu_ms,memory_bytes,rmse_over_peak,psnr_db,max_error_over_peak,"
+           "temporal_error_mean,temporal_error_max\n";
+    json << "{\n  \"device\": " << json_string(device.name()) << ",\n  \"width\": " << w << ",\n  \"height\": " << h
+         << ",\n  \"results\": [\n";
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+        const Row& r = rows[k];
+        csv << r.method << ',' << r.scene << ',' << (r.exact ? 1 : 0) << ',' << r.frames << ',' << number(r.median_ms)
+            << ',' << number(r.memory_bytes) << ',' << number(r.rmse) << ',' << number(r.psnr_db) << ','
+            << number(r.max_error) << ',' << (r.temporal.empty() ? "" : number(r.temporal_mean)) << ','
+            << (r.temporal.empty() ? "" : number(r.temporal_max)) << '\n';
+        json << "    {\"method\": " << json_string(r.method) << ", \"scene\": " << json_string(r.scene)
+             << ", \"exact\": " << (r.exact ? "true" : "false") << ", \"frames\": " << r.frames
+             << ", \"median_gpu_ms\": " << number(r.median_ms) << ", \"memory_bytes\": " << number(r.memory_bytes)
+             << ", \"rmse_over_peak\": " << number(r.rmse) << ", \"psnr_db\": " << number(r.psnr_db)
+             << ", \"max_error_over_peak\": " << number(r.max_error) << ", \"temporal_error\": [";
+        for (std::size_t t = 0; t < r.temporal.size(); ++t) json << (t ? ", " : "") << number(r.temporal[t]);
+        json << "]}" << (k + 1 < rows.size() ? "," : "") << "\n";
+    }
+    json << "  ]\n}\n";
+    write_file_atomically(dir / "results.csv", csv.str());
+    write_file_atomically(dir / "results.json", json.str());
+
+    // Chart data: one point per method (mean over scenes), temporal series, error by depth complexity.
+    std::vector<ChartPoint> points;
+    for (const std::unique_ptr<Method>& method : methods) {
+        ChartPoint p{method->name(), 0, 0, method->exact()};
+        int n = 0;
+        for (const Row& r : rows)
+            if (r.method == method->name()) {
+                p.ms += std::log(std::max(r.median_ms, 1e-3));
+                p.error += r.rmse;
+                ++n;
+            }
+        p.ms = std::exp(p.ms / n);  // geometric mean: scenes differ in cost by orders of magnitude
+        p.error /= n;
+        points.push_back(p);
+    }
+    std::vector<TemporalSeries> series;
+    for (const Row& r : rows)
+        if (!r.temporal.empty()) series.push_back({r.scene, r.method, r.temporal});
+    std::vector<DepthErrorSeries> depth;
+    for (const auto& [name, bins] : depth_error) {
+        DepthErrorSeries d{name, {}};
+        for (const auto& [n, acc] : bins)
+            if (acc.second >= 20) d.points.push_back({double(n), acc.first / acc.second});
+        depth.push_back(std::move(d));
+    }
+    const std::vector<std::string> charts = write_charts(dir, points, series, depth);
+    for (const std::string& c : charts) std::printf("wrote %s\n", c.c_str());
+    std::printf("wrote %s and %s\n", (dir / "results.csv").c_str(), (dir / "results.json").c_str());
+    return 0;
+}
+
+}  // namespace brume::app

@@ -1,0 +1,149 @@
+#include "app/charts.h"
+
+#include "app/process.h"
+#include "render/atomic_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <sstream>
+
+namespace brume::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Exact methods reach float rounding (~1e-8); a log axis needs a floor to draw them.
+constexpr double kErrorFloor = 1e-9;
+
+std::string quoted(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) out += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+    return out + "\"";
+}
+
+std::string num(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", std::max(v, kErrorFloor));
+    return text;
+}
+
+// The script draws once to SVG and once to PNG, so both files always show the same chart.
+std::string both_terminals(const std::string& stem, const std::string& body) {
+    return "set terminal svg size 900,600 dynamic background rgb 'white' font 'Sans,12'\n"
+           "set output " + quoted(stem + ".svg") + "\n" + body +
+           "set terminal pngcairo size 900,600 font 'Sans,10'\n"
+           "set output " + quoted(stem + ".png") + "\n" + "replot\n";
+}
+
+}  // namespace
+
+std::vector<ChartPoint> pareto_front(std::vector<ChartPoint> points) {
+    std::sort(points.begin(), points.end(), [](const ChartPoint& a, const ChartPoint& b) {
+        return a.ms < b.ms || (a.ms == b.ms && a.error < b.error);
+    });
+    std::vector<ChartPoint> front;
+    double best = INFINITY;
+    for (const ChartPoint& p : points)
+        if (p.error < best) {
+            front.push_back(p);
+            best = p.error;
+        }
+    return front;
+}
+
+std::vector<std::string> write_charts(const fs::path& dir, const std::vector<ChartPoint>& points,
+                                      const std::vector<TemporalSeries>& temporal,
+                                      const std::vector<DepthErrorSeries>& depth) {
+    std::vector<std::pair<std::string, std::string>> scripts;  // stem, gnuplot script
+
+    // Speed against accuracy, with the Pareto front.
+    {
+        std::ostringstream data, front;
+        data << "# method ms rmse_over_peak exact\n";
+        for (const ChartPoint& p : points) data << quoted(p.method) << ' ' << num(p.ms) << ' ' << num(p.error) << ' ' << p.exact << '\n';
+        for (const ChartPoint& p : pareto_front(points)) front << num(p.ms) << ' ' << num(p.error) << '\n';
+        write_file_atomically(dir / "speed_accuracy.dat", data.str());
+        write_file_atomically(dir / "pareto_front.dat", front.str());
+        scripts.push_back({"speed_accuracy",
+                           both_terminals("speed_accuracy",
+                                          "set title 'Speed against accuracy (mean over scenes; lower left is better)'\n"
+                                          "set xlabel 'median frame time, ms (geometric mean over scenes)'\n"
+                                          "set ylabel 'RMSE / peak against the reference'\n"
+                                          "set logscale xy\nset grid\nset key top right\n"
+                                          "plot 'pareto_front.dat' using 1:2 with lines lw 2 lc rgb '#888888' title 'Pareto front', \\\n"
+                                          "     'speed_accuracy.dat' using 2:3 with points pt 7 ps 1.5 title 'methods', \\\n"
+                                          "     'speed_accuracy.dat' using 2:3:1 with labels offset 1,0.7 left notitle\n")});
+    }
+
+    // Temporal (popping) error over time, one chart per animated scene.
+    std::set<std::string> scenes;
+    for (const TemporalSeries& s : temporal) scenes.insert(s.scene);
+    for (const std::string& scene : scenes) {
+        std::ostringstream data, plot;
+        int block = 0;
+        plot << "set title " << quoted("Temporal error per frame step: " + scene + " (spikes are pops)") << "\n"
+             << "set xlabel 'frame step'\nset ylabel 'mean |(I_t - I_{t-1}) - (R_t - R_{t-1})| / peak'\n"
+             << "set logscale y\nset grid\nset key outside right\nplot ";
+        for (const TemporalSeries& s : temporal) {
+            if (s.scene != scene) continue;
+            data << "# " << s.method << "\n";
+            for (std::size_t t = 0; t < s.error.size(); ++t) data << t + 1 << ' ' << num(s.error[t]) << '\n';
+            data << "\n\n";
+            plot << (block ? ", \\\n     " : "") << "'temporal_" << scene << ".dat' index " << block
+                 << " using 1:2 with linespoints title " << quoted(s.method);
+            ++block;
+        }
+        plot << "\n";
+        write_file_atomically(dir / ("temporal_" + scene + ".dat"), data.str());
+        scripts.push_back({"temporal_" + scene, both_terminals("temporal_" + scene, plot.str())});
+    }
+
+    // Error against depth complexity.
+    if (!depth.empty()) {
+        std::ostringstream data, plot;
+        plot << "set title 'Error against depth complexity (static scenes)'\n"
+             << "set xlabel 'spheres along the pixel ray (list length)'\nset ylabel 'mean |error| / peak'\n"
+             << "set logscale y\nset grid\nset key outside right\nplot ";
+        for (std::size_t k = 0; k < depth.size(); ++k) {
+            data << "# " << depth[k].method << "\n";
+            for (const auto& [n, e] : depth[k].points) data << n << ' ' << num(e) << '\n';
+            data << "\n\n";
+            plot << (k ? ", \\\n     " : "") << "'error_vs_depth.dat' index " << k << " using 1:2 with linespoints title "
+                 << quoted(depth[k].method);
+        }
+        plot << "\n";
+        write_file_atomically(dir / "error_vs_depth.dat", data.str());
+        scripts.push_back({"error_vs_depth", both_terminals("error_vs_depth", plot.str())});
+    }
+
+    std::vector<std::string> written;
+    bool gnuplot_missing = false;
+    for (const auto& [stem, script] : scripts) {
+        const fs::path gp = dir / (stem + ".gp");
+        write_file_atomically(gp, script);
+        if (gnuplot_missing) continue;
+        // gnuplot resolves the data files relative to its working directory: run it in DIR.
+        const int status = run_process({"sh", "-c", "cd \"$0\" && exec gnuplot \"$1\"", dir.string(), gp.filename().string()},
+                                       (dir / (stem + ".gnuplot.log")).string());
+        if (status == 127 || status < 0) {
+            gnuplot_missing = true;
+            std::fprintf(stderr, "brume: gnuplot is not installed (Debian: gnuplot-nox); the charts' data and scripts "
+                                 "are in %s: run gnuplot there on each .gp file\n", dir.c_str());
+            continue;
+        }
+        if (status != 0) {
+            std::fprintf(stderr, "brume: gnuplot failed on %s (see %s)\n", gp.c_str(),
+                         (dir / (stem + ".gnuplot.log")).c_str());
+            continue;
+        }
+        std::error_code ec;
+        fs::remove(dir / (stem + ".gnuplot.log"), ec);
+        written.push_back((dir / (stem + ".svg")).string());
+        written.push_back((dir / (stem + ".png")).string());
+    }
+    return written;
+}
+
+}  // namespace brume::app

@@ -1,0 +1,37 @@
+// Charts for `brume bench`, drawn by gnuplot (Debian gnuplot-nox) into SVG and PNG. Without gnuplot
+// the data files and scripts are still written and the command says how to draw them.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace brume::app {
+
+struct ChartPoint {
+    std::string method;
+    double ms = 0;     // geometric mean over scenes of the median frame time
+    double error = 0;  // mean over scenes of RMSE / peak against the reference
+    bool exact = false;
+};
+
+struct TemporalSeries {
+    std::string scene, method;
+    std::vector<double> error;  // per frame step
+};
+
+struct DepthErrorSeries {
+    std::string method;
+    std::vector<std::pair<double, double>> points;  // (list length, mean |error| / peak)
+};
+
+// Writes DIR/*.dat, DIR/*.gp and, when gnuplot runs, DIR/*.svg and DIR/*.png; returns the chart
+// files written.
+std::vector<std::string> write_charts(const std::filesystem::path& dir, const std::vector<ChartPoint>& points,
+                                      const std::vector<TemporalSeries>& temporal,
+                                      const std::vector<DepthErrorSeries>& depth);
+
+// The Pareto front of `points`: those no other point beats on both time and error, by time.
+std::vector<ChartPoint> pareto_front(std::vector<ChartPoint> points);
+
+}  // namespace brume::app

@@ -3,6 +3,9 @@
 
 #include "render/methods/ppll.h"
 #include "render/methods/reference_method.h"
+#include "render/methods/screendoor.h"
+#include "render/methods/soft.h"
+#include "render/methods/sorted.h"
 
 #include <stdexcept>
 
@@ -12,6 +15,13 @@ const std::vector<MethodInfo>& method_catalogue() {
     static const std::vector<MethodInfo> catalogue = {
         {"ppll", "", "", "per-pixel linked lists, exact intersecting media (GPU)"},
         {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)"},
+        {"sorted", "", "",
+         "painter's algorithm: planar billboards sorted back to front by centre (insertion sort reusing last "
+         "frame's order); pops when order flips"},
+        {"soft", "", "",
+         "sorted spherical billboards (soft particles): chord clipped by eye and geometry; wrong where spheres "
+         "intersect"},
+        {"screendoor", "S", "4", "object-space screen-door transparency with S x S supersampling (S = 1..8)"},
     };
     return catalogue;
 }
@@ -33,6 +43,9 @@ std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec)
     if (name == "reference") return std::make_unique<ReferenceMethod>();
     if (!device) throw std::invalid_argument("method '" + name + "' needs a Vulkan device");
     if (name == "ppll") return std::make_unique<PpllMethod>(*device);
+    if (name == "sorted") return make_sorted_method(*device, setting);
+    if (name == "soft") return make_soft_method(*device, setting);
+    if (name == "screendoor") return make_screendoor_method(*device, setting);
     throw std::logic_error("method '" + name + "' is catalogued but not constructed");
 }
 

@@ -1,0 +1,35 @@
+// The `soft` method: sorted spherical billboards (soft particles, Umenhoffer et al. 2006). The same
+// back-to-front sort and premultiplied "over" compositing as `sorted`, but each fragment takes the
+// exact chord of its pixel ray through the sphere, clipped by the eye and by the opaque surface
+// (shaders/sphere_sample.glsl): no hard cuts where spheres meet geometry or contain the eye.
+//
+// Exact wherever the spheres along each ray do not intersect and their centre order is their order
+// along the ray (e.g. disjoint depth ranges). Where spheres intersect, "over" of two separately
+// attenuated spheres differs from the integral through the intersecting media, and the image still
+// jumps when two intersecting particles' centre order flips (popping).
+#pragma once
+
+#include "render/methods/sorted.h"
+
+namespace brume {
+
+class SoftMethod : public Method {
+public:
+    explicit SoftMethod(vk::Device& device) : compositor_(device, SortedCompositor::Billboard::Spherical) {}
+
+    std::string name() const override { return "soft"; }
+    bool exact() const override { return false; }
+    Image render(const Scene& scene, FrameStats* stats) override { return compositor_.render(scene, stats); }
+    Image render(const Scene& scene) { return compositor_.render(scene, nullptr); }
+
+    const std::vector<std::uint32_t>& order() const { return compositor_.order(); }
+    const SortCounts& last_sort() const { return compositor_.last_sort(); }
+
+private:
+    SortedCompositor compositor_;
+};
+
+// `--method soft`; it takes no setting (throws std::invalid_argument on one).
+std::unique_ptr<Method> make_soft_method(vk::Device& device, const std::string& setting);
+
+}  // namespace brume

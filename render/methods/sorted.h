@@ -1,0 +1,108 @@
+// The `sorted` method (seed 003, the painter's algorithm users have today) and the machinery it shares
+// with `soft`: spheres sorted back to front by the view depth of their centres, on the CPU, with an
+// insertion sort that starts from last frame's order, then composited with premultiplied "over"
+// blending into the HDR target, which is first filled with the opaque image's radiance.
+//
+// `sorted` draws one classic camera-facing planar billboard per sphere: the plane through the centre,
+// perpendicular to the view direction. Its alpha at a pixel is 1 - exp(-tau * chord), with the whole
+// chord of the sphere along that pixel ray (a sphere sprite's "thickness texture", computed exactly),
+// and its colour albedo * L_s. Being a plane, it is depth tested against the opaque surface where the
+// plane lies (a hard cut where the plane crosses geometry, whatever the sphere's extent), and it is
+// dropped whole when the plane lies behind the eye. The chord is not clipped by the eye or the
+// opaque surface. Exact where spheres are wholly in front of the opaque surface and of the eye and
+// their depth ranges do not overlap; wrong for intersecting spheres, and it pops: the image jumps
+// whenever two particles' centre depths cross and their order flips.
+#pragma once
+
+#include "render/image.h"
+#include "render/methods/frame_resources.h"
+#include "render/methods/frame_stats.h"
+#include "render/methods/method.h"
+#include "render/vk/descriptors.h"
+#include "render/vk/device.h"
+#include "render/vk/gpu_timer.h"
+#include "render/vk/resources.h"
+#include "sim/scene.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace brume {
+
+// Depth of each sphere centre along the view direction, dot(centre - eye, forward): the sort key.
+std::vector<double> view_depths(const Scene& scene);
+
+// Work done by one sort_back_to_front call.
+struct SortCounts {
+    std::uint64_t comparisons = 0;  // by the insertion sort
+    std::uint64_t moves = 0;        // elements shifted by one place: the inversions it removed
+    bool full_sort = false;         // the order was far from sorted: finished by std::stable_sort
+};
+
+// Turns `order`, last frame's back-to-front permutation of sphere indices, into this frame's, for the
+// spheres 0 .. depth.size() - 1 (identity is the sphere index). Indices no longer present are
+// dropped, new ones are appended at the front end (nearest) before sorting, and anything that is not
+// a permutation is repaired the same way. Then a stable insertion sort by decreasing depth: its cost
+// is n - 1 comparisons plus one per inversion, so a coherent animation sorts in about linear time,
+// and spheres at equal depth keep last frame's order. Past 32 n + 1024 moves (a first frame, a burst
+// of new particles) it finishes with std::stable_sort instead, with the same result, so no frame
+// costs O(n^2).
+SortCounts sort_back_to_front(std::vector<std::uint32_t>& order, const std::vector<double>& depth);
+
+// What `sorted` and `soft` share: the scene, the CPU sort and its order buffer, the opaque copy and
+// the blended billboard pass. The two differ only in their billboard shaders.
+class SortedCompositor {
+public:
+    enum class Billboard {
+        Planar,     // sorted: camera-facing plane through the centre, whole chord, hard depth cut
+        Spherical,  // soft: the exact chord clipped by the eye and the opaque surface (sphere_sample.glsl)
+    };
+    SortedCompositor(vk::Device& device, Billboard billboard);
+
+    // Sorts (reusing the previous order), composites and reads back one frame.
+    Image render(const Scene& scene, FrameStats* stats);
+
+    // This frame's back-to-front order (sphere indices) and the work its sort took.
+    const std::vector<std::uint32_t>& order() const { return order_; }
+    const SortCounts& last_sort() const { return last_sort_; }
+
+private:
+    void ensure_order_buffer(std::size_t spheres);
+    void record_frame(VkCommandBuffer cmd);
+
+    vk::Device& device_;
+    Billboard billboard_;
+    vk::SharedDescriptors descriptors_;
+    FrameResources frame_;
+    vk::GpuTimer timer_;
+    vk::UniquePipeline copy_pipeline_;
+    vk::UniquePipeline billboard_pipeline_;
+    vk::Buffer order_buffer_;  // uint[]: draw i shows sphere order_buffer_[i]
+    std::vector<std::uint32_t> order_;
+    std::vector<double> depth_;
+    SortCounts last_sort_;
+};
+
+class SortedMethod : public Method {
+public:
+    explicit SortedMethod(vk::Device& device) : compositor_(device, SortedCompositor::Billboard::Planar) {}
+
+    std::string name() const override { return "sorted"; }
+    bool exact() const override { return false; }
+    // Consecutive calls are consecutive frames: each sort starts from the previous call's order.
+    Image render(const Scene& scene, FrameStats* stats) override { return compositor_.render(scene, stats); }
+    Image render(const Scene& scene) { return compositor_.render(scene, nullptr); }
+
+    const std::vector<std::uint32_t>& order() const { return compositor_.order(); }
+    const SortCounts& last_sort() const { return compositor_.last_sort(); }
+
+private:
+    SortedCompositor compositor_;
+};
+
+// `--method sorted`; it takes no setting (throws std::invalid_argument on one).
+std::unique_ptr<Method> make_sorted_method(vk::Device& device, const std::string& setting);
+
+}  // namespace brume

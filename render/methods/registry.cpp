@@ -1,6 +1,7 @@
 // The method catalogue and `--method NAME[:SETTING]` parsing.
 #include "render/methods/method.h"
 
+#include "render/methods/auto_method.h"
 #include "render/methods/ppll.h"
 #include "render/methods/reference_method.h"
 #include "render/methods/screendoor.h"
@@ -15,6 +16,8 @@ const std::vector<MethodInfo>& method_catalogue() {
     static const std::vector<MethodInfo> catalogue = {
         {"ppll", "", "", "per-pixel linked lists, exact intersecting media (GPU)"},
         {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)"},
+        {"auto", "", "",
+         "per frame the cheapest exact method: power-distance sorted spheres when none intersect, else ppll"},
         {"sorted", "", "",
          "painter's algorithm: planar billboards sorted back to front by centre (insertion sort reusing last "
          "frame's order); pops when order flips"},
@@ -43,6 +46,7 @@ std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec)
     if (name == "reference") return std::make_unique<ReferenceMethod>();
     if (!device) throw std::invalid_argument("method '" + name + "' needs a Vulkan device");
     if (name == "ppll") return std::make_unique<PpllMethod>(*device);
+    if (name == "auto") return std::make_unique<AutoMethod>(*device);
     if (name == "sorted") return make_sorted_method(*device, setting);
     if (name == "soft") return make_soft_method(*device, setting);
     if (name == "screendoor") return make_screendoor_method(*device, setting);

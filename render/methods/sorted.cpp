@@ -69,9 +69,10 @@ SortCounts sort_back_to_front(std::vector<std::uint32_t>& order, const std::vect
     return counts;
 }
 
-SortedCompositor::SortedCompositor(Device& device, Billboard billboard)
+SortedCompositor::SortedCompositor(Device& device, Billboard billboard, SortKey key)
     : device_(device),
       billboard_(billboard),
+      key_(key),
       descriptors_(device),
       frame_(device, descriptors_),
       timer_(device, 3, billboard == Billboard::Planar ? "sorted.timestamps" : "soft.timestamps") {
@@ -129,7 +130,15 @@ Image SortedCompositor::render(const Scene& scene, FrameStats* stats) {
     frame_.upload(scene);
 
     const auto sort_start = std::chrono::steady_clock::now();
-    depth_ = view_depths(scene);
+    if (key_ == SortKey::CentreDepth) {
+        depth_ = view_depths(scene);
+    } else {
+        depth_.resize(scene.spheres.size());
+        for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+            const glm::dvec3 d = scene.spheres[k].center - scene.camera.position;
+            depth_[k] = glm::dot(d, d) - scene.spheres[k].radius * scene.spheres[k].radius;
+        }
+    }
     last_sort_ = sort_back_to_front(order_, depth_);
     const double sort_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sort_start).count();

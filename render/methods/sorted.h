@@ -59,7 +59,11 @@ public:
         Planar,     // sorted: camera-facing plane through the centre, whole chord, hard depth cut
         Spherical,  // soft: the exact chord clipped by the eye and the opaque surface (sphere_sample.glsl)
     };
-    SortedCompositor(vk::Device& device, Billboard billboard);
+    enum class SortKey {
+        CentreDepth,    // dot(centre - eye, forward): the painter's classic key
+        PowerDistance,  // |centre - eye|^2 - radius^2: exact order for spheres that do not intersect
+    };
+    SortedCompositor(vk::Device& device, Billboard billboard, SortKey key = SortKey::CentreDepth);
 
     // Sorts (reusing the previous order), composites and reads back one frame.
     Image render(const Scene& scene, FrameStats* stats);
@@ -74,6 +78,7 @@ private:
 
     vk::Device& device_;
     Billboard billboard_;
+    SortKey key_;
     vk::SharedDescriptors descriptors_;
     FrameResources frame_;
     vk::GpuTimer timer_;

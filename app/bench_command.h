@@ -22,7 +22,7 @@ struct BenchArgs {
     // bench methods
     std::string output_dir;
     std::string methods;
-    std::string scenes = "default,cloud-1000,layers-8,crossing,plume,fog-bank,explosion";
+    std::string scenes = "default,cloud-1000,disjoint-300,layers-8,crossing,plume,fog-bank,explosion";
     std::string size;
     int anim_frames = 16;
 };

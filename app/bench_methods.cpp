@@ -13,6 +13,8 @@
 #include "sim/layers_scene.h"
 #include "sim/simulator.h"
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -54,6 +56,27 @@ Scene cloud_scene(int count, int width, int height) {
     return s;
 }
 
+// Spheres that never share volume (snow, sparse dust): where `auto` needs no per-pixel lists.
+Scene disjoint_scene(int count, int width, int height) {
+    Scene s = cloud_scene(0, width, height);
+    s.source = "disjoint-" + std::to_string(count);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int attempts = 0; int(s.spheres.size()) < count && attempts < 100 * count; ++attempts) {
+        Sphere sp;
+        sp.center = {u(rng) * 5 - 2.5, u(rng) * 3.5 - 1, u(rng) * 5 - 2.5};
+        sp.radius = 0.05 + 0.2 * u(rng);
+        sp.extinction = 0.5 + 4.0 * u(rng);
+        sp.albedo = {0.7 + 0.3 * u(rng), 0.7 + 0.3 * u(rng), 0.8 + 0.2 * u(rng)};
+        bool clear = true;
+        for (const Sphere& o : s.spheres)
+            if (glm::length(o.center - sp.center) < o.radius + sp.radius) clear = false;
+        if (clear) s.spheres.push_back(sp);
+    }
+    s.render.min_transmittance = 0.0;
+    return s;
+}
+
 BenchScene preset_frames(const std::string& name, int frames, int width, int height) {
     const std::optional<Preset> preset = builtin_preset(name);
     if (!preset) throw std::invalid_argument("no built-in preset '" + name + "'");
@@ -84,6 +107,8 @@ std::vector<BenchScene> make_scenes(const std::vector<std::string>& names, int f
             scenes.push_back({name, {s}});
         } else if (name == "cloud-1000") {
             scenes.push_back({name, {cloud_scene(1000, w, h)}});
+        } else if (name == "disjoint-300") {
+            scenes.push_back({name, {disjoint_scene(300, w, h)}});
         } else if (name == "layers-8") {
             scenes.push_back({name, {make_layers_scene(8, w, h)}});
         } else {

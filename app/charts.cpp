@@ -71,7 +71,8 @@ std::vector<std::string> write_charts(const fs::path& dir, const std::vector<Cha
                                           "set title 'Speed against accuracy (mean over scenes; lower left is better)'\n"
                                           "set xlabel 'median frame time, ms (geometric mean over scenes)'\n"
                                           "set ylabel 'RMSE / peak against the reference'\n"
-                                          "set logscale xy\nset grid\nset key top right\n"
+                                          "set logscale xy\nset grid\nset key outside bottom center horizontal\n"
+                                          "set format y '%.0e'\n"
                                           "plot 'pareto_front.dat' using 1:2 with lines lw 2 lc rgb '#888888' title 'Pareto front', \\\n"
                                           "     'speed_accuracy.dat' using 2:3 with points pt 7 ps 1.5 title 'methods', \\\n"
                                           "     'speed_accuracy.dat' using 2:3:1 with labels offset 1,0.7 left notitle\n")});

@@ -2,11 +2,14 @@
 #include "render/methods/method.h"
 
 #include "render/methods/auto_method.h"
+#include "render/methods/kbuffer.h"
 #include "render/methods/ppll.h"
 #include "render/methods/reference_method.h"
 #include "render/methods/screendoor.h"
 #include "render/methods/soft.h"
 #include "render/methods/sorted.h"
+#include "render/methods/stochastic.h"
+#include "render/methods/weighted.h"
 
 #include <stdexcept>
 
@@ -24,6 +27,12 @@ const std::vector<MethodInfo>& method_catalogue() {
         {"soft", "", "",
          "sorted spherical billboards (soft particles): chord clipped by eye and geometry; wrong where spheres "
          "intersect"},
+        {"wsum", "", "", "weighted sum (Meshkin): unsorted additive blend, one geometry pass"},
+        {"wavg", "", "", "weighted average (Bavoil & Myers): unsorted, one geometry pass"},
+        {"wboit", "", "", "weighted blended OIT (McGuire & Bavoil 2013, eq. 9 depth weight)"},
+        {"kbuf", "k", "8", "k nearest spheres per pixel (FreePipe / k-buffer, k = 1..32), tail as one averaged layer"},
+        {"stochastic", "S[,plain]", "8",
+         "stochastic transparency with S samples per pixel (power of two, 1..64), alpha-corrected unless ',plain'"},
         {"screendoor", "S", "4", "object-space screen-door transparency with S x S supersampling (S = 1..8)"},
     };
     return catalogue;
@@ -50,6 +59,11 @@ std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec)
     if (name == "sorted") return make_sorted_method(*device, setting);
     if (name == "soft") return make_soft_method(*device, setting);
     if (name == "screendoor") return make_screendoor_method(*device, setting);
+    if (name == "wsum") return make_wsum_method(*device, setting);
+    if (name == "wavg") return make_wavg_method(*device, setting);
+    if (name == "wboit") return make_wboit_method(*device, setting);
+    if (name == "kbuf") return make_kbuf_method(*device, setting);
+    if (name == "stochastic") return make_stochastic_method(*device, setting);
     throw std::logic_error("method '" + name + "' is catalogued but not constructed");
 }
 

@@ -1,0 +1,377 @@
+#include "render/methods/stochastic.h"
+
+#include "fullscreen_ray.vert.h"
+#include "render/vk/pipelines.h"
+#include "render/vk/vk_check.h"
+#include "sphere_impostor.vert.h"
+#include "stochastic_alpha.frag.h"
+#include "stochastic_cover.frag.h"
+#include "stochastic_impostor.vert.h"
+#include "stochastic_resolve.frag.h"
+
+#include <stdexcept>
+
+namespace brume {
+
+using namespace vk;
+
+namespace {
+
+constexpr VkFormat kColorFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // per sample: (colour, 1) or 0
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;           // 1 / (1 + t_entry), nearer is larger
+constexpr VkFormat kAccumFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // (sum alpha c, sum alpha)
+constexpr VkFormat kOpticalDepthFormat = VK_FORMAT_R32_SFLOAT;    // sum tau * chord
+constexpr std::uint32_t kMaxSamples = 64;
+
+// An image with any sample and layer count (DeviceImage has one of each): a view of the whole array
+// and one 2D view per layer.
+struct LayeredImage {
+    UniqueImage image;
+    UniqueMemory memory;
+    UniqueImageView all_layers;
+    std::vector<UniqueImageView> layer_views;
+    VkDeviceSize bytes = 0;
+
+    LayeredImage() = default;
+    LayeredImage(const Device& device, VkFormat format, VkExtent2D extent, VkSampleCountFlagBits samples,
+                 std::uint32_t layers, VkImageUsageFlags usage, VkImageAspectFlags aspect, const std::string& name) {
+        VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+        info.imageType = VK_IMAGE_TYPE_2D;
+        info.format = format;
+        info.extent = {extent.width, extent.height, 1};
+        info.mipLevels = 1;
+        info.arrayLayers = layers;
+        info.samples = samples;
+        info.tiling = VK_IMAGE_TILING_OPTIMAL;
+        info.usage = usage;
+        info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        VkImage handle;
+        VK_CHECK(vkCreateImage(device.get(), &info, nullptr, &handle));
+        image = UniqueImage(device.get(), handle);
+        device.set_name(VK_OBJECT_TYPE_IMAGE, handle, name.c_str());
+
+        VkMemoryRequirements req;
+        vkGetImageMemoryRequirements(device.get(), handle, &req);
+        VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+        alloc.allocationSize = req.size;
+        alloc.memoryTypeIndex = device.find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        VkDeviceMemory mem;
+        const VkResult r = vkAllocateMemory(device.get(), &alloc, nullptr, &mem);
+        if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
+            throw VulkanError(r, "out of memory allocating " + format_bytes(req.size) + " for '" + name + "'");
+        VK_CHECK(r);
+        memory = UniqueMemory(device.get(), mem);
+        device.set_name(VK_OBJECT_TYPE_DEVICE_MEMORY, mem, name.c_str());
+        VK_CHECK(vkBindImageMemory(device.get(), handle, mem, 0));
+        bytes = req.size;
+
+        auto make_view = [&](VkImageViewType type, std::uint32_t first, std::uint32_t count, const std::string& view_name) {
+            VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+            view.image = handle;
+            view.viewType = type;
+            view.format = format;
+            view.subresourceRange = {aspect, 0, 1, first, count};
+            VkImageView v;
+            VK_CHECK(vkCreateImageView(device.get(), &view, nullptr, &v));
+            device.set_name(VK_OBJECT_TYPE_IMAGE_VIEW, v, view_name.c_str());
+            return UniqueImageView(device.get(), v);
+        };
+        all_layers = make_view(VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, layers, name + ".array");
+        for (std::uint32_t l = 0; l < layers; ++l)
+            layer_views.push_back(make_view(VK_IMAGE_VIEW_TYPE_2D, l, 1, name + ".layer" + std::to_string(l)));
+    }
+};
+
+void layers_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, std::uint32_t layers,
+                    VkImageLayout old_layout, VkImageLayout new_layout, VkPipelineStageFlags2 src_stage,
+                    VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+    VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    barrier.srcStageMask = src_stage;
+    barrier.srcAccessMask = src_access;
+    barrier.dstStageMask = dst_stage;
+    barrier.dstAccessMask = dst_access;
+    barrier.oldLayout = old_layout;
+    barrier.newLayout = new_layout;
+    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.image = image;
+    barrier.subresourceRange = {aspect, 0, 1, 0, layers};
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.imageMemoryBarrierCount = 1;
+    dep.pImageMemoryBarriers = &barrier;
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+std::uint32_t parse_count(const std::string& text, const std::string& what) {
+    if (text.empty() || text.size() > 6 || text.find_first_not_of("0123456789") != std::string::npos)
+        throw std::invalid_argument(what + ": expected a whole number (got '" + text + "')");
+    return std::uint32_t(std::stoul(text));
+}
+
+}  // namespace
+
+StochasticOptions parse_stochastic_setting(const std::string& setting) {
+    StochasticOptions options;
+    if (setting.empty()) return options;
+    std::string count = setting;
+    const std::size_t comma = setting.find(',');
+    if (comma != std::string::npos) {
+        const std::string flag = setting.substr(comma + 1);
+        if (flag != "plain")
+            throw std::invalid_argument("stochastic: unknown option '" + flag + "' (the only one is 'plain')");
+        options.alpha_correction = false;
+        count = setting.substr(0, comma);
+    }
+    const std::string what = "stochastic: samples per pixel";
+    options.samples = parse_count(count, what);
+    if (options.samples == 0 || options.samples > kMaxSamples || (options.samples & (options.samples - 1)))
+        throw std::invalid_argument(what + " must be a power of two from 1 to " + std::to_string(kMaxSamples) +
+                                    " (got " + count + ")");
+    return options;
+}
+
+struct StochasticMethod::Targets {
+    LayeredImage msaa_color;  // only with 4-sample passes
+    LayeredImage depth;
+    LayeredImage resolved;    // the MSAA resolve of the current pass (only with 4-sample passes)
+    LayeredImage layers;      // one resolved (averaged) layer per pass
+    DeviceImage accum;
+    DeviceImage optical_depth;
+    VkExtent2D extent{};
+};
+
+StochasticMethod::StochasticMethod(Device& device, StochasticOptions options)
+    : device_(device),
+      options_(options),
+      pass_samples_(options.samples >= 4 ? 4u : 1u),
+      passes_(options.samples / (options.samples >= 4 ? 4u : 1u)),
+      descriptors_(device),
+      frame_(device, descriptors_),
+      timer_(device, 5, "stochastic.timestamps") {
+    if (options.samples == 0 || options.samples > kMaxSamples || (options.samples & (options.samples - 1)))
+        throw std::invalid_argument("stochastic: samples per pixel must be a power of two from 1 to 64");
+
+    GraphicsPipelineDesc alpha;
+    alpha.name = "stochastic_alpha";
+    alpha.vertex = BRUME_SPIRV(spv_sphere_impostor_vert);
+    alpha.fragment = BRUME_SPIRV(spv_stochastic_alpha_frag);
+    alpha.color_formats = {kAccumFormat, kOpticalDepthFormat};
+    alpha.blends = {blend_additive(), blend_additive()};
+    alpha_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), alpha);
+
+    GraphicsPipelineDesc cover;
+    cover.name = "stochastic_cover";
+    cover.vertex = BRUME_SPIRV(spv_stochastic_impostor_vert);
+    cover.fragment = BRUME_SPIRV(spv_stochastic_cover_frag);
+    cover.color_formats = {kColorFormat};
+    cover.depth_format = kDepthFormat;
+    cover.depth_compare = VK_COMPARE_OP_GREATER;  // depth = 1 / (1 + t): nearer is larger
+    cover.samples = VkSampleCountFlagBits(pass_samples_);
+    cover.fragment_constants = {options.samples, pass_samples_};
+    cover_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), cover);
+
+    GraphicsPipelineDesc resolve;
+    resolve.name = "stochastic_resolve";
+    resolve.vertex = BRUME_SPIRV(spv_fullscreen_ray_vert);
+    resolve.fragment = BRUME_SPIRV(spv_stochastic_resolve_frag);
+    resolve.color_formats = {FrameResources::kHdrFormat};
+    resolve.fragment_constants = {passes_, options.alpha_correction ? 1u : 0u};
+    resolve_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), resolve);
+}
+
+StochasticMethod::~StochasticMethod() = default;
+
+std::string StochasticMethod::name() const {
+    return "stochastic:" + std::to_string(options_.samples) + (options_.alpha_correction ? "" : ",plain");
+}
+
+void StochasticMethod::ensure_targets(VkExtent2D extent) {
+    if (targets_ && targets_->extent.width == extent.width && targets_->extent.height == extent.height) return;
+    targets_.reset();
+    auto t = std::make_unique<Targets>();
+    const VkSampleCountFlagBits samples = VkSampleCountFlagBits(pass_samples_);
+    if (pass_samples_ > 1) {
+        t->msaa_color = LayeredImage(device_, kColorFormat, extent, samples, 1, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
+                                     VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.msaa_color");
+        t->resolved = LayeredImage(device_, kColorFormat, extent, VK_SAMPLE_COUNT_1_BIT, 1,
+                                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                   VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.resolved");
+    }
+    t->depth = LayeredImage(device_, kDepthFormat, extent, samples, 1, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                            VK_IMAGE_ASPECT_DEPTH_BIT, "stochastic.depth");
+    const VkImageUsageFlags storage_target = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+    t->layers = LayeredImage(device_, kColorFormat, extent, VK_SAMPLE_COUNT_1_BIT, passes_,
+                             storage_target | VK_IMAGE_USAGE_TRANSFER_DST_BIT, VK_IMAGE_ASPECT_COLOR_BIT,
+                             "stochastic.layers");
+    t->accum = DeviceImage(device_, kAccumFormat, extent, storage_target, VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.accum");
+    t->optical_depth = DeviceImage(device_, kOpticalDepthFormat, extent, storage_target, VK_IMAGE_ASPECT_COLOR_BIT,
+                                   "stochastic.optical_depth");
+    t->extent = extent;
+    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0, t->layers.all_layers);
+    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0 + 1, t->accum.view());
+    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0 + 2, t->optical_depth.view());
+    targets_ = std::move(t);
+}
+
+void StochasticMethod::record_frame(VkCommandBuffer cmd) {
+    Targets& t = *targets_;
+    const bool draw = frame_.sphere_count() > 0;
+    timer_.reset(cmd);
+    timer_.stamp(cmd, 0);
+    frame_.record_opaque_pass(cmd);
+    timer_.stamp(cmd, 1);
+
+    // Total alpha (alpha correction): sum(alpha c), sum(alpha) and the optical depth, additively.
+    // Without the correction the resolve does not read these targets, but they still need a layout.
+    for (VkImage image : {t.accum.get(), t.optical_depth.get()})
+        image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                      VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    if (options_.alpha_correction) {
+        VkRenderingAttachmentInfo targets[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
+                                                {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
+        targets[0].imageView = t.accum.view();
+        targets[1].imageView = t.optical_depth.view();
+        for (VkRenderingAttachmentInfo& a : targets) {
+            a.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+            a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+            a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+            a.clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+        }
+        VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+        info.renderArea = {{0, 0}, t.extent};
+        info.layerCount = 1;
+        info.colorAttachmentCount = 2;
+        info.pColorAttachments = targets;
+        vkCmdBeginRendering(cmd, &info);
+        if (draw) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, alpha_pipeline_);
+            descriptors_.bind(cmd);
+            set_viewport(cmd, t.extent);
+            vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
+        }
+        vkCmdEndRendering(cmd);
+    }
+    for (VkImage image : {t.accum.get(), t.optical_depth.get()})
+        image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    timer_.stamp(cmd, 2);
+
+    // Coverage passes: pass p owns samples p * pass_samples_ .. (p + 1) * pass_samples_ - 1.
+    // Single-sample passes render straight into layer p. 4-sample passes resolve (average) into a 2D
+    // image that is copied into layer p: lavapipe 22.3 resolves into layer 0 whatever layer the
+    // resolve view names.
+    const bool msaa = pass_samples_ > 1;
+    const VkImageLayout layers_layout = msaa ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
+    layers_barrier(cmd, t.layers.image, VK_IMAGE_ASPECT_COLOR_BIT, passes_, VK_IMAGE_LAYOUT_UNDEFINED, layers_layout,
+                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0,
+                   msaa ? VK_PIPELINE_STAGE_2_COPY_BIT : VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                   msaa ? VK_ACCESS_2_TRANSFER_WRITE_BIT
+                        : VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    const VkPipelineStageFlags2 depth_stages =
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    const VkAccessFlags2 depth_access =
+        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    const VkAccessFlags2 color_access = VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+    for (std::uint32_t p = 0; p < passes_; ++p) {
+        // Every pass clears the MSAA colour and depth and rewrites the resolve target: each starts
+        // from UNDEFINED, after the previous pass's tests, resolve and copy.
+        layers_barrier(cmd, t.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED,
+                       VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, depth_stages, depth_access, depth_stages, depth_access);
+        if (msaa) {
+            layers_barrier(cmd, t.msaa_color.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED,
+                           VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                           color_access, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, color_access);
+            layers_barrier(cmd, t.resolved.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED,
+                           VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT, 0,
+                           VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, color_access);
+        }
+        VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+        color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        color.clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+        if (msaa) {
+            color.imageView = t.msaa_color.layer_views[0];
+            color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+            color.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+            color.resolveMode = VK_RESOLVE_MODE_AVERAGE_BIT;
+            color.resolveImageView = t.resolved.layer_views[0];
+            color.resolveImageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        } else {
+            color.imageView = t.layers.layer_views[p];
+            color.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+            color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        }
+        VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+        depth.imageView = t.depth.layer_views[0];
+        depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+        depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        depth.clearValue.depthStencil = {0.0f, 0};
+        VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+        info.renderArea = {{0, 0}, t.extent};
+        info.layerCount = 1;
+        info.colorAttachmentCount = 1;
+        info.pColorAttachments = &color;
+        info.pDepthAttachment = &depth;
+        vkCmdBeginRendering(cmd, &info);
+        if (draw) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, cover_pipeline_);
+            descriptors_.bind(cmd);
+            set_viewport(cmd, t.extent);
+            // firstVertex tells the vertex shader the pass (gl_VertexIndex / 6): no push constants.
+            vkCmdDraw(cmd, 6, frame_.sphere_count(), 6 * p, 0);
+        }
+        vkCmdEndRendering(cmd);
+        if (msaa) {
+            layers_barrier(cmd, t.resolved.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                           VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                           VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                           VK_ACCESS_2_TRANSFER_READ_BIT);
+            VkImageCopy region{};
+            region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, p, 1};
+            region.extent = {t.extent.width, t.extent.height, 1};
+            vkCmdCopyImage(cmd, t.resolved.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t.layers.image,
+                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+        }
+    }
+    timer_.stamp(cmd, 3);
+    layers_barrier(cmd, t.layers.image, VK_IMAGE_ASPECT_COLOR_BIT, passes_, layers_layout, VK_IMAGE_LAYOUT_GENERAL,
+                   msaa ? VK_PIPELINE_STAGE_2_COPY_BIT : VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                   msaa ? VK_ACCESS_2_TRANSFER_WRITE_BIT : VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+
+    frame_.begin_hdr_rendering(cmd);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_pipeline_);
+    descriptors_.bind(cmd);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    frame_.end_hdr_rendering(cmd);
+    timer_.stamp(cmd, 4);
+    frame_.record_hdr_readback(cmd);
+}
+
+Image StochasticMethod::render(const Scene& scene, FrameStats* stats) {
+    frame_.upload(scene);
+    ensure_targets(frame_.extent());
+    device_.submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd); });
+    if (stats) {
+        const std::vector<double> ms = timer_.intervals_ms(5);
+        *stats = FrameStats{};
+        stats->passes = {{"clear+opaque", ms[0]},
+                         {"total alpha", ms[1]},
+                         {"coverage x" + std::to_string(passes_), ms[2]},
+                         {"resolve", ms[3]}};
+        stats->total_ms = ms[0] + ms[1] + ms[2] + ms[3];
+        const Targets& t = *targets_;
+        const std::uint64_t pixels = std::uint64_t(t.extent.width) * t.extent.height;
+        stats->memory_bytes = t.msaa_color.bytes + t.resolved.bytes + t.depth.bytes + t.layers.bytes + pixels * (16 + 4);
+    }
+    return frame_.read_hdr();
+}
+
+std::unique_ptr<Method> make_stochastic_method(Device& device, const std::string& setting) {
+    return std::make_unique<StochasticMethod>(device, parse_stochastic_setting(setting));
+}
+
+}  // namespace brume

@@ -1,0 +1,93 @@
+// `stochastic` (seed 001 section 6.1, Enderton et al. 2010): stochastic transparency with S samples
+// per pixel. Every sphere fragment covers each sample of its pixel with probability alpha and writes
+// its colour there, depth tested so the nearest covering sphere wins; averaging the samples estimates
+// sum_i alpha_i c_i prod_(j nearer) (1 - alpha_j) + C_bg prod_i (1 - alpha_i), the "over" composite,
+// without sorting. Order is by the sphere's clipped entry distance (nearest wins; depth
+// 1 / (1 + t_entry) in D32, so spheres containing the eye, all at distance 0, tie and the first
+// drawn wins).
+//
+// Samples: lavapipe offers 1 and 4 samples per pixel, so S (a power of two, 1..64) is rendered as
+// S/4 geometry passes into a 4x MSAA target (S = 1, 2: S single-sample passes). Each pass's samples
+// are averaged by the MSAA resolve into one layer of an array image, and the final pass averages the
+// layers. Every sample lies on the pixel-centre ray (the fragment shader runs once per pixel, at its
+// centre); the MSAA samples serve only as S independent depth-tested slots.
+//
+// Coverage (stratified, as in the seed): for sphere i at pixel p a hash of (p, i) gives xi in [0, 1)
+// and an odd multiplier a and offset b; sample g (0..S-1) is covered when
+// ((a g + b) mod S + xi) / S < alpha_i. So the sphere covers floor(alpha S + xi') of the S samples
+// (xi' uniform), each sample with probability exactly alpha, independently of every other sphere.
+// The hash has no frame input: the noise is the same in every frame for the same sphere id.
+//
+// Resolve, with A = fraction of samples covered by any sphere and C_s = average colour of covered
+// samples:
+//   plain     (setting "S,plain"):   C = A C_s + (1 - A) C_bg                 (the plain average)
+//   corrected (default, "S"):        C = alpha_total C_s + (1 - alpha_total) C_bg,
+//       alpha_total = 1 - prod(1 - alpha_i) from an extra accumulation pass (the seed's alpha
+//       correction, eq. 6.1: the average colour times alpha_total / (R/S)), computed as
+//       1 - exp(-sum tau_i chord_i). Where no sample is covered (R = 0), C_s falls back to the
+//       alpha-weighted average sum(alpha_i c_i) / sum(alpha_i) from the same pass.
+//   The corrected form is exact for a pixel covered by one sphere, at any S. The seed's
+//   depth-based variant (visibility per fragment from the sample depths) is not implemented: it
+//   needs per-sample depth reads, which lavapipe's storage images offer only with a feature Brume
+//   does not enable.
+// The scene's min_transmittance cut-off plays no part.
+#pragma once
+
+#include "render/image.h"
+#include "render/methods/frame_resources.h"
+#include "render/methods/frame_stats.h"
+#include "render/methods/method.h"
+#include "render/vk/descriptors.h"
+#include "render/vk/device.h"
+#include "render/vk/gpu_timer.h"
+#include "render/vk/resources.h"
+#include "sim/scene.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace brume {
+
+struct StochasticOptions {
+    std::uint32_t samples = 8;  // S: a power of two, 1..64
+    bool alpha_correction = true;
+};
+
+// Parses "S" or "S,plain" (empty: the defaults). Throws std::invalid_argument naming the problem.
+StochasticOptions parse_stochastic_setting(const std::string& setting);
+
+class StochasticMethod : public Method {
+public:
+    StochasticMethod(vk::Device& device, StochasticOptions options = {});
+    ~StochasticMethod() override;
+
+    std::string name() const override;
+    bool exact() const override { return false; }
+    Image render(const Scene& scene, FrameStats* stats) override;
+
+    std::uint32_t samples() const { return options_.samples; }
+    std::uint32_t passes() const { return passes_; }
+
+private:
+    struct Targets;
+    void ensure_targets(VkExtent2D extent);
+    void record_frame(VkCommandBuffer cmd);
+
+    vk::Device& device_;
+    StochasticOptions options_;
+    std::uint32_t pass_samples_;  // 4 (MSAA) or 1
+    std::uint32_t passes_;
+    vk::SharedDescriptors descriptors_;
+    FrameResources frame_;
+    vk::GpuTimer timer_;
+    vk::UniquePipeline alpha_pipeline_;
+    vk::UniquePipeline cover_pipeline_;
+    vk::UniquePipeline resolve_pipeline_;
+    std::unique_ptr<Targets> targets_;
+};
+
+// `--method stochastic[:S[,plain]]`, S default 8.
+std::unique_ptr<Method> make_stochastic_method(vk::Device& device, const std::string& setting);
+
+}  // namespace brume

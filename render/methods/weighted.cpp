@@ -1,0 +1,176 @@
+#include "render/methods/weighted.h"
+
+#include "fullscreen_ray.vert.h"
+#include "render/vk/pipelines.h"
+#include "render/vk/vk_check.h"
+#include "sphere_impostor.vert.h"
+#include "weighted_accumulate.frag.h"
+#include "weighted_composite.frag.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace brume {
+
+using namespace vk;
+
+namespace {
+
+constexpr VkFormat kAccumFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat kExtraFormat = VK_FORMAT_R32_SFLOAT;
+
+// Mirrors WeightParams in shaders/weighted_accumulate.frag.
+struct WeightParams {
+    float depth_scale;  // D
+    float unused[3];
+};
+static_assert(sizeof(WeightParams) == 16);
+
+const char* mode_name(WeightedMode mode) {
+    switch (mode) {
+    case WeightedMode::Sum: return "wsum";
+    case WeightedMode::Average: return "wavg";
+    case WeightedMode::Blended: return "wboit";
+    }
+    return "?";
+}
+
+void require_no_setting(const char* name, const std::string& setting) {
+    if (!setting.empty())
+        throw std::invalid_argument(std::string("method '") + name + "' takes no setting (got ':" + setting + "')");
+}
+
+}  // namespace
+
+WeightedMethod::WeightedMethod(Device& device, WeightedMode mode)
+    : device_(device),
+      mode_(mode),
+      descriptors_(device),
+      frame_(device, descriptors_),
+      timer_(device, 4, (std::string(mode_name(mode)) + ".timestamps").c_str()) {
+    const std::vector<std::uint32_t> constants = {std::uint32_t(mode)};
+
+    GraphicsPipelineDesc accumulate;
+    accumulate.name = std::string(mode_name(mode)) + "_accumulate";
+    accumulate.vertex = BRUME_SPIRV(spv_sphere_impostor_vert);
+    accumulate.fragment = BRUME_SPIRV(spv_weighted_accumulate_frag);
+    accumulate.color_formats = {kAccumFormat, kExtraFormat};
+    accumulate.blends = {blend_additive(), blend_additive()};
+    accumulate.fragment_constants = constants;
+    accumulate_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), accumulate);
+
+    GraphicsPipelineDesc composite;
+    composite.name = std::string(mode_name(mode)) + "_composite";
+    composite.vertex = BRUME_SPIRV(spv_fullscreen_ray_vert);
+    composite.fragment = BRUME_SPIRV(spv_weighted_composite_frag);
+    composite.color_formats = {FrameResources::kHdrFormat};
+    composite.fragment_constants = constants;
+    composite_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), composite);
+
+    params_ = Buffer(device, sizeof(WeightParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload,
+                     std::string(mode_name(mode)) + ".params");
+    descriptors_.write_storage(gpu::BINDING_AUX_BUFFER0, params_.get());
+}
+
+std::string WeightedMethod::name() const { return mode_name(mode_); }
+
+double WeightedMethod::weight_depth_scale(const Scene& scene) {
+    double z_max = 0.0;
+    for (const Sphere& s : scene.spheres)
+        if (s.extinction > 0.0) z_max = std::max(z_max, glm::length(s.center - scene.camera.position) + s.radius);
+    return z_max > 0.0 ? z_max / 1.32 : 1.0;
+}
+
+void WeightedMethod::ensure_targets(VkExtent2D extent) {
+    if (accum_.extent().width == extent.width && accum_.extent().height == extent.height) return;
+    const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+    const std::string prefix = mode_name(mode_);
+    accum_ = DeviceImage(device_, kAccumFormat, extent, usage, VK_IMAGE_ASPECT_COLOR_BIT, prefix + ".accum");
+    extra_ = DeviceImage(device_, kExtraFormat, extent, usage, VK_IMAGE_ASPECT_COLOR_BIT, prefix + ".extra");
+    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0, accum_.view());
+    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0 + 1, extra_.view());
+}
+
+void WeightedMethod::record_frame(VkCommandBuffer cmd) {
+    timer_.reset(cmd);
+    timer_.stamp(cmd, 0);
+    frame_.record_opaque_pass(cmd);
+    timer_.stamp(cmd, 1);
+
+    // Accumulation: both targets cleared to zero, every sphere fragment added.
+    for (VkImage image : {accum_.get(), extra_.get()})
+        image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                      VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    VkRenderingAttachmentInfo targets[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
+                                            {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
+    targets[0].imageView = accum_.view();
+    targets[1].imageView = extra_.view();
+    for (VkRenderingAttachmentInfo& t : targets) {
+        t.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+        t.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        t.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        t.clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+    }
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, frame_.extent()};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 2;
+    info.pColorAttachments = targets;
+    vkCmdBeginRendering(cmd, &info);
+    if (frame_.sphere_count() > 0) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, accumulate_pipeline_);
+        descriptors_.bind(cmd);
+        set_viewport(cmd, frame_.extent());
+        vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
+    }
+    vkCmdEndRendering(cmd);
+    timer_.stamp(cmd, 2);
+    for (VkImage image : {accum_.get(), extra_.get()})
+        image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+
+    frame_.begin_hdr_rendering(cmd);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, composite_pipeline_);
+    descriptors_.bind(cmd);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    frame_.end_hdr_rendering(cmd);
+    timer_.stamp(cmd, 3);
+    frame_.record_hdr_readback(cmd);
+}
+
+Image WeightedMethod::render(const Scene& scene, FrameStats* stats) {
+    frame_.upload(scene);
+    ensure_targets(frame_.extent());
+    params_.as<WeightParams>()->depth_scale = float(weight_depth_scale(scene));
+    device_.submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd); });
+    if (stats) {
+        const std::vector<double> ms = timer_.intervals_ms(4);
+        *stats = FrameStats{};
+        stats->passes = {{"clear+opaque", ms[0]}, {"accumulate", ms[1]}, {"composite", ms[2]}};
+        stats->total_ms = ms[0] + ms[1] + ms[2];
+        const std::uint64_t pixels = std::uint64_t(frame_.extent().width) * frame_.extent().height;
+        stats->memory_bytes = pixels * (16 + 4) + params_.size();
+    }
+    return frame_.read_hdr();
+}
+
+std::unique_ptr<Method> make_wsum_method(Device& device, const std::string& setting) {
+    require_no_setting("wsum", setting);
+    return std::make_unique<WeightedMethod>(device, WeightedMode::Sum);
+}
+
+std::unique_ptr<Method> make_wavg_method(Device& device, const std::string& setting) {
+    require_no_setting("wavg", setting);
+    return std::make_unique<WeightedMethod>(device, WeightedMode::Average);
+}
+
+std::unique_ptr<Method> make_wboit_method(Device& device, const std::string& setting) {
+    require_no_setting("wboit", setting);
+    return std::make_unique<WeightedMethod>(device, WeightedMode::Blended);
+}
+
+}  // namespace brume

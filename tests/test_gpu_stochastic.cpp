@@ -1,0 +1,168 @@
+// stochastic transparency (seed 001 section 6.1): exact for one sphere with the alpha correction,
+// converging as the sample count grows, and the same noise in every frame.
+#include "gpu_test_env.h"
+#include "render/methods/stochastic.h"
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+namespace brume {
+namespace {
+
+using testing::compare_with_reference;
+using testing::GpuTest;
+
+Scene small_scene(int w = 96, int h = 72) {
+    Scene s;
+    s.source = "test";
+    s.camera.position = {0.0, 0.0, 5.0};
+    s.camera.look_at = {0.0, 0.0, 0.0};
+    s.camera.width = w;
+    s.camera.height = h;
+    s.render.min_transmittance = 0.0;
+    return s;
+}
+
+Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo = {0.9, 0.8, 0.7}) {
+    Sphere s;
+    s.center = c;
+    s.radius = r;
+    s.extinction = tau;
+    s.albedo = albedo;
+    return s;
+}
+
+// Spheres that do not intersect one another (so "over" in depth order is the exact answer), well
+// spread in depth and overlapping on screen, with alphas from small to large and varied colours.
+Scene layered_scene(unsigned seed) {
+    Scene s = small_scene();
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < 6; ++i) {
+        const double z = 1.5 - 1.0 * i;
+        s.spheres.push_back(sphere({u(rng) * 1.2 - 0.6, u(rng) * 1.0 - 0.5, z}, 0.45, 0.5 + 3.0 * u(rng),
+                                   {u(rng), u(rng), u(rng)}));
+    }
+    s.boxes.push_back(Box{{-5, -3, -8}, {5, 3, -7}, {0.4, 0.5, 0.6}});
+    return s;
+}
+
+double mean_abs_error(const Image& a, const Image& b) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) sum += std::abs(double(a.rgb[i]) - b.rgb[i]);
+    return sum / double(a.rgb.size());
+}
+
+class Stochastic : public GpuTest {};
+
+TEST_F(Stochastic, SingleSphereIsExactWithAlphaCorrection) {
+    // One sphere: alpha_total is the sphere's alpha and every covered sample has its colour, so the
+    // corrected resolve gives alpha c + (1 - alpha) C_bg whatever the noise, even with one sample
+    // (where no sample is covered, the alpha-weighted average stands in for the colour).
+    Scene s = small_scene(65, 65);
+    s.spheres.push_back(sphere({0, 0, 0}, 1.0, 0.7));
+    s.boxes.push_back(Box{{-3, -3, -3}, {3, -0.4, -2}, {0.6, 0.3, 0.1}});
+    s.boxes.push_back(Box{{0.3, -2, -2}, {0.5, 2, 2}, {0.1, 0.4, 0.2}});
+    for (std::uint32_t samples : {1u, 2u, 8u, 16u}) {
+        StochasticMethod method(device(), {samples, true});
+        FrameStats stats;
+        const Image img = method.render(s, &stats);
+        const ImageDiff d = compare_with_reference(img, s);
+        EXPECT_EQ(d.pixels_over, 0u) << method.name() << ": " << describe(d);
+        ASSERT_EQ(stats.passes.size(), 4u);
+        EXPECT_GT(stats.total_ms, 0.0);
+        EXPECT_GT(stats.memory_bytes, 0u);
+    }
+    // Without the correction a single sphere is only right on average: the covered fraction is a
+    // multiple of 1/S, not alpha.
+    StochasticMethod plain(device(), {8, false});
+    const ImageDiff d = compare_with_reference(plain.render(s, nullptr), s);
+    EXPECT_GT(d.pixels_over, 0u) << describe(d);
+}
+
+TEST_F(Stochastic, ErrorFallsAsSamplesGrow) {
+    const Scene s = layered_scene(5);
+    const Image ref = render_reference(s);
+    for (bool corrected : {false, true}) {
+        double error[2];
+        int n = 0;
+        for (std::uint32_t samples : {1u, 16u}) {
+            StochasticMethod method(device(), {samples, corrected});
+            error[n++] = mean_abs_error(method.render(s, nullptr), ref);
+        }
+        // Noise falls at least as 1/sqrt(S), 4x from 1 to 16 samples (measured: 9.6x plain, 5.1x
+        // corrected, stratification helping); demand 2x.
+        EXPECT_LT(error[1], 0.5 * error[0]) << (corrected ? "corrected" : "plain") << ": S=1 " << error[0]
+                                             << ", S=16 " << error[1];
+        EXPECT_GT(error[1], 0.0);
+    }
+}
+
+TEST_F(Stochastic, PlainAverageIsUnbiased) {
+    // Averaged over many pixels of a constant-depth layout, the plain estimator's mean equals the
+    // exact mean: the per-pixel noise cancels, a bias would not.
+    Scene s = small_scene(128, 128);
+    s.camera.fov_y_deg = 10.0;  // the spheres fill the view: every pixel sees the same two layers
+    s.lighting.background = {0.8, 0.1, 0.1};
+    s.spheres.push_back(sphere({0, 0, 1.0}, 1.5, 0.4, {0.1, 0.9, 0.1}));
+    s.spheres.push_back(sphere({0, 0, -3.0}, 2.5, 0.3, {0.1, 0.1, 0.9}));
+    const Image ref = render_reference(s);
+    StochasticMethod method(device(), {4, false});
+    const Image img = method.render(s, nullptr);
+    double mean_ref[3] = {0, 0, 0}, mean_img[3] = {0, 0, 0};
+    for (std::size_t i = 0; i < ref.rgb.size(); ++i) {
+        mean_ref[i % 3] += ref.rgb[i];
+        mean_img[i % 3] += img.rgb[i];
+    }
+    const double pixels = double(ref.rgb.size() / 3);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean_img[c] / pixels, mean_ref[c] / pixels, 0.01 * mean_ref[c] / pixels + 2e-3) << c;
+    // ... while single pixels are noisy.
+    EXPECT_GT(mean_abs_error(img, ref), 1e-3);
+}
+
+TEST_F(Stochastic, NoiseIsTheSameInEveryFrame) {
+    const Scene s = layered_scene(9);
+    StochasticMethod method(device(), {8, true});
+    const Image a = method.render(s, nullptr);
+    const Image b = method.render(s, nullptr);
+    StochasticMethod other(device(), {8, true});
+    const Image c = other.render(s, nullptr);
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(a.rgb.data(), c.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+    // Moving one sphere changes the noise only where that sphere is seen.
+    Scene moved = s;
+    moved.spheres[0].center.x += 10.0;  // out of view
+    const Image d = method.render(moved, nullptr);
+    EXPECT_NE(std::memcmp(a.rgb.data(), d.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+}
+
+TEST_F(Stochastic, SettingsParse) {
+    EXPECT_EQ(parse_stochastic_setting("").samples, 8u);
+    EXPECT_TRUE(parse_stochastic_setting("").alpha_correction);
+    EXPECT_EQ(parse_stochastic_setting("16").samples, 16u);
+    EXPECT_EQ(parse_stochastic_setting("1").samples, 1u);
+    EXPECT_FALSE(parse_stochastic_setting("4,plain").alpha_correction);
+    for (const char* bad : {"0", "3", "12", "128", "x", "-4", "8,", "8,fast", " 8"})
+        EXPECT_THROW(parse_stochastic_setting(bad), std::invalid_argument) << bad;
+    EXPECT_EQ(make_stochastic_method(device(), "")->name(), "stochastic:8");
+    EXPECT_EQ(make_stochastic_method(device(), "32,plain")->name(), "stochastic:32,plain");
+    EXPECT_THROW(make_stochastic_method(device(), "5"), std::invalid_argument);
+}
+
+TEST_F(Stochastic, EmptySceneShowsTheOpaqueRadiance) {
+    Scene s = small_scene(32, 24);
+    s.boxes.push_back(Box{{-1, -1, -1}, {1, 1, 1}, {0.5, 0.25, 0.125}});
+    for (bool corrected : {false, true}) {
+        StochasticMethod method(device(), {8, corrected});
+        const Image img = method.render(s, nullptr);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_FLOAT_EQ(img.pixel(16, 12)[c], float(s.boxes[0].radiance[c]));
+            EXPECT_FLOAT_EQ(img.pixel(0, 0)[c], float(s.lighting.background[c]));
+        }
+    }
+}
+
+}  // namespace
+}  // namespace brume

@@ -3,6 +3,7 @@
 
 #include "render/methods/auto_method.h"
 #include "render/methods/kbuffer.h"
+#include "render/methods/peel.h"
 #include "render/methods/ppll.h"
 #include "render/methods/reference_method.h"
 #include "render/methods/screendoor.h"
@@ -31,6 +32,9 @@ const std::vector<MethodInfo>& method_catalogue() {
         {"wavg", "", "", "weighted average (Bavoil & Myers): unsorted, one geometry pass"},
         {"wboit", "", "", "weighted blended OIT (McGuire & Bavoil 2013, eq. 9 depth weight)"},
         {"kbuf", "k", "8", "k nearest spheres per pixel (FreePipe / k-buffer, k = 1..32), tail as one averaged layer"},
+        {"peel", "N|dual:N", "8",
+         "depth peeling: N geometry passes front to back (1..64), or dual:N peeling a front and a back layer per "
+         "pass; layers beyond as one slab"},
         {"stochastic", "S[,plain]", "8",
          "stochastic transparency with S samples per pixel (power of two, 1..64), alpha-corrected unless ',plain'"},
         {"screendoor", "S", "4", "object-space screen-door transparency with S x S supersampling (S = 1..8)"},
@@ -64,6 +68,7 @@ std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec)
     if (name == "wboit") return make_wboit_method(*device, setting);
     if (name == "kbuf") return make_kbuf_method(*device, setting);
     if (name == "stochastic") return make_stochastic_method(*device, setting);
+    if (name == "peel") return make_peel_method(*device, setting);
     throw std::logic_error("method '" + name + "' is catalogued but not constructed");
 }
 

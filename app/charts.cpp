@@ -86,7 +86,7 @@ std::vector<std::string> write_charts(const fs::path& dir, const std::vector<Cha
         int block = 0;
         plot << "set title " << quoted("Temporal error per frame step: " + scene + " (spikes are pops)") << "\n"
              << "set xlabel 'frame step'\nset ylabel 'mean |(I_t - I_{t-1}) - (R_t - R_{t-1})| / peak'\n"
-             << "set logscale y\nset grid\nset key outside right\nplot ";
+             << "set logscale y\nset format y '%.0e'\nset grid\nset key outside right\nplot ";
         for (const TemporalSeries& s : temporal) {
             if (s.scene != scene) continue;
             data << "# " << s.method << "\n";
@@ -106,7 +106,7 @@ std::vector<std::string> write_charts(const fs::path& dir, const std::vector<Cha
         std::ostringstream data, plot;
         plot << "set title 'Error against depth complexity (static scenes)'\n"
              << "set xlabel 'spheres along the pixel ray (list length)'\nset ylabel 'mean |error| / peak'\n"
-             << "set logscale y\nset grid\nset key outside right\nplot ";
+             << "set logscale y\nset format y '%.0e'\nset grid\nset key outside right\nplot ";
         for (std::size_t k = 0; k < depth.size(); ++k) {
             data << "# " << depth[k].method << "\n";
             for (const auto& [n, e] : depth[k].points) data << n << ' ' << num(e) << '\n';

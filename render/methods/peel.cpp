@@ -44,20 +44,6 @@ static_assert(sizeof(PeelControl) <= 65536, "vkCmdUpdateBuffer limit");
 
 constexpr std::uint32_t kNoKey = 0xffffffffu;
 
-// dst = max(src, dst) per channel: every output of a dual peel pass (one blend state for all
-// attachments: the device does not enable independentBlend).
-VkPipelineColorBlendAttachmentState blend_max() {
-    VkPipelineColorBlendAttachmentState b = blend_none();
-    b.blendEnable = VK_TRUE;
-    b.srcColorBlendFactor = VK_BLEND_FACTOR_ONE;
-    b.dstColorBlendFactor = VK_BLEND_FACTOR_ONE;
-    b.colorBlendOp = VK_BLEND_OP_MAX;
-    b.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
-    b.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
-    b.alphaBlendOp = VK_BLEND_OP_MAX;
-    return b;
-}
-
 // Between the passes of a frame: every attachment, storage and indirect-argument write before is
 // visible to every such access after (images stay in GENERAL, so one global barrier covers them).
 void pass_barrier(VkCommandBuffer cmd) {
@@ -151,6 +137,8 @@ PeelMethod::PeelMethod(Device& device, PeelOptions options)
         peel.name = "peel_dual";
         peel.fragment = BRUME_SPIRV(spv_peel_dual_frag);
         peel.color_formats.assign(2, VK_FORMAT_R32G32B32A32_SFLOAT);  // window, ids
+        // Every output of a dual peel pass takes the maximum: one blend state for all attachments,
+        // since the device does not enable independentBlend.
         peel.blends = {blend_max(), blend_max()};
     } else {
         peel.name = "peel_classic";

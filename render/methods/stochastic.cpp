@@ -25,82 +25,6 @@ constexpr std::uint32_t kMaxSamples = 64;
 
 // An image with any sample and layer count (DeviceImage has one of each): a view of the whole array
 // and one 2D view per layer.
-struct LayeredImage {
-    UniqueImage image;
-    UniqueMemory memory;
-    UniqueImageView all_layers;
-    std::vector<UniqueImageView> layer_views;
-    VkDeviceSize bytes = 0;
-
-    LayeredImage() = default;
-    LayeredImage(const Device& device, VkFormat format, VkExtent2D extent, VkSampleCountFlagBits samples,
-                 std::uint32_t layers, VkImageUsageFlags usage, VkImageAspectFlags aspect, const std::string& name) {
-        VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-        info.imageType = VK_IMAGE_TYPE_2D;
-        info.format = format;
-        info.extent = {extent.width, extent.height, 1};
-        info.mipLevels = 1;
-        info.arrayLayers = layers;
-        info.samples = samples;
-        info.tiling = VK_IMAGE_TILING_OPTIMAL;
-        info.usage = usage;
-        info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-        VkImage handle;
-        VK_CHECK(vkCreateImage(device.get(), &info, nullptr, &handle));
-        image = UniqueImage(device.get(), handle);
-        device.set_name(VK_OBJECT_TYPE_IMAGE, handle, name.c_str());
-
-        VkMemoryRequirements req;
-        vkGetImageMemoryRequirements(device.get(), handle, &req);
-        VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-        alloc.allocationSize = req.size;
-        alloc.memoryTypeIndex = device.find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-        VkDeviceMemory mem;
-        const VkResult r = vkAllocateMemory(device.get(), &alloc, nullptr, &mem);
-        if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
-            throw VulkanError(r, "out of memory allocating " + format_bytes(req.size) + " for '" + name + "'");
-        VK_CHECK(r);
-        memory = UniqueMemory(device.get(), mem);
-        device.set_name(VK_OBJECT_TYPE_DEVICE_MEMORY, mem, name.c_str());
-        VK_CHECK(vkBindImageMemory(device.get(), handle, mem, 0));
-        bytes = req.size;
-
-        auto make_view = [&](VkImageViewType type, std::uint32_t first, std::uint32_t count, const std::string& view_name) {
-            VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-            view.image = handle;
-            view.viewType = type;
-            view.format = format;
-            view.subresourceRange = {aspect, 0, 1, first, count};
-            VkImageView v;
-            VK_CHECK(vkCreateImageView(device.get(), &view, nullptr, &v));
-            device.set_name(VK_OBJECT_TYPE_IMAGE_VIEW, v, view_name.c_str());
-            return UniqueImageView(device.get(), v);
-        };
-        all_layers = make_view(VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, layers, name + ".array");
-        for (std::uint32_t l = 0; l < layers; ++l)
-            layer_views.push_back(make_view(VK_IMAGE_VIEW_TYPE_2D, l, 1, name + ".layer" + std::to_string(l)));
-    }
-};
-
-void layers_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, std::uint32_t layers,
-                    VkImageLayout old_layout, VkImageLayout new_layout, VkPipelineStageFlags2 src_stage,
-                    VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
-    VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-    barrier.srcStageMask = src_stage;
-    barrier.srcAccessMask = src_access;
-    barrier.dstStageMask = dst_stage;
-    barrier.dstAccessMask = dst_access;
-    barrier.oldLayout = old_layout;
-    barrier.newLayout = new_layout;
-    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.image = image;
-    barrier.subresourceRange = {aspect, 0, 1, 0, layers};
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.imageMemoryBarrierCount = 1;
-    dep.pImageMemoryBarriers = &barrier;
-    vkCmdPipelineBarrier2(cmd, &dep);
-}
 
 std::uint32_t parse_count(const std::string& text, const std::string& what) {
     if (text.empty() || text.size() > 6 || text.find_first_not_of("0123456789") != std::string::npos)
@@ -131,10 +55,10 @@ StochasticOptions parse_stochastic_setting(const std::string& setting) {
 }
 
 struct StochasticMethod::Targets {
-    LayeredImage msaa_color;  // only with 4-sample passes
-    LayeredImage depth;
-    LayeredImage resolved;    // the MSAA resolve of the current pass (only with 4-sample passes)
-    LayeredImage layers;      // one resolved (averaged) layer per pass
+    DeviceImage msaa_color;  // only with 4-sample passes
+    DeviceImage depth;
+    DeviceImage resolved;    // the MSAA resolve of the current pass (only with 4-sample passes)
+    DeviceImage layers;      // one resolved (averaged) layer per pass
     DeviceImage accum;
     DeviceImage optical_depth;
     VkExtent2D extent{};
@@ -191,23 +115,23 @@ void StochasticMethod::ensure_targets(VkExtent2D extent) {
     auto t = std::make_unique<Targets>();
     const VkSampleCountFlagBits samples = VkSampleCountFlagBits(pass_samples_);
     if (pass_samples_ > 1) {
-        t->msaa_color = LayeredImage(device_, kColorFormat, extent, samples, 1, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
-                                     VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.msaa_color");
-        t->resolved = LayeredImage(device_, kColorFormat, extent, VK_SAMPLE_COUNT_1_BIT, 1,
-                                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                   VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.resolved");
+        t->msaa_color = DeviceImage(device_, kColorFormat, extent, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
+                                    VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.msaa_color", samples);
+        t->resolved = DeviceImage(device_, kColorFormat, extent,
+                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                  VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.resolved");
     }
-    t->depth = LayeredImage(device_, kDepthFormat, extent, samples, 1, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                            VK_IMAGE_ASPECT_DEPTH_BIT, "stochastic.depth");
+    t->depth = DeviceImage(device_, kDepthFormat, extent, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                           VK_IMAGE_ASPECT_DEPTH_BIT, "stochastic.depth", samples);
     const VkImageUsageFlags storage_target = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
-    t->layers = LayeredImage(device_, kColorFormat, extent, VK_SAMPLE_COUNT_1_BIT, passes_,
-                             storage_target | VK_IMAGE_USAGE_TRANSFER_DST_BIT, VK_IMAGE_ASPECT_COLOR_BIT,
-                             "stochastic.layers");
+    t->layers = DeviceImage(device_, kColorFormat, extent, storage_target | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                            VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.layers", VK_SAMPLE_COUNT_1_BIT, passes_,
+                            /*array=*/true);
     t->accum = DeviceImage(device_, kAccumFormat, extent, storage_target, VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.accum");
     t->optical_depth = DeviceImage(device_, kOpticalDepthFormat, extent, storage_target, VK_IMAGE_ASPECT_COLOR_BIT,
                                    "stochastic.optical_depth");
     t->extent = extent;
-    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0, t->layers.all_layers);
+    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0, t->layers.view());
     descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0 + 1, t->accum.view());
     descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0 + 2, t->optical_depth.view());
     targets_ = std::move(t);
@@ -264,11 +188,8 @@ void StochasticMethod::record_frame(VkCommandBuffer cmd) {
     // resolve view names.
     const bool msaa = pass_samples_ > 1;
     const VkImageLayout layers_layout = msaa ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
-    layers_barrier(cmd, t.layers.image, VK_IMAGE_ASPECT_COLOR_BIT, passes_, VK_IMAGE_LAYOUT_UNDEFINED, layers_layout,
-                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0,
-                   msaa ? VK_PIPELINE_STAGE_2_COPY_BIT : VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                   msaa ? VK_ACCESS_2_TRANSFER_WRITE_BIT
-                        : VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    image_barrier(cmd, t.layers.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, layers_layout, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0, msaa ? VK_PIPELINE_STAGE_2_COPY_BIT : VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, msaa ? VK_ACCESS_2_TRANSFER_WRITE_BIT
+                        : VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, passes_);
     const VkPipelineStageFlags2 depth_stages =
         VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
     const VkAccessFlags2 depth_access =
@@ -277,33 +198,28 @@ void StochasticMethod::record_frame(VkCommandBuffer cmd) {
     for (std::uint32_t p = 0; p < passes_; ++p) {
         // Every pass clears the MSAA colour and depth and rewrites the resolve target: each starts
         // from UNDEFINED, after the previous pass's tests, resolve and copy.
-        layers_barrier(cmd, t.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED,
-                       VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, depth_stages, depth_access, depth_stages, depth_access);
+        image_barrier(cmd, t.depth.get(), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, depth_stages, depth_access, depth_stages, depth_access, 1);
         if (msaa) {
-            layers_barrier(cmd, t.msaa_color.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED,
-                           VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                           color_access, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, color_access);
-            layers_barrier(cmd, t.resolved.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED,
-                           VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT, 0,
-                           VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, color_access);
+            image_barrier(cmd, t.msaa_color.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, color_access, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, color_access, 1);
+            image_barrier(cmd, t.resolved.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, color_access, 1);
         }
         VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
         color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
         color.clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
         if (msaa) {
-            color.imageView = t.msaa_color.layer_views[0];
+            color.imageView = t.msaa_color.layer_view(0);
             color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
             color.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
             color.resolveMode = VK_RESOLVE_MODE_AVERAGE_BIT;
-            color.resolveImageView = t.resolved.layer_views[0];
+            color.resolveImageView = t.resolved.layer_view(0);
             color.resolveImageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
         } else {
-            color.imageView = t.layers.layer_views[p];
+            color.imageView = t.layers.layer_view(p);
             color.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
             color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
         }
         VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        depth.imageView = t.depth.layer_views[0];
+        depth.imageView = t.depth.layer_view(0);
         depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
         depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
         depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
@@ -324,23 +240,17 @@ void StochasticMethod::record_frame(VkCommandBuffer cmd) {
         }
         vkCmdEndRendering(cmd);
         if (msaa) {
-            layers_barrier(cmd, t.resolved.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                           VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                           VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                           VK_ACCESS_2_TRANSFER_READ_BIT);
+            image_barrier(cmd, t.resolved.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, 1);
             VkImageCopy region{};
             region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
             region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, p, 1};
             region.extent = {t.extent.width, t.extent.height, 1};
-            vkCmdCopyImage(cmd, t.resolved.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t.layers.image,
+            vkCmdCopyImage(cmd, t.resolved.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t.layers.get(),
                            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
         }
     }
     timer_.stamp(cmd, 3);
-    layers_barrier(cmd, t.layers.image, VK_IMAGE_ASPECT_COLOR_BIT, passes_, layers_layout, VK_IMAGE_LAYOUT_GENERAL,
-                   msaa ? VK_PIPELINE_STAGE_2_COPY_BIT : VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                   msaa ? VK_ACCESS_2_TRANSFER_WRITE_BIT : VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    image_barrier(cmd, t.layers.get(), VK_IMAGE_ASPECT_COLOR_BIT, layers_layout, VK_IMAGE_LAYOUT_GENERAL, msaa ? VK_PIPELINE_STAGE_2_COPY_BIT : VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, msaa ? VK_ACCESS_2_TRANSFER_WRITE_BIT : VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT, passes_);
 
     frame_.begin_hdr_rendering(cmd);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_pipeline_);
@@ -365,7 +275,7 @@ Image StochasticMethod::render(const Scene& scene, FrameStats* stats) {
         stats->total_ms = ms[0] + ms[1] + ms[2] + ms[3];
         const Targets& t = *targets_;
         const std::uint64_t pixels = std::uint64_t(t.extent.width) * t.extent.height;
-        stats->memory_bytes = t.msaa_color.bytes + t.resolved.bytes + t.depth.bytes + t.layers.bytes + pixels * (16 + 4);
+        stats->memory_bytes = t.msaa_color.bytes() + t.resolved.bytes() + t.depth.bytes() + t.layers.bytes() + pixels * (16 + 4);
     }
     return frame_.read_hdr();
 }

@@ -123,6 +123,13 @@ VkPipelineColorBlendAttachmentState blend_additive() {
     return b;
 }
 
+VkPipelineColorBlendAttachmentState blend_max() {
+    VkPipelineColorBlendAttachmentState b = blend_additive();
+    b.colorBlendOp = VK_BLEND_OP_MAX;
+    b.alphaBlendOp = VK_BLEND_OP_MAX;
+    return b;
+}
+
 VkPipelineColorBlendAttachmentState blend_multiply_one_minus_src() {
     VkPipelineColorBlendAttachmentState b = blend_none();
     b.blendEnable = VK_TRUE;

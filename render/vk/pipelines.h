@@ -40,6 +40,8 @@ VkPipelineColorBlendAttachmentState blend_none();
 VkPipelineColorBlendAttachmentState blend_premultiplied_over();
 // dst = src + dst: accumulation (weighted sums).
 VkPipelineColorBlendAttachmentState blend_additive();
+// dst = max(src, dst) per channel: per-pixel maxima (dual depth peeling's depth range).
+VkPipelineColorBlendAttachmentState blend_max();
 // dst = dst * (1 - src) per channel, alpha likewise with src alpha: products of transmittances
 // (revealage in weighted blended OIT).
 VkPipelineColorBlendAttachmentState blend_multiply_one_minus_src();

@@ -57,15 +57,16 @@ Buffer::Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage
 }
 
 DeviceImage::DeviceImage(const Device& device, VkFormat format, VkExtent2D extent, VkImageUsageFlags usage,
-             VkImageAspectFlags aspect, const std::string& name)
-    : format_(format), extent_(extent) {
+                         VkImageAspectFlags aspect, const std::string& name, VkSampleCountFlagBits samples,
+                         std::uint32_t layers, bool array)
+    : layers_(layers), format_(format), extent_(extent) {
     VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     info.imageType = VK_IMAGE_TYPE_2D;
     info.format = format;
     info.extent = {extent.width, extent.height, 1};
     info.mipLevels = 1;
-    info.arrayLayers = 1;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.arrayLayers = layers;
+    info.samples = samples;
     info.tiling = VK_IMAGE_TILING_OPTIMAL;
     info.usage = usage;
     info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
@@ -78,16 +79,24 @@ DeviceImage::DeviceImage(const Device& device, VkFormat format, VkExtent2D exten
     vkGetImageMemoryRequirements(device.get(), image, &req);
     memory_ = allocate(device, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, name);
     VK_CHECK(vkBindImageMemory(device.get(), image, memory_, 0));
+    bytes_ = req.size;
 
-    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    view.image = image;
-    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    view.format = format;
-    view.subresourceRange = {aspect, 0, 1, 0, 1};
-    VkImageView v;
-    VK_CHECK(vkCreateImageView(device.get(), &view, nullptr, &v));
-    view_ = UniqueImageView(device.get(), v);
-    device.set_name(VK_OBJECT_TYPE_IMAGE_VIEW, v, (name + ".view").c_str());
+    auto make_view = [&](VkImageViewType type, std::uint32_t first, std::uint32_t count, const std::string& view_name) {
+        VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+        view.image = image;
+        view.viewType = type;
+        view.format = format;
+        view.subresourceRange = {aspect, 0, 1, first, count};
+        VkImageView v;
+        VK_CHECK(vkCreateImageView(device.get(), &view, nullptr, &v));
+        device.set_name(VK_OBJECT_TYPE_IMAGE_VIEW, v, view_name.c_str());
+        return UniqueImageView(device.get(), v);
+    };
+    array = array || layers > 1;
+    view_ = make_view(array ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D, 0, layers, name + ".view");
+    if (array)
+        for (std::uint32_t l = 0; l < layers; ++l)
+            layer_views_.push_back(make_view(VK_IMAGE_VIEW_TYPE_2D, l, 1, name + ".layer" + std::to_string(l)));
 }
 
 void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
@@ -105,7 +114,7 @@ void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAcce
 
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout old_layout,
                    VkImageLayout new_layout, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access, std::uint32_t layers) {
     VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
     barrier.srcStageMask = src_stage;
     barrier.srcAccessMask = src_access;
@@ -116,7 +125,7 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect
     barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     barrier.image = image;
-    barrier.subresourceRange = {aspect, 0, 1, 0, 1};
+    barrier.subresourceRange = {aspect, 0, 1, 0, layers};
     VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
     dep.imageMemoryBarrierCount = 1;
     dep.pImageMemoryBarriers = &barrier;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace brume::vk {
 
@@ -36,18 +37,27 @@ private:
 class DeviceImage {
 public:
     DeviceImage() = default;
+    // A 2D image. With `array` (or layers > 1) view() is a 2D-array view of every layer, for shaders
+    // that declare an array, and layer_view(i) a 2D view of layer i (for attachments).
     DeviceImage(const Device& device, VkFormat format, VkExtent2D extent, VkImageUsageFlags usage, VkImageAspectFlags aspect,
-          const std::string& name);
+                const std::string& name, VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT, std::uint32_t layers = 1,
+                bool array = false);
 
     VkImage get() const { return image_; }
-    VkImageView view() const { return view_; }
+    VkImageView view() const { return view_; }  // every layer
+    VkImageView layer_view(std::uint32_t layer) const { return layer_views_.empty() ? VkImageView(view_) : VkImageView(layer_views_[layer]); }
     VkFormat format() const { return format_; }
     VkExtent2D extent() const { return extent_; }
+    std::uint32_t layers() const { return layers_; }
+    VkDeviceSize bytes() const { return bytes_; }
 
 private:
     UniqueImage image_;
     UniqueMemory memory_;
     UniqueImageView view_;
+    std::vector<UniqueImageView> layer_views_;
+    std::uint32_t layers_ = 1;
+    VkDeviceSize bytes_ = 0;
     VkFormat format_ = VK_FORMAT_UNDEFINED;
     VkExtent2D extent_{};
 };
@@ -57,7 +67,7 @@ void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAcce
                     VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout old_layout,
                    VkImageLayout new_layout, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
+                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access, std::uint32_t layers = 1);
 
 std::string format_bytes(std::uint64_t bytes);
 

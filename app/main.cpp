@@ -3,6 +3,7 @@
 #include "app/bench_command.h"
 #include "app/play_command.h"
 #include "app/render_command.h"
+#include "app/vdb_command.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
 #include "render/methods/method.h"
@@ -52,6 +53,9 @@ int main(int argc, char** argv) {
     brume::app::add_play_command(app, play_args);
     brume::app::BenchArgs bench_args;
     brume::app::add_bench_command(app, bench_args);
+    brume::app::VdbInfoArgs vdb_info_args;
+    brume::app::VdbImportArgs vdb_import_args;
+    brume::app::add_vdb_commands(app, vdb_info_args, vdb_import_args);
     app.add_subcommand("devices", "List the Vulkan devices Brume can use");
     app.add_subcommand("methods", "List the rendering methods and their settings");
     try {
@@ -69,6 +73,8 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("render")) return brume::app::run_render(render_args);
         if (app.got_subcommand("play")) return brume::app::run_play(play_args);
         if (app.got_subcommand("bench")) return brume::app::run_bench(bench_args);
+        if (app.got_subcommand("vdb-info")) return brume::app::run_vdb_info(vdb_info_args);
+        if (app.got_subcommand("vdb-import")) return brume::app::run_vdb_import(vdb_import_args);
         if (app.got_subcommand("devices")) return list_devices();
         if (app.got_subcommand("methods")) return list_methods();
     } catch (const brume::SceneFileError& e) {

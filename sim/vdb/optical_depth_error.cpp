@@ -1,0 +1,135 @@
+#include "sim/vdb/optical_depth_error.h"
+
+#include "sim/camera_rays.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace brume {
+
+namespace {
+
+// The ray's parameter interval inside an axis-aligned box; empty when t1 <= t0.
+void clip_to_box(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, const glm::dvec3& hi, double& t0,
+                 double& t1) {
+    t0 = 0.0;
+    t1 = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+        if (d[a] == 0.0) {
+            if (o[a] < lo[a] || o[a] > hi[a]) t1 = -1.0;
+            continue;
+        }
+        double ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+    }
+}
+
+// Conservative pixel rectangle [i0, i1) x [j0, j1) of a sphere: the projection of its bounding cube's corners,
+// or the whole image when a corner is not in front of the eye.
+void pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1, int& j0, int& j1) {
+    i0 = 0, i1 = rays.width, j0 = 0, j1 = rays.height;
+    const double rr = glm::dot(rays.right, rays.right), uu = glm::dot(rays.up, rays.up);
+    double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner =
+            s.center + s.radius * glm::dvec3(c & 1 ? 1.0 : -1.0, c & 2 ? 1.0 : -1.0, c & 4 ? 1.0 : -1.0);
+        const glm::dvec3 v = corner - rays.eye;
+        const double z = glm::dot(v, rays.forward);
+        if (z <= 1e-9 * (1.0 + glm::length(v))) return;
+        const double px = (glm::dot(v, rays.right) / (rr * z) + 1.0) * 0.5 * rays.width;
+        const double py = (1.0 - glm::dot(v, rays.up) / (uu * z)) * 0.5 * rays.height;
+        x_lo = std::min(x_lo, px), x_hi = std::max(x_hi, px);
+        y_lo = std::min(y_lo, py), y_hi = std::max(y_hi, py);
+    }
+    // Pixel i's ray passes through px = i + 0.5; one pixel of slack on each side for rounding.
+    i0 = std::clamp(int(std::floor(x_lo - 0.5)) - 1, 0, rays.width);
+    i1 = std::clamp(int(std::ceil(x_hi - 0.5)) + 2, 0, rays.width);
+    j0 = std::clamp(int(std::floor(y_lo - 0.5)) - 1, 0, rays.height);
+    j1 = std::clamp(int(std::ceil(y_hi - 0.5)) + 2, 0, rays.height);
+}
+
+}  // namespace
+
+double grid_optical_depth(const DensityGrid& grid, double extinction_scale, const glm::dvec3& origin,
+                          const glm::dvec3& unit_dir) {
+    double t0, t1;
+    clip_to_box(origin, unit_dir, grid.support_min(), grid.support_max(), t0, t1);
+    if (!(t1 > t0)) return 0.0;
+    // Breakpoints: where the ray crosses a plane of voxel centres. Between two the field is a cubic in t.
+    std::vector<double> ts{t0, t1};
+    for (int a = 0; a < 3; ++a) {
+        if (unit_dir[a] == 0.0) continue;
+        const double q0 = (origin[a] + t0 * unit_dir[a] - grid.origin[a]) / grid.voxel_size;
+        const double q1 = (origin[a] + t1 * unit_dir[a] - grid.origin[a]) / grid.voxel_size;
+        for (double q = std::ceil(std::min(q0, q1)); q <= std::max(q0, q1); q += 1.0) {
+            const double t = (grid.origin[a] + q * grid.voxel_size - origin[a]) / unit_dir[a];
+            if (t > t0 && t < t1) ts.push_back(t);
+        }
+    }
+    std::sort(ts.begin(), ts.end());
+    double sum = 0.0;
+    double f_prev = grid.sample(origin + ts[0] * unit_dir);
+    for (std::size_t k = 1; k < ts.size(); ++k) {
+        const double h = ts[k] - ts[k - 1];
+        if (h <= 0.0) continue;
+        const double f_mid = grid.sample(origin + (ts[k - 1] + 0.5 * h) * unit_dir);
+        const double f_next = grid.sample(origin + ts[k] * unit_dir);
+        sum += h / 6.0 * (f_prev + 4.0 * f_mid + f_next);  // Simpson: exact for the cubic
+        f_prev = f_next;
+    }
+    return sum * extinction_scale;
+}
+
+std::vector<double> sphere_optical_depths(const std::vector<Sphere>& spheres, const Camera& camera) {
+    const CameraRays rays = make_camera_rays(camera);
+    std::vector<double> depth(std::size_t(rays.width) * std::size_t(rays.height), 0.0);
+    for (const Sphere& s : spheres) {
+        int i0, i1, j0, j1;
+        pixel_rect(rays, s, i0, i1, j0, j1);
+        for (int j = j0; j < j1; ++j)
+            for (int i = i0; i < i1; ++i) {
+                const glm::dvec3 d = rays.pixel_direction(i, j);
+                const glm::dvec3 oc = s.center - rays.eye;
+                const double b = glm::dot(oc, d);
+                const double h2 = s.radius * s.radius - (glm::dot(oc, oc) - b * b);
+                if (h2 <= 0.0) continue;
+                const double h = std::sqrt(h2);
+                const double chord = std::max(0.0, b + h) - std::max(0.0, b - h);  // clipped to t >= 0
+                depth[std::size_t(j) * std::size_t(rays.width) + std::size_t(i)] += s.extinction * chord;
+            }
+    }
+    return depth;
+}
+
+OpticalDepthError measure_optical_depth_error(const DensityGrid& grid, double extinction_scale,
+                                              const std::vector<Sphere>& spheres, const Camera& camera) {
+    const CameraRays rays = make_camera_rays(camera);
+    const std::vector<double> sphere_depth = sphere_optical_depths(spheres, camera);
+    OpticalDepthError e;
+    double sum_d2 = 0.0, sum_g2 = 0.0, sum_d = 0.0, sum_g = 0.0, max_d = 0.0;
+    for (int j = 0; j < rays.height; ++j)
+        for (int i = 0; i < rays.width; ++i) {
+            const double g = grid_optical_depth(grid, extinction_scale, rays.eye, rays.pixel_direction(i, j));
+            const double s = sphere_depth[std::size_t(j) * std::size_t(rays.width) + std::size_t(i)];
+            if (g == 0.0 && s == 0.0) continue;
+            ++e.rays;
+            const double d = s - g;
+            sum_d2 += d * d, sum_g2 += g * g, sum_d += d, sum_g += g;
+            max_d = std::max(max_d, std::abs(d));
+            e.max_grid_depth = std::max(e.max_grid_depth, g);
+        }
+    if (sum_g > 0.0) {
+        e.relative_rms = std::sqrt(sum_d2 / sum_g2);
+        e.relative_max = max_d / e.max_grid_depth;
+        e.bias = sum_d / sum_g;
+    }
+    return e;
+}
+
+}  // namespace brume

@@ -1,0 +1,234 @@
+// The only translation unit that includes OpenVDB (about 10 s to compile): keep it that way.
+#include "sim/vdb/vdb_file.h"
+
+#include <openvdb/io/Stream.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetSphere.h>
+#include <openvdb/tools/LevelSetUtil.h>
+#include <openvdb/tools/Prune.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <new>
+#include <sstream>
+
+namespace brume {
+
+namespace {
+
+namespace vdb = openvdb;
+
+// Beyond this a grid's dense copy (4 bytes a voxel) is refused rather than attempted.
+constexpr std::uint64_t kMaxDenseVoxels = std::uint64_t(1) << 30;
+
+std::string quote(const std::string& s) { return "\"" + s + "\""; }
+
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& problem) {
+    throw VdbError(path.string() + ": " + problem);
+}
+
+std::string read_bytes(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a VDB file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(path, std::string("cannot open: ") + std::strerror(errno));
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) fail(path, std::string("cannot read: ") + std::strerror(errno));
+    return bytes;
+}
+
+// Every grid, fully loaded. The bytes are parsed from memory with stream exceptions on, so a truncated
+// file fails at its first short read; OpenVDB's own file reader instead reads on past the end and
+// reports garbage (a missing grid, an absurd allocation).
+vdb::GridPtrVecPtr read_grids(const std::filesystem::path& path) {
+    const std::string bytes = read_bytes(path);
+    if (bytes.empty()) fail(path, "empty file, not a VDB file");
+    // OpenVDB's magic number, 0x56444220 as a little-endian int32: checked here so that a short non-VDB
+    // file is named as such rather than as a truncated one.
+    if (bytes.compare(0, 4, " BDV") != 0) fail(path, "not a VDB file (no OpenVDB header)");
+    vdb::initialize();  // registers the grid types; idempotent
+    std::istringstream in(bytes, std::ios::binary);
+    in.exceptions(std::ios::failbit | std::ios::badbit | std::ios::eofbit);
+    try {
+        vdb::io::Stream stream(in, /*delayLoad=*/false);
+        return stream.getGrids();
+    } catch (const std::ios_base::failure&) {
+        fail(path, "truncated or corrupted VDB file (its data ends early)");
+    } catch (const vdb::IoError& e) {
+        if (std::strstr(e.what(), "not a VDB file")) fail(path, "not a VDB file (no OpenVDB header)");
+        fail(path, std::string("corrupted VDB file (OpenVDB: ") + e.what() + ")");
+    } catch (const std::bad_alloc&) {
+        fail(path, "corrupted VDB file (it asks for an absurd amount of memory)");
+    } catch (const std::exception& e) {
+        fail(path, std::string("corrupted VDB file (OpenVDB: ") + e.what() + ")");
+    }
+}
+
+glm::ivec3 to_ivec3(const vdb::Coord& c) { return {c.x(), c.y(), c.z()}; }
+
+vdb::GridBase::Ptr find_grid(const std::filesystem::path& path, const vdb::GridPtrVec& grids,
+                             const std::string& name) {
+    for (const auto& g : grids)
+        if (g->getName() == name) return g;
+    std::string names;
+    for (const auto& g : grids) names += (names.empty() ? "" : ", ") + quote(g->getName());
+    fail(path, "no grid named " + quote(name) + (grids.empty() ? " (the file has no grids)" : " (grids: " + names + ")"));
+}
+
+// Origin and voxel size of a transform that is a uniform scale and a translation; anything else is refused,
+// since a DensityGrid's voxels are axis-aligned cubes.
+void read_transform(const std::filesystem::path& path, const std::string& what, const vdb::math::Transform& xf,
+                    DensityGrid& out) {
+    if (!xf.isLinear()) fail(path, what + " has a non-linear (frustum) transform; Brume reads only uniform-scale linear transforms");
+    const vdb::Vec3d o = xf.indexToWorld(vdb::Vec3d(0.0));
+    const vdb::Vec3d axes[3] = {xf.indexToWorld(vdb::Vec3d(1, 0, 0)) - o, xf.indexToWorld(vdb::Vec3d(0, 1, 0)) - o,
+                                xf.indexToWorld(vdb::Vec3d(0, 0, 1)) - o};
+    const double s = axes[0].length();
+    bool uniform = std::isfinite(s) && s > 0.0;
+    for (int a = 0; a < 3 && uniform; ++a) {
+        vdb::Vec3d expected(0.0);
+        expected[a] = s;
+        uniform = (axes[a] - expected).length() <= 1e-9 * s;
+    }
+    if (!uniform) {
+        std::ostringstream size;
+        size << axes[0].length() << " x " << axes[1].length() << " x " << axes[2].length();
+        fail(path, what + " has voxels of " + size.str() +
+                       " scene units, or rotated or sheared ones; Brume reads only uniform-scale linear transforms "
+                       "(a voxel size and a translation)");
+    }
+    out.origin = {o.x(), o.y(), o.z()};
+    out.voxel_size = s;
+}
+
+void fill_values(const std::filesystem::path& path, const std::string& what, const vdb::FloatGrid& grid,
+                 DensityGrid& out) {
+    const vdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    const vdb::Coord dim = box.dim();
+    const std::uint64_t count = std::uint64_t(dim.x()) * std::uint64_t(dim.y()) * std::uint64_t(dim.z());
+    if (count > kMaxDenseVoxels)
+        fail(path, what + "'s active bounding box holds " + std::to_string(count) + " voxels, more than the " +
+                       std::to_string(kMaxDenseVoxels) + " Brume copies");
+    out.min = to_ivec3(box.min());
+    out.size = to_ivec3(dim);
+    out.values.assign(count, 0.0f);
+    for (auto it = grid.cbeginValueOn(); it; ++it) {
+        const float v = *it;
+        if (!std::isfinite(v) || v < 0.0f) {
+            const vdb::Coord c = it.getCoord();
+            std::ostringstream msg;
+            msg << what << " has density " << v << " at voxel (" << c.x() << ", " << c.y() << ", " << c.z()
+                << "); densities must be finite and non-negative";
+            fail(path, msg.str());
+        }
+        vdb::CoordBBox b;
+        it.getBoundingBox(b);  // one voxel, or a whole tile
+        for (int k = b.min().z(); k <= b.max().z(); ++k)
+            for (int j = b.min().y(); j <= b.max().y(); ++j)
+                for (int i = b.min().x(); i <= b.max().x(); ++i)
+                    out.values[out.offset(i - out.min.x, j - out.min.y, k - out.min.z)] = v;
+    }
+}
+
+std::string encode(const vdb::GridPtrVec& grids) {
+    std::ostringstream out(std::ios::binary);
+    vdb::io::Stream(out).write(grids);
+    return out.str();
+}
+
+}  // namespace
+
+std::vector<VdbGridInfo> list_vdb_grids(const std::filesystem::path& path) {
+    const vdb::GridPtrVecPtr grids = read_grids(path);
+    std::vector<VdbGridInfo> infos;
+    for (const auto& g : *grids) {
+        VdbGridInfo info;
+        info.name = g->getName();
+        info.value_type = g->valueType();
+        info.grid_class = vdb::GridBase::gridClassToMenuName(g->getGridClass());
+        info.active_voxels = g->activeVoxelCount();
+        if (info.active_voxels > 0) {
+            const vdb::CoordBBox box = g->evalActiveVoxelBoundingBox();
+            info.bbox_min = to_ivec3(box.min());
+            info.bbox_max = to_ivec3(box.max());
+        }
+        const vdb::Vec3d vs = g->voxelSize();
+        info.voxel_size = {vs.x(), vs.y(), vs.z()};
+        infos.push_back(std::move(info));
+    }
+    return infos;
+}
+
+DensityGrid read_density_grid(const std::filesystem::path& path, const std::string& grid_name) {
+    const vdb::GridPtrVecPtr grids = read_grids(path);
+    const vdb::GridBase::Ptr base = find_grid(path, *grids, grid_name);
+    const std::string what = "grid " + quote(grid_name);
+    const vdb::FloatGrid::Ptr grid = vdb::gridPtrCast<vdb::FloatGrid>(base);
+    if (!grid) fail(path, what + " holds " + base->valueType() + " values; Brume reads float density grids");
+    if (grid->background() != 0.0f) {
+        std::ostringstream msg;
+        msg << what << " has background " << grid->background()
+            << "; Brume reads grids whose inactive voxels are empty (background 0)";
+        fail(path, msg.str());
+    }
+    DensityGrid out;
+    out.name = grid_name;
+    out.active_voxels = grid->activeVoxelCount();
+    if (out.active_voxels == 0) fail(path, what + " is empty (no active voxels)");
+    read_transform(path, what, grid->transform(), out);
+    fill_values(path, what, *grid, out);
+    return out;
+}
+
+std::string encode_vdb(const DensityGrid& grid) {
+    vdb::initialize();
+    vdb::FloatGrid::Ptr out = vdb::FloatGrid::create(0.0f);
+    vdb::math::Transform::Ptr xf = vdb::math::Transform::createLinearTransform(grid.voxel_size);
+    xf->postTranslate(vdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z));
+    out->setTransform(xf);
+    out->setName(grid.name);
+    out->setGridClass(vdb::GRID_FOG_VOLUME);
+    auto acc = out->getAccessor();
+    for (int k = 0; k < grid.size.z; ++k)
+        for (int j = 0; j < grid.size.y; ++j)
+            for (int i = 0; i < grid.size.x; ++i)
+                if (const float v = grid.at(i, j, k); v != 0.0f)
+                    acc.setValue(vdb::Coord(grid.min.x + i, grid.min.y + j, grid.min.z + k), v);
+    vdb::tools::prune(out->tree());  // uniform blocks become tiles, as tools write them
+    return encode({out});
+}
+
+std::string encode_fog_sphere_vdb(double radius, const glm::dvec3& center, double voxel_size,
+                                  const std::string& grid_name) {
+    vdb::initialize();
+    vdb::FloatGrid::Ptr grid = vdb::tools::createLevelSetSphere<vdb::FloatGrid>(
+        float(radius), vdb::Vec3f(float(center.x), float(center.y), float(center.z)), float(voxel_size));
+    vdb::tools::sdfToFogVolume(*grid);
+    grid->setName(grid_name);
+    return encode({grid});
+}
+
+std::string encode_refused_vdb_sample(RefusedVdbSample kind) {
+    vdb::initialize();
+    vdb::math::Transform::Ptr xf = vdb::math::Transform::createLinearTransform(1.0);
+    vdb::GridBase::Ptr grid;
+    if (kind == RefusedVdbSample::vector_grid) {
+        vdb::Vec3SGrid::Ptr g = vdb::Vec3SGrid::create();
+        g->tree().setValue(vdb::Coord(0), vdb::Vec3s(1.0f));
+        grid = g;
+    } else {
+        vdb::FloatGrid::Ptr g = vdb::FloatGrid::create(0.0f);
+        g->tree().setValue(vdb::Coord(0), 1.0f);
+        grid = g;
+        if (kind == RefusedVdbSample::nonuniform_scale) xf->preScale(vdb::Vec3d(1.0, 2.0, 1.0));
+        if (kind == RefusedVdbSample::rotated) xf->postRotate(M_PI / 6.0, vdb::math::Z_AXIS);
+    }
+    grid->setTransform(xf);
+    grid->setName("density");
+    return encode({grid});
+}
+
+}  // namespace brume

@@ -1,0 +1,62 @@
+// OpenVDB files: the one place Brume includes OpenVDB (vdb_file.cpp). Reading lists grids and copies a
+// float grid into a DensityGrid; writing encodes DensityGrids (vdb-export, test data) and makes sample
+// files with OpenVDB's own tools, since the project has no internet to fetch real ones from.
+#pragma once
+
+#include "sim/vdb/density_grid.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace brume {
+
+// what() names the file and the problem: "cloud.vdb: no grid named \"density\" (grids: \"smoke\")".
+class VdbError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct VdbGridInfo {
+    std::string name;
+    std::string value_type;  // OpenVDB's name: "float", "vec3s", "int32", ...
+    std::string grid_class;  // "fog volume", "level set", "staggered", "unknown"
+    std::uint64_t active_voxels = 0;
+    glm::ivec3 bbox_min{0};  // active voxel bounding box, inclusive; meaningless when active_voxels is 0
+    glm::ivec3 bbox_max{0};
+    glm::dvec3 voxel_size{0.0};
+};
+
+// Every grid in the file, in file order. Throws VdbError for a missing, unreadable, truncated or
+// corrupted file.
+std::vector<VdbGridInfo> list_vdb_grids(const std::filesystem::path& path);
+
+// Copies the float grid `grid_name` with its transform. Throws VdbError when the file is missing,
+// unreadable, truncated or corrupted, has no such grid (the message lists the names it has), the grid
+// holds another value type, has no active voxels, a non-zero background, a negative or non-finite value,
+// or a transform other than a uniform scale and a translation.
+DensityGrid read_density_grid(const std::filesystem::path& path, const std::string& grid_name = "density");
+
+// The bytes of a .vdb file holding `grid` as a float fog volume named grid.name: non-zero voxels
+// active, the rest background 0. Callers write them (atomically where it matters).
+std::string encode_vdb(const DensityGrid& grid);
+
+// A fog sphere made the way VFX tools make one: a level-set sphere (OpenVDB createLevelSetSphere)
+// converted with sdfToFogVolume, so the interior is 1 (stored as tiles where it can) and density
+// falls to 0 over the three voxels inside the surface.
+std::string encode_fog_sphere_vdb(double radius, const glm::dvec3& center, double voxel_size,
+                                  const std::string& grid_name = "density");
+
+// Well-formed files that read_density_grid must refuse, for the tests of its checks.
+enum class RefusedVdbSample {
+    vector_grid,       // "density" holds vec3s values
+    nonuniform_scale,  // voxels of 1 x 2 x 1
+    rotated,           // uniform scale, rotated 30 degrees about z
+};
+std::string encode_refused_vdb_sample(RefusedVdbSample kind);
+
+}  // namespace brume

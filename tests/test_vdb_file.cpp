@@ -1,0 +1,158 @@
+// Reading .vdb files (sim/vdb/vdb_file.h): grids written with OpenVDB's own API read back exactly, and
+// every bad input is refused with a message naming the file and the problem.
+#include "sim/vdb/vdb_file.h"
+
+#include "tests/vdb_test_samples.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace brume {
+namespace {
+
+using namespace vdb_test;
+
+class VdbFile : public ScratchDir {
+protected:
+    // The message of the VdbError that reading `grid` from `path` throws; fails the test when none is thrown.
+    std::string read_error(const fs::path& path, const std::string& grid = "density") {
+        try {
+            read_density_grid(path, grid);
+        } catch (const VdbError& e) {
+            EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+            return e.what();
+        }
+        ADD_FAILURE() << "no VdbError for " << path;
+        return "";
+    }
+    fs::path write(const std::string& name, const std::string& bytes) {
+        write_bytes(dir_ / name, bytes);
+        return dir_ / name;
+    }
+};
+
+TEST_F(VdbFile, BoxReadsBackWithItsTransformAndValues) {
+    const DensityGrid box = uniform_box();
+    const DensityGrid g = read_density_grid(write("box.vdb", encode_vdb(box)));
+    EXPECT_EQ(g.name, "density");
+    EXPECT_EQ(g.min, box.min);
+    EXPECT_EQ(g.size, box.size);
+    EXPECT_EQ(g.origin, box.origin);
+    EXPECT_EQ(g.voxel_size, box.voxel_size);
+    EXPECT_EQ(g.active_voxels, box.values.size());
+    EXPECT_EQ(g.values, box.values);
+}
+
+TEST_F(VdbFile, NoiseCloudReadsBackVoxelForVoxel) {
+    // Asymmetric in x, y and z, so a transposed copy or a wrong offset shows.
+    const DensityGrid cloud = noise_cloud(32);
+    const DensityGrid g = read_density_grid(write("cloud.vdb", encode_vdb(cloud)));
+    EXPECT_EQ(g.active_voxels, cloud.active_voxels);
+    for (int k = 0; k < cloud.size.z; ++k)
+        for (int j = 0; j < cloud.size.y; ++j)
+            for (int i = 0; i < cloud.size.x; ++i) {
+                const glm::dvec3 p = cloud.voxel_center(glm::dvec3(i, j, k));
+                ASSERT_NEAR(g.sample(p), cloud.at(i, j, k), 1e-6) << i << " " << j << " " << k;
+            }
+    EXPECT_NEAR(g.mass(), cloud.mass(), 1e-9 * cloud.mass());
+}
+
+TEST_F(VdbFile, FogSphereFromALevelSetReadsWithItsTiles) {
+    // Radius 1 at voxel size 1/32: a 64^3 fog sphere whose interior OpenVDB stores as constant tiles.
+    const DensityGrid g = read_density_grid(write("fog.vdb", encode_fog_sphere_vdb(1.0, {0.5, 0.0, -0.5}, 1.0 / 32.0)));
+    EXPECT_EQ(g.voxel_size, 1.0 / 32.0);
+    EXPECT_EQ(g.size, glm::ivec3(63));
+    EXPECT_GT(g.active_voxels, 130000u);
+    EXPECT_EQ(g.sample({0.5, 0.0, -0.5}), 1.0);
+    EXPECT_EQ(g.sample({0.5, 0.0, 0.6}), 0.0);
+    // Density falls from 1 to 0 over three voxels inside the surface: a little less than the unit ball.
+    EXPECT_GT(g.mass(), 0.8 * 4.0 / 3.0 * M_PI);
+    EXPECT_LT(g.mass(), 4.0 / 3.0 * M_PI);
+}
+
+TEST_F(VdbFile, ReadsTheGridItIsAskedFor) {
+    const fs::path path = write("smoke.vdb", encode_fog_sphere_vdb(1.0, {0, 0, 0}, 0.125, "smoke"));
+    EXPECT_EQ(read_density_grid(path, "smoke").name, "smoke");
+}
+
+TEST_F(VdbFile, ListsGrids) {
+    const auto infos = list_vdb_grids(write("fog.vdb", encode_fog_sphere_vdb(1.0, {0, 0, 0}, 0.125)));
+    ASSERT_EQ(infos.size(), 1u);
+    EXPECT_EQ(infos[0].name, "density");
+    EXPECT_EQ(infos[0].value_type, "float");
+    EXPECT_EQ(infos[0].grid_class, "Fog Volume");
+    EXPECT_GT(infos[0].active_voxels, 0u);
+    EXPECT_EQ(infos[0].bbox_min, glm::ivec3(-7));
+    EXPECT_EQ(infos[0].bbox_max, glm::ivec3(7));
+    EXPECT_EQ(infos[0].voxel_size, glm::dvec3(0.125));
+}
+
+TEST_F(VdbFile, MissingFileIsRefused) {
+    const std::string msg = read_error(dir_ / "nowhere.vdb");
+    EXPECT_NE(msg.find("cannot open: No such file or directory"), std::string::npos) << msg;
+    EXPECT_THROW(list_vdb_grids(dir_ / "nowhere.vdb"), VdbError);
+}
+
+TEST_F(VdbFile, DirectoryIsRefused) {
+    EXPECT_NE(read_error(dir_).find("is a directory"), std::string::npos);
+}
+
+TEST_F(VdbFile, GarbageAndEmptyFilesAreNotVdbFiles) {
+    const std::string garbage = read_error(write("garbage.vdb", std::string(4096, 'x') + "not a volume"));
+    EXPECT_NE(garbage.find("not a VDB file"), std::string::npos) << garbage;
+    const std::string tiny = read_error(write("tiny.vdb", "junk"));
+    EXPECT_NE(tiny.find("not a VDB file"), std::string::npos) << tiny;
+    const std::string empty = read_error(write("empty.vdb", ""));
+    EXPECT_NE(empty.find("empty file, not a VDB file"), std::string::npos) << empty;
+}
+
+TEST_F(VdbFile, TruncatedFilesAreRefusedWhereverTheyEnd) {
+    const std::string whole = encode_fog_sphere_vdb(1.0, {0, 0, 0}, 1.0 / 16.0);
+    for (const double fraction : {0.001, 0.01, 0.1, 0.5, 0.9, 0.999}) {
+        const std::size_t keep = std::max<std::size_t>(1, std::size_t(double(whole.size()) * fraction));
+        const fs::path path = write("cut.vdb", whole.substr(0, keep));
+        const std::string msg = read_error(path);
+        EXPECT_NE(msg.find("truncated or corrupted"), std::string::npos) << keep << " bytes: " << msg;
+        EXPECT_THROW(list_vdb_grids(path), VdbError);
+    }
+}
+
+TEST_F(VdbFile, MissingGridNamesTheOnesThereAre) {
+    const fs::path path = write("smoke.vdb", encode_fog_sphere_vdb(1.0, {0, 0, 0}, 0.125, "smoke"));
+    const std::string msg = read_error(path, "density");
+    EXPECT_NE(msg.find("no grid named \"density\" (grids: \"smoke\")"), std::string::npos) << msg;
+}
+
+TEST_F(VdbFile, WrongValueTypeIsRefused) {
+    const std::string msg = read_error(write("vec.vdb", encode_refused_vdb_sample(RefusedVdbSample::vector_grid)));
+    EXPECT_NE(msg.find("grid \"density\" holds vec3s values; Brume reads float density grids"), std::string::npos) << msg;
+}
+
+TEST_F(VdbFile, EmptyGridIsRefused) {
+    DensityGrid zeros = uniform_box();
+    std::fill(zeros.values.begin(), zeros.values.end(), 0.0f);
+    const std::string msg = read_error(write("zeros.vdb", encode_vdb(zeros)));
+    EXPECT_NE(msg.find("grid \"density\" is empty (no active voxels)"), std::string::npos) << msg;
+}
+
+TEST_F(VdbFile, NegativeDensityIsRefused) {
+    DensityGrid box = uniform_box();
+    box.values[box.offset(1, 2, 3)] = -0.25f;
+    const std::string msg = read_error(write("negative.vdb", encode_vdb(box)));
+    EXPECT_NE(msg.find("has density -0.25 at voxel (4, -3, 10); densities must be finite and non-negative"),
+              std::string::npos)
+        << msg;
+}
+
+TEST_F(VdbFile, OnlyUniformScaleTransformsAreRead) {
+    for (const auto kind : {RefusedVdbSample::nonuniform_scale, RefusedVdbSample::rotated}) {
+        const std::string msg = read_error(write("xf.vdb", encode_refused_vdb_sample(kind)));
+        EXPECT_NE(msg.find("Brume reads only uniform-scale linear transforms"), std::string::npos) << msg;
+    }
+    const std::string msg = read_error(write("xf.vdb", encode_refused_vdb_sample(RefusedVdbSample::nonuniform_scale)));
+    EXPECT_NE(msg.find("voxels of 1 x 2 x 1 scene units"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace brume

@@ -1,5 +1,6 @@
 // kbuf (seed 001 sections 2.5, 4.2): exact for up to k non-intersecting spheres per pixel, and within
 // the stated tail bound beyond k.
+#include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/kbuffer.h"
 #include "sim/camera_rays.h"
@@ -14,25 +15,9 @@ namespace {
 using testing::compare_with_reference;
 using testing::GpuTest;
 
-Scene small_scene(int w = 80, int h = 64) {
-    Scene s;
-    s.source = "test";
-    s.camera.position = {0.0, 0.0, 5.0};
-    s.camera.look_at = {0.0, 0.0, 0.0};
-    s.camera.width = w;
-    s.camera.height = h;
-    s.render.min_transmittance = 0.0;
-    return s;
-}
+Scene small_scene(int w = 80, int h = 64) { return testing::small_scene(w, h); }
 
-Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo = {0.9, 0.8, 0.7}) {
-    Sphere s;
-    s.center = c;
-    s.radius = r;
-    s.extinction = tau;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 // `count` spheres one behind another (radius 0.45, centres 1 apart in depth: they never intersect),
 // jittered sideways so their silhouettes differ, all overlapping the centre of the view. Listed in

@@ -2,6 +2,7 @@
 // Front-to-back "under" compositing of whole spheres is exact when the spheres' chords do not
 // overlap, so on such scenes peel must match the reference as ppll does; elsewhere the tests check
 // the stated approximations (the tail slab, coincident spheres composited one by one).
+#include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/peel.h"
 #include "render/methods/ppll.h"
@@ -31,14 +32,7 @@ Scene small_scene(int w = 96, int h = 72) {
     return s;
 }
 
-Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo = {0.9, 0.8, 0.7}) {
-    Sphere s;
-    s.center = c;
-    s.radius = r;
-    s.extinction = tau;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 PeelOptions classic(int n) {
     PeelOptions o;

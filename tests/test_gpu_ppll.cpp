@@ -1,4 +1,5 @@
 // ppll against closed forms and the CPU double-precision reference (issue 2, item 8).
+#include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/ppll.h"
 #include "sim/camera_rays.h"
@@ -14,25 +15,9 @@ namespace {
 using testing::compare_with_reference;
 using testing::GpuTest;
 
-Scene small_scene(int w = 128, int h = 96) {
-    Scene s;
-    s.source = "test";
-    s.camera.position = {0.0, 0.0, 5.0};
-    s.camera.look_at = {0.0, 0.0, 0.0};
-    s.camera.width = w;
-    s.camera.height = h;
-    s.render.min_transmittance = 0.0;
-    return s;
-}
+Scene small_scene(int w = 128, int h = 96) { return testing::small_scene(w, h); }
 
-Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo = {0.9, 0.8, 0.7}) {
-    Sphere s;
-    s.center = c;
-    s.radius = r;
-    s.extinction = tau;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 bool all_finite(const Image& img) {
     return std::all_of(img.rgb.begin(), img.rgb.end(), [](float v) { return std::isfinite(v); });

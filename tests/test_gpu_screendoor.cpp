@@ -1,6 +1,7 @@
 // `screendoor` (seed 002: object-space screen-door transparency, S x S supersampling): exact where the
 // answer is binary (opaque spheres), converging as S grows where it is not, with a mask that moves
 // with its particle.
+#include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/screendoor.h"
 
@@ -15,25 +16,9 @@ using testing::GpuTest;
 using testing::kRayRelError;
 using testing::kRelTol;
 
-Scene small_scene(int w = 128, int h = 96) {
-    Scene s;
-    s.source = "test";
-    s.camera.position = {0.0, 0.0, 5.0};
-    s.camera.look_at = {0.0, 0.0, 0.0};
-    s.camera.width = w;
-    s.camera.height = h;
-    s.render.min_transmittance = 0.0;
-    return s;
-}
+Scene small_scene(int w = 128, int h = 96) { return testing::small_scene(w, h); }
 
-Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo = {0.9, 0.8, 0.7}) {
-    Sphere s;
-    s.center = c;
-    s.radius = r;
-    s.extinction = tau;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 // Mean of each S x S block: what the method's box filter computes from exact sub-samples.
 Image box_filter(const Image& big, int samples) {

@@ -1,5 +1,6 @@
 // `soft` (spherical billboards, Umenhoffer et al. 2006): exact where back-to-front "over" is exact,
 // including spheres cut by geometry and by the eye, and measurably wrong where spheres intersect.
+#include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/soft.h"
 
@@ -23,14 +24,7 @@ Scene small_scene(int w = 128, int h = 96) {
     return s;
 }
 
-Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo = {0.9, 0.8, 0.7}) {
-    Sphere s;
-    s.center = c;
-    s.radius = r;
-    s.extinction = tau;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 class Soft : public GpuTest {};
 

@@ -1,5 +1,6 @@
 // `sorted` (seed 003): the insertion sort reusing last frame's order, on the CPU, and the planar
 // billboards against the reference where back-to-front "over" is exact, and where it is not.
+#include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/sorted.h"
 
@@ -165,14 +166,7 @@ Scene small_scene(int w = 128, int h = 96) {
     return s;
 }
 
-Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo = {0.9, 0.8, 0.7}) {
-    Sphere s;
-    s.center = c;
-    s.radius = r;
-    s.extinction = tau;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 // An opaque wall well behind every sphere of these tests, so the background is not flat.
 void add_back_wall(Scene& s) { s.boxes.push_back(Box{{-20, -20, -12}, {20, 20, -10}, {0.3, 0.25, 0.2}}); }

@@ -1,5 +1,6 @@
 // stochastic transparency (seed 001 section 6.1): exact for one sphere with the alpha correction,
 // converging as the sample count grows, and the same noise in every frame.
+#include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/stochastic.h"
 
@@ -13,25 +14,9 @@ namespace {
 using testing::compare_with_reference;
 using testing::GpuTest;
 
-Scene small_scene(int w = 96, int h = 72) {
-    Scene s;
-    s.source = "test";
-    s.camera.position = {0.0, 0.0, 5.0};
-    s.camera.look_at = {0.0, 0.0, 0.0};
-    s.camera.width = w;
-    s.camera.height = h;
-    s.render.min_transmittance = 0.0;
-    return s;
-}
+Scene small_scene(int w = 96, int h = 72) { return testing::small_scene(w, h); }
 
-Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo = {0.9, 0.8, 0.7}) {
-    Sphere s;
-    s.center = c;
-    s.radius = r;
-    s.extinction = tau;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 // Spheres that do not intersect one another (so "over" in depth order is the exact answer), well
 // spread in depth and overlapping on screen, with alphas from small to large and varied colours.

@@ -1,6 +1,7 @@
 // wsum, wavg and wboit (seed 001 section 5; McGuire & Bavoil 2013): exact where a pixel sees one
 // sphere, independent of draw order, and wrong in the documented way when a dark dense sphere hides
 // a bright one.
+#include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/ppll.h"
 #include "render/methods/weighted.h"
@@ -16,25 +17,9 @@ namespace {
 using testing::compare_with_reference;
 using testing::GpuTest;
 
-Scene small_scene(int w = 96, int h = 72) {
-    Scene s;
-    s.source = "test";
-    s.camera.position = {0.0, 0.0, 5.0};
-    s.camera.look_at = {0.0, 0.0, 0.0};
-    s.camera.width = w;
-    s.camera.height = h;
-    s.render.min_transmittance = 0.0;
-    return s;
-}
+Scene small_scene(int w = 96, int h = 72) { return testing::small_scene(w, h); }
 
-Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo = {0.9, 0.8, 0.7}) {
-    Sphere s;
-    s.center = c;
-    s.radius = r;
-    s.extinction = tau;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 Scene random_scene(int count, unsigned seed) {
     Scene s = small_scene();

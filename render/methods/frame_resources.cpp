@@ -130,6 +130,14 @@ void FrameResources::begin_hdr_rendering(VkCommandBuffer cmd) const {
 
 void FrameResources::end_hdr_rendering(VkCommandBuffer cmd) const { vkCmdEndRendering(cmd); }
 
+void FrameResources::resolve_to_hdr(VkCommandBuffer cmd, VkPipeline pipeline) const {
+    begin_hdr_rendering(cmd);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    descriptors_.bind(cmd);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    end_hdr_rendering(cmd);
+}
+
 void FrameResources::record_hdr_readback(VkCommandBuffer cmd) const {
     image_barrier(cmd, hdr_image_.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                   VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,

@@ -313,11 +313,7 @@ void PeelMethod::record_control_readback(VkCommandBuffer cmd) {
 void PeelMethod::record_finish(VkCommandBuffer cmd) {
     record_pass(cmd, geometry_passes_);  // the tail (draws nothing unless layers remain somewhere)
     timer_.stamp(cmd, std::uint32_t(stamps_++));
-    frame_.begin_hdr_rendering(cmd);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_pipeline_);
-    descriptors_.bind(cmd);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-    frame_.end_hdr_rendering(cmd);
+    frame_.resolve_to_hdr(cmd, resolve_pipeline_);
     timer_.stamp(cmd, std::uint32_t(stamps_++));
     frame_.record_hdr_readback(cmd);
     record_control_readback(cmd);

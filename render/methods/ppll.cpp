@@ -173,11 +173,7 @@ void PpllMethod::record_frame(VkCommandBuffer cmd) {
                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 
-    frame_.begin_hdr_rendering(cmd);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_pipeline_);
-    descriptors_.bind(cmd);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-    frame_.end_hdr_rendering(cmd);
+    frame_.resolve_to_hdr(cmd, resolve_pipeline_);
     timer_.stamp(cmd, 3);
 
     frame_.record_hdr_readback(cmd);

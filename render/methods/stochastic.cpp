@@ -252,11 +252,7 @@ void StochasticMethod::record_frame(VkCommandBuffer cmd) {
     timer_.stamp(cmd, 3);
     image_barrier(cmd, t.layers.get(), VK_IMAGE_ASPECT_COLOR_BIT, layers_layout, VK_IMAGE_LAYOUT_GENERAL, msaa ? VK_PIPELINE_STAGE_2_COPY_BIT : VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, msaa ? VK_ACCESS_2_TRANSFER_WRITE_BIT : VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT, passes_);
 
-    frame_.begin_hdr_rendering(cmd);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_pipeline_);
-    descriptors_.bind(cmd);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-    frame_.end_hdr_rendering(cmd);
+    frame_.resolve_to_hdr(cmd, resolve_pipeline_);
     timer_.stamp(cmd, 4);
     frame_.record_hdr_readback(cmd);
 }

@@ -1,7 +1,8 @@
 #version 460
 // stochastic, coverage pass: the sphere covers each of this pass's samples with probability alpha
 // (stratified over all S samples of the pixel, see render/methods/stochastic.h) and writes its colour
-// there; the depth test keeps the nearest covering sphere per sample.
+// there; the depth test keeps the nearest covering sphere per sample. With DEPTH_ONLY (the ",depth"
+// variant) it writes the sphere's entry distance t0 instead, into an R32F layer.
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
 #include "rays.glsl"
@@ -10,6 +11,7 @@
 
 layout(constant_id = 0) const uint SAMPLES = 8;       // S, a power of two
 layout(constant_id = 1) const uint PASS_SAMPLES = 4;  // samples per pass (the MSAA sample count)
+layout(constant_id = 2) const uint DEPTH_ONLY = 0u;   // 1: write (t0, 0, 0, 0) for the depth-based variant
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
 layout(location = 0) flat in uint v_sphere;
@@ -46,5 +48,5 @@ void main() {
     if (mask == 0) discard;
     gl_SampleMask[0] = mask;
     gl_FragDepth = 1.0 / (1.0 + s.t0);
-    out_color = vec4(s.color, 1.0);
+    out_color = DEPTH_ONLY != 0u ? vec4(s.t0, 0.0, 0.0, 0.0) : vec4(s.color, 1.0);
 }

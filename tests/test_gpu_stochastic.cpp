@@ -1,10 +1,12 @@
 // stochastic transparency (seed 001 section 6.1): exact for one sphere with the alpha correction,
-// converging as the sample count grows, and the same noise in every frame.
+// converging as the sample count grows, and the same noise in every frame; the depth-based variant
+// (",depth") exact for one sphere, converging, stable, and closer than the plain average.
 #include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/stochastic.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <random>
 
@@ -20,8 +22,8 @@ using testing::sphere;
 
 // Spheres that do not intersect one another (so "over" in depth order is the exact answer), well
 // spread in depth and overlapping on screen, with alphas from small to large and varied colours.
-Scene layered_scene(unsigned seed) {
-    Scene s = small_scene();
+Scene layered_scene(unsigned seed, int w = 96, int h = 72) {
+    Scene s = small_scene(w, h);
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (int i = 0; i < 6; ++i) {
@@ -123,24 +125,112 @@ TEST_F(Stochastic, NoiseIsTheSameInEveryFrame) {
     EXPECT_NE(std::memcmp(a.rgb.data(), d.rgb.data(), a.rgb.size() * sizeof(float)), 0);
 }
 
+StochasticOptions depth_options(std::uint32_t samples) {
+    StochasticOptions o;
+    o.samples = samples;
+    o.depth_based = true;
+    return o;
+}
+
+TEST_F(Stochastic, DepthVariantIsExactForOneSphere) {
+    // One sphere: its fragment is never in front of itself (vis = 1), so the normalised
+    // accumulation is its colour and alpha_total its alpha, whatever the noise and S.
+    Scene s = small_scene(65, 65);
+    s.spheres.push_back(sphere({0, 0, 0}, 1.0, 0.7));
+    s.boxes.push_back(Box{{-3, -3, -3}, {3, -0.4, -2}, {0.6, 0.3, 0.1}});
+    s.boxes.push_back(Box{{0.3, -2, -2}, {0.5, 2, 2}, {0.1, 0.4, 0.2}});
+    for (std::uint32_t samples : {1u, 2u, 8u, 16u}) {
+        StochasticMethod method(device(), depth_options(samples));
+        EXPECT_EQ(method.passes(), samples);  // single-sample depth passes
+        FrameStats stats;
+        const Image img = method.render(s, &stats);
+        const ImageDiff d = compare_with_reference(img, s);
+        EXPECT_EQ(d.pixels_over, 0u) << method.name() << ": " << describe(d);
+        ASSERT_EQ(stats.passes.size(), 4u);
+        EXPECT_EQ(stats.passes[1].name, "depth x" + std::to_string(samples));
+        EXPECT_GT(stats.total_ms, 0.0);
+    }
+}
+
+TEST_F(Stochastic, DepthVariantErrorFallsAsSamplesGrow) {
+    const Scene s = layered_scene(5);
+    const Image ref = render_reference(s);
+    double error[2];
+    int n = 0;
+    for (std::uint32_t samples : {2u, 16u}) {
+        StochasticMethod method(device(), depth_options(samples));
+        error[n++] = mean_abs_error(method.render(s, nullptr), ref);
+    }
+    // 1/sqrt(S) would give 2.8x from 2 to 16 samples (measured 4.2x, 3.4e-4 to 8.3e-5); demand 2x.
+    EXPECT_LT(error[1], 0.5 * error[0]) << "S=2 " << error[0] << ", S=16 " << error[1];
+    EXPECT_GT(error[1], 0.0);
+}
+
+TEST_F(Stochastic, DepthVariantIsTheSameInEveryFrame) {
+    const Scene s = layered_scene(9);
+    StochasticMethod method(device(), depth_options(8));
+    const Image a = method.render(s, nullptr);
+    const Image b = method.render(s, nullptr);
+    StochasticMethod other(device(), depth_options(8));
+    const Image c = other.render(s, nullptr);
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(a.rgb.data(), c.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+    // ... and not the corrected variant's image: the estimator differs.
+    StochasticMethod corrected(device(), {8, true});
+    const Image e = corrected.render(s, nullptr);
+    EXPECT_NE(std::memcmp(a.rgb.data(), e.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+}
+
+TEST_F(Stochastic, DepthVariantBeatsThePlainAverage) {
+    // The reason for the depth-based estimator: per-fragment visibility from S depth samples, with
+    // the exact total alpha, is closer than the plain S-sample average at the same S.
+    const Scene s = layered_scene(5, 128, 128);
+    const Image ref = render_reference(s);
+    for (std::uint32_t samples : {4u, 8u, 16u}) {
+        double error[3], ms[3];
+        const StochasticOptions variants[3] = {{samples, false}, {samples, true}, depth_options(samples)};
+        for (int v = 0; v < 3; ++v) {
+            StochasticMethod method(device(), variants[v]);
+            FrameStats stats;
+            error[v] = mean_abs_error(method.render(s, &stats), ref);
+            method.render(s, &stats);  // timed warm
+            ms[v] = stats.total_ms;
+        }
+        std::printf("S=%2u  plain %.5f (%.2f ms)  corrected %.5f (%.2f ms)  depth %.5f (%.2f ms)\n", samples,
+                    error[0], ms[0], error[1], ms[1], error[2], ms[2]);
+        // Measured at 128x128 (lavapipe): plain 5.3e-3 / 2.7e-3 / 1.4e-3, corrected 5.2e-4 / 3.4e-4 /
+        // 2.3e-4, depth 3.1e-4 / 1.8e-4 / 1.2e-4 for S = 4 / 8 / 16.
+        EXPECT_LT(error[2], error[0]) << "S=" << samples << ": depth " << error[2] << ", plain " << error[0];
+        // It also beats the alpha-corrected average (by 1.7-1.9x measured).
+        EXPECT_LT(error[2], error[1]) << "S=" << samples << ": depth " << error[2] << ", corrected " << error[1];
+    }
+}
+
 TEST_F(Stochastic, SettingsParse) {
     EXPECT_EQ(parse_stochastic_setting("").samples, 8u);
     EXPECT_TRUE(parse_stochastic_setting("").alpha_correction);
     EXPECT_EQ(parse_stochastic_setting("16").samples, 16u);
     EXPECT_EQ(parse_stochastic_setting("1").samples, 1u);
     EXPECT_FALSE(parse_stochastic_setting("4,plain").alpha_correction);
-    for (const char* bad : {"0", "3", "12", "128", "x", "-4", "8,", "8,fast", " 8"})
+    EXPECT_FALSE(parse_stochastic_setting("4,plain").depth_based);
+    EXPECT_FALSE(parse_stochastic_setting("4").depth_based);
+    EXPECT_TRUE(parse_stochastic_setting("4,depth").depth_based);
+    EXPECT_TRUE(parse_stochastic_setting("4,depth").alpha_correction);
+    EXPECT_EQ(parse_stochastic_setting("16,depth").samples, 16u);
+    for (const char* bad : {"0", "3", "12", "128", "x", "-4", "8,", "8,fast", " 8", "8,depth,plain", "3,depth", "depth"})
         EXPECT_THROW(parse_stochastic_setting(bad), std::invalid_argument) << bad;
     EXPECT_EQ(make_stochastic_method(device(), "")->name(), "stochastic:8");
     EXPECT_EQ(make_stochastic_method(device(), "32,plain")->name(), "stochastic:32,plain");
+    EXPECT_EQ(make_stochastic_method(device(), "4,depth")->name(), "stochastic:4,depth");
     EXPECT_THROW(make_stochastic_method(device(), "5"), std::invalid_argument);
 }
 
 TEST_F(Stochastic, EmptySceneShowsTheOpaqueRadiance) {
     Scene s = small_scene(32, 24);
     s.boxes.push_back(Box{{-1, -1, -1}, {1, 1, 1}, {0.5, 0.25, 0.125}});
-    for (bool corrected : {false, true}) {
-        StochasticMethod method(device(), {8, corrected});
+    for (int variant = 0; variant < 3; ++variant) {
+        StochasticMethod method(device(), variant == 2 ? depth_options(8) : StochasticOptions{8, variant == 1});
         const Image img = method.render(s, nullptr);
         for (int c = 0; c < 3; ++c) {
             EXPECT_FLOAT_EQ(img.pixel(16, 12)[c], float(s.boxes[0].radiance[c]));

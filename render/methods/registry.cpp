@@ -35,8 +35,9 @@ const std::vector<MethodInfo>& method_catalogue() {
         {"peel", "N|dual:N", "8",
          "depth peeling: N geometry passes front to back (1..64), or dual:N peeling a front and a back layer per "
          "pass; layers beyond as one slab"},
-        {"stochastic", "S[,plain]", "8",
-         "stochastic transparency with S samples per pixel (power of two, 1..64), alpha-corrected unless ',plain'"},
+        {"stochastic", "S[,plain|,depth]", "8",
+         "stochastic transparency with S samples per pixel (power of two, 1..64), alpha-corrected unless ',plain'; "
+         "',depth': depth-based visibility (Enderton et al.)"},
         {"screendoor", "S", "4", "object-space screen-door transparency with S x S supersampling (S = 1..8)"},
     };
     return catalogue;

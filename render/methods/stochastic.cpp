@@ -6,6 +6,8 @@
 #include "sphere_impostor.vert.h"
 #include "stochastic_alpha.frag.h"
 #include "stochastic_cover.frag.h"
+#include "stochastic_depth_accum.frag.h"
+#include "stochastic_depth_resolve.frag.h"
 #include "stochastic_impostor.vert.h"
 #include "stochastic_resolve.frag.h"
 
@@ -21,6 +23,8 @@ constexpr VkFormat kColorFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // per sample:
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;           // 1 / (1 + t_entry), nearer is larger
 constexpr VkFormat kAccumFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // (sum alpha c, sum alpha)
 constexpr VkFormat kOpticalDepthFormat = VK_FORMAT_R32_SFLOAT;    // sum tau * chord
+constexpr VkFormat kDepthLayerFormat = VK_FORMAT_R32_SFLOAT;      // ",depth": nearest covering t_entry
+constexpr float kNoDepth = 3.0e38f;                               // ",depth": no sphere covers the sample
 constexpr std::uint32_t kMaxSamples = 64;
 
 // An image with any sample and layer count (DeviceImage has one of each): a view of the whole array
@@ -41,9 +45,12 @@ StochasticOptions parse_stochastic_setting(const std::string& setting) {
     const std::size_t comma = setting.find(',');
     if (comma != std::string::npos) {
         const std::string flag = setting.substr(comma + 1);
-        if (flag != "plain")
-            throw std::invalid_argument("stochastic: unknown option '" + flag + "' (the only one is 'plain')");
-        options.alpha_correction = false;
+        if (flag == "plain")
+            options.alpha_correction = false;
+        else if (flag == "depth")
+            options.depth_based = true;
+        else
+            throw std::invalid_argument("stochastic: unknown option '" + flag + "' (known: 'plain', 'depth')");
         count = setting.substr(0, comma);
     }
     const std::string what = "stochastic: samples per pixel";
@@ -67,13 +74,15 @@ struct StochasticMethod::Targets {
 StochasticMethod::StochasticMethod(Device& device, StochasticOptions options)
     : device_(device),
       options_(options),
-      pass_samples_(options.samples >= 4 ? 4u : 1u),
-      passes_(options.samples / (options.samples >= 4 ? 4u : 1u)),
+      pass_samples_(options.samples >= 4 && !options.depth_based ? 4u : 1u),
+      passes_(options.samples / pass_samples_),
       descriptors_(device),
       frame_(device, descriptors_),
       timer_(device, 5, "stochastic.timestamps") {
     if (options.samples == 0 || options.samples > kMaxSamples || (options.samples & (options.samples - 1)))
         throw std::invalid_argument("stochastic: samples per pixel must be a power of two from 1 to 64");
+    if (options.depth_based && !options.alpha_correction)
+        throw std::invalid_argument("stochastic: ',depth' is always alpha-corrected (no ',plain')");
 
     GraphicsPipelineDesc alpha;
     alpha.name = "stochastic_alpha";
@@ -87,26 +96,36 @@ StochasticMethod::StochasticMethod(Device& device, StochasticOptions options)
     cover.name = "stochastic_cover";
     cover.vertex = BRUME_SPIRV(spv_stochastic_impostor_vert);
     cover.fragment = BRUME_SPIRV(spv_stochastic_cover_frag);
-    cover.color_formats = {kColorFormat};
+    cover.color_formats = {options.depth_based ? kDepthLayerFormat : kColorFormat};
     cover.depth_format = kDepthFormat;
     cover.depth_compare = VK_COMPARE_OP_GREATER;  // depth = 1 / (1 + t): nearer is larger
     cover.samples = VkSampleCountFlagBits(pass_samples_);
-    cover.fragment_constants = {options.samples, pass_samples_};
+    cover.fragment_constants = {options.samples, pass_samples_, options.depth_based ? 1u : 0u};
     cover_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), cover);
 
     GraphicsPipelineDesc resolve;
     resolve.name = "stochastic_resolve";
     resolve.vertex = BRUME_SPIRV(spv_fullscreen_ray_vert);
-    resolve.fragment = BRUME_SPIRV(spv_stochastic_resolve_frag);
+    resolve.fragment = options.depth_based ? BRUME_SPIRV(spv_stochastic_depth_resolve_frag)
+                                           : BRUME_SPIRV(spv_stochastic_resolve_frag);
     resolve.color_formats = {FrameResources::kHdrFormat};
-    resolve.fragment_constants = {passes_, options.alpha_correction ? 1u : 0u};
+    if (!options.depth_based) resolve.fragment_constants = {passes_, options.alpha_correction ? 1u : 0u};
     resolve_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), resolve);
+
+    if (options.depth_based) {
+        GraphicsPipelineDesc accum = alpha;
+        accum.name = "stochastic_depth_accum";
+        accum.fragment = BRUME_SPIRV(spv_stochastic_depth_accum_frag);
+        accum.fragment_constants = {options.samples};
+        depth_accum_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), accum);
+    }
 }
 
 StochasticMethod::~StochasticMethod() = default;
 
 std::string StochasticMethod::name() const {
-    return "stochastic:" + std::to_string(options_.samples) + (options_.alpha_correction ? "" : ",plain");
+    return "stochastic:" + std::to_string(options_.samples) +
+           (options_.depth_based ? ",depth" : options_.alpha_correction ? "" : ",plain");
 }
 
 void StochasticMethod::ensure_targets(VkExtent2D extent) {
@@ -124,7 +143,7 @@ void StochasticMethod::ensure_targets(VkExtent2D extent) {
     t->depth = DeviceImage(device_, kDepthFormat, extent, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                            VK_IMAGE_ASPECT_DEPTH_BIT, "stochastic.depth", samples);
     const VkImageUsageFlags storage_target = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
-    t->layers = DeviceImage(device_, kColorFormat, extent, storage_target | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+    t->layers = DeviceImage(device_, options_.depth_based ? kDepthLayerFormat : kColorFormat, extent, storage_target | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                             VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.layers", VK_SAMPLE_COUNT_1_BIT, passes_,
                             /*array=*/true);
     t->accum = DeviceImage(device_, kAccumFormat, extent, storage_target, VK_IMAGE_ASPECT_COLOR_BIT, "stochastic.accum");
@@ -139,7 +158,6 @@ void StochasticMethod::ensure_targets(VkExtent2D extent) {
 
 void StochasticMethod::record_frame(VkCommandBuffer cmd) {
     Targets& t = *targets_;
-    const bool draw = frame_.sphere_count() > 0;
     timer_.reset(cmd);
     timer_.stamp(cmd, 0);
     frame_.record_opaque_pass(cmd);
@@ -151,37 +169,69 @@ void StochasticMethod::record_frame(VkCommandBuffer cmd) {
         image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                       VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                       VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    if (options_.alpha_correction) {
-        VkRenderingAttachmentInfo targets[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
-                                                {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
-        targets[0].imageView = t.accum.view();
-        targets[1].imageView = t.optical_depth.view();
-        for (VkRenderingAttachmentInfo& a : targets) {
-            a.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
-            a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-            a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-            a.clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
-        }
-        VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-        info.renderArea = {{0, 0}, t.extent};
-        info.layerCount = 1;
-        info.colorAttachmentCount = 2;
-        info.pColorAttachments = targets;
-        vkCmdBeginRendering(cmd, &info);
-        if (draw) {
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, alpha_pipeline_);
-            descriptors_.bind(cmd);
-            set_viewport(cmd, t.extent);
-            vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
-        }
-        vkCmdEndRendering(cmd);
+    const auto accum_written = [&] {
+        for (VkImage image : {t.accum.get(), t.optical_depth.get()})
+            image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                          VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                          VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    };
+    if (options_.depth_based) {
+        // Depth layers first, then one pass accumulates the visibility-weighted colour and the
+        // optical depth into the same targets the total-alpha pass uses.
+        record_coverage(cmd);
+        timer_.stamp(cmd, 2);
+        record_accumulation(cmd, depth_accum_pipeline_);
+        accum_written();
+        timer_.stamp(cmd, 3);
+    } else {
+        if (options_.alpha_correction) record_accumulation(cmd, alpha_pipeline_);
+        accum_written();
+        timer_.stamp(cmd, 2);
+        record_coverage(cmd);
+        timer_.stamp(cmd, 3);
     }
-    for (VkImage image : {t.accum.get(), t.optical_depth.get()})
-        image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
-                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    timer_.stamp(cmd, 2);
 
+    frame_.resolve_to_hdr(cmd, resolve_pipeline_);
+    timer_.stamp(cmd, 4);
+    frame_.record_hdr_readback(cmd);
+}
+
+// Renders every sphere once with `pipeline` into accum (target 0) and optical_depth (target 1),
+// cleared first; the targets are in GENERAL. Either the total-alpha pass or the ",depth"
+// accumulation pass.
+void StochasticMethod::record_accumulation(VkCommandBuffer cmd, VkPipeline pipeline) {
+    Targets& t = *targets_;
+    const bool draw = frame_.sphere_count() > 0;
+    VkRenderingAttachmentInfo targets[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
+                                            {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
+    targets[0].imageView = t.accum.view();
+    targets[1].imageView = t.optical_depth.view();
+    for (VkRenderingAttachmentInfo& a : targets) {
+        a.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+        a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        a.clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+    }
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, t.extent};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 2;
+    info.pColorAttachments = targets;
+    vkCmdBeginRendering(cmd, &info);
+    if (draw) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+        descriptors_.bind(cmd);
+        set_viewport(cmd, t.extent);
+        vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
+    }
+    vkCmdEndRendering(cmd);
+}
+
+// The S samples: passes_ geometry passes into the layers (left in GENERAL, readable by fragment
+// shaders). ",depth": each layer holds one sample's nearest covering t_entry.
+void StochasticMethod::record_coverage(VkCommandBuffer cmd) {
+    Targets& t = *targets_;
+    const bool draw = frame_.sphere_count() > 0;
     // Coverage passes: pass p owns samples p * pass_samples_ .. (p + 1) * pass_samples_ - 1.
     // Single-sample passes render straight into layer p. 4-sample passes resolve (average) into a 2D
     // image that is copied into layer p: lavapipe 22.3 resolves into layer 0 whatever layer the
@@ -205,7 +255,7 @@ void StochasticMethod::record_frame(VkCommandBuffer cmd) {
         }
         VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
         color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        color.clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+        color.clearValue.color = {{options_.depth_based ? kNoDepth : 0.0f, 0.0f, 0.0f, 0.0f}};
         if (msaa) {
             color.imageView = t.msaa_color.layer_view(0);
             color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
@@ -249,12 +299,7 @@ void StochasticMethod::record_frame(VkCommandBuffer cmd) {
                            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
         }
     }
-    timer_.stamp(cmd, 3);
     image_barrier(cmd, t.layers.get(), VK_IMAGE_ASPECT_COLOR_BIT, layers_layout, VK_IMAGE_LAYOUT_GENERAL, msaa ? VK_PIPELINE_STAGE_2_COPY_BIT : VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, msaa ? VK_ACCESS_2_TRANSFER_WRITE_BIT : VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT, passes_);
-
-    frame_.resolve_to_hdr(cmd, resolve_pipeline_);
-    timer_.stamp(cmd, 4);
-    frame_.record_hdr_readback(cmd);
 }
 
 Image StochasticMethod::render(const Scene& scene, FrameStats* stats) {
@@ -264,10 +309,16 @@ Image StochasticMethod::render(const Scene& scene, FrameStats* stats) {
     if (stats) {
         const std::vector<double> ms = timer_.intervals_ms(5);
         *stats = FrameStats{};
-        stats->passes = {{"clear+opaque", ms[0]},
-                         {"total alpha", ms[1]},
-                         {"coverage x" + std::to_string(passes_), ms[2]},
-                         {"resolve", ms[3]}};
+        if (options_.depth_based)
+            stats->passes = {{"clear+opaque", ms[0]},
+                             {"depth x" + std::to_string(passes_), ms[1]},
+                             {"accumulate", ms[2]},
+                             {"resolve", ms[3]}};
+        else
+            stats->passes = {{"clear+opaque", ms[0]},
+                             {"total alpha", ms[1]},
+                             {"coverage x" + std::to_string(passes_), ms[2]},
+                             {"resolve", ms[3]}};
         stats->total_ms = ms[0] + ms[1] + ms[2] + ms[3];
         const Targets& t = *targets_;
         const std::uint64_t pixels = std::uint64_t(t.extent.width) * t.extent.height;

@@ -26,10 +26,19 @@
 //       correction, eq. 6.1: the average colour times alpha_total / (R/S)), computed as
 //       1 - exp(-sum tau_i chord_i). Where no sample is covered (R = 0), C_s falls back to the
 //       alpha-weighted average sum(alpha_i c_i) / sum(alpha_i) from the same pass.
-//   The corrected form is exact for a pixel covered by one sphere, at any S. The seed's
-//   depth-based variant (visibility per fragment from the sample depths) is not implemented: it
-//   needs per-sample depth reads, which lavapipe's storage images offer only with a feature Brume
-//   does not enable.
+//   The corrected form is exact for a pixel covered by one sphere, at any S.
+//
+// Depth-based variant (setting "S,depth"; Enderton et al. 2010 section 3.3, seed steps 1-5):
+//   1. S single-sample depth passes (per-sample depth of a multisampled image cannot be read
+//      without a feature Brume does not enable): pass k draws sample k of the same stratified
+//      coverage as above and writes the covering sphere's entry distance t0 into layer k of an R32F
+//      array (nearest wins through the same D32 test; cleared to 3e38 where nothing covers).
+//   2. One accumulation pass over every sphere fragment: vis = count_k(z_k >= t0) / S (equality,
+//      to a relative 1e-5 since t0 is recomputed, counts as not in front: no self-occlusion);
+//      additively sum(alpha vis c), sum(alpha vis) and the optical depth sum(tau chord).
+//   3. Resolve: C = alpha_total sum(alpha vis c) / sum(alpha vis) + (1 - alpha_total) C_bg with
+//      alpha_total = 1 - exp(-sum tau chord). vis estimates prod_(j in front)(1 - alpha_j) without
+//      bias; the normalisation makes one sphere exact at any S (its vis is always 1).
 // The scene's min_transmittance cut-off plays no part.
 #pragma once
 
@@ -51,10 +60,11 @@ namespace brume {
 
 struct StochasticOptions {
     std::uint32_t samples = 8;  // S: a power of two, 1..64
-    bool alpha_correction = true;
+    bool alpha_correction = true;  // false: ",plain"
+    bool depth_based = false;      // ",depth" (always alpha-corrected)
 };
 
-// Parses "S" or "S,plain" (empty: the defaults). Throws std::invalid_argument naming the problem.
+// Parses "S", "S,plain" or "S,depth" (empty: the defaults). Throws std::invalid_argument naming the problem.
 StochasticOptions parse_stochastic_setting(const std::string& setting);
 
 class StochasticMethod : public Method {
@@ -73,6 +83,8 @@ private:
     struct Targets;
     void ensure_targets(VkExtent2D extent);
     void record_frame(VkCommandBuffer cmd);
+    void record_accumulation(VkCommandBuffer cmd, VkPipeline pipeline);
+    void record_coverage(VkCommandBuffer cmd);
 
     vk::Device& device_;
     StochasticOptions options_;
@@ -84,10 +96,11 @@ private:
     vk::UniquePipeline alpha_pipeline_;
     vk::UniquePipeline cover_pipeline_;
     vk::UniquePipeline resolve_pipeline_;
+    vk::UniquePipeline depth_accum_pipeline_;  // ",depth" only
     std::unique_ptr<Targets> targets_;
 };
 
-// `--method stochastic[:S[,plain]]`, S default 8.
+// `--method stochastic[:S[,plain|,depth]]`, S default 8.
 std::unique_ptr<Method> make_stochastic_method(vk::Device& device, const std::string& setting);
 
 }  // namespace brume

@@ -134,7 +134,7 @@ std::vector<std::string> default_method_specs() {
         specs.push_back(m.name);
         if (m.name == "kbuf") specs.insert(specs.end(), {"kbuf:4", "kbuf:16"});
         if (m.name == "peel") specs.insert(specs.end(), {"peel:4", "peel:16", "peel:dual:8"});
-        if (m.name == "stochastic") specs.insert(specs.end(), {"stochastic:4", "stochastic:16"});
+        if (m.name == "stochastic") specs.insert(specs.end(), {"stochastic:4", "stochastic:16", "stochastic:8,depth"});
         if (m.name == "screendoor") specs.insert(specs.end(), {"screendoor:2"});
     }
     return specs;
@@ -154,6 +154,14 @@ std::string short_bytes(double bytes) {
     else if (bytes >= 1024.0) std::snprintf(text, sizeof text, "%.1f KiB", bytes / 1024.0);
     else std::snprintf(text, sizeof text, "%.0f B", bytes);
     return text;
+}
+
+// RFC 4180 quoting: method names such as "stochastic:8,depth" hold commas.
+std::string csv_text(const std::string& text) {
+    if (text.find_first_of(",\"\n") == std::string::npos) return text;
+    std::string out = "\"";
+    for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
 }
 
 std::string number(double v) {
@@ -271,7 +279,7 @@ int run_bench_methods(const BenchArgs& args) {
          << ",\n  \"results\": [\n";
     for (std::size_t k = 0; k < rows.size(); ++k) {
         const Row& r = rows[k];
-        csv << r.method << ',' << r.scene << ',' << (r.exact ? 1 : 0) << ',' << r.frames << ',' << number(r.median_ms)
+        csv << csv_text(r.method) << ',' << csv_text(r.scene) << ',' << (r.exact ? 1 : 0) << ',' << r.frames << ',' << number(r.median_ms)
             << ',' << number(r.memory_bytes) << ',' << number(r.rmse) << ',' << number(r.psnr_db) << ','
             << number(r.max_error) << ',' << (r.temporal.empty() ? "" : number(r.temporal_mean)) << ','
             << (r.temporal.empty() ? "" : number(r.temporal_max)) << '\n';

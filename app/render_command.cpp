@@ -59,9 +59,10 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
     const char* clock = args.method == "reference" ? "cpu_ms" : "gpu_ms";
     j << "  \"" << clock << "\": {";
     for (std::size_t p = 0; p < timing.pass_names.size(); ++p)
-        j << "\"" << timing.pass_names[p] << "\": " << median(timing.pass_ms[p]) << ", ";
+        j << json_string(timing.pass_names[p]) << ": " << median(timing.pass_ms[p]) << ", ";
     j << "\"total\": " << median(timing.total_ms) << "}";
-    if (last) {
+    if (last) j << ",\n  \"memory_bytes\": " << last->memory_bytes;
+    if (last && args.method == "ppll") {  // the list figures exist for ppll alone
         j << ",\n  \"fragments\": " << last->fragments;
         j << ",\n  \"pool_capacity\": " << last->pool_capacity;
         j << ",\n  \"pool_bytes\": " << last->pool_bytes;
@@ -149,7 +150,7 @@ int run_render(const RenderArgs& args) {
     std::printf("%s: %dx%d, %zu spheres, %zu boxes, method %s on %s: %.2f ms (median of %d)", scene.source.c_str(),
                 scene.camera.width, scene.camera.height, scene.spheres.size(), scene.boxes.size(), args.method.c_str(),
                 device_name.c_str(), median(timing.total_ms), args.repeat);
-    if (device)
+    if (args.method == "ppll")  // the list figures exist for ppll alone
         std::printf(", %llu fragments, longest list %u", (unsigned long long)last.fragments, last.max_list_length);
     std::printf("\n");
     for (const std::string& out : {exr, png})

@@ -130,6 +130,14 @@ void FrameResources::begin_hdr_rendering(VkCommandBuffer cmd) const {
 
 void FrameResources::end_hdr_rendering(VkCommandBuffer cmd) const { vkCmdEndRendering(cmd); }
 
+void FrameResources::draw_spheres(VkCommandBuffer cmd, VkPipeline pipeline) const {
+    if (sphere_count_ == 0) return;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    descriptors_.bind(cmd);
+    set_viewport(cmd, extent_);
+    vkCmdDraw(cmd, 6, sphere_count_, 0, 0);
+}
+
 void FrameResources::resolve_to_hdr(VkCommandBuffer cmd, VkPipeline pipeline) const {
     begin_hdr_rendering(cmd);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);

@@ -33,6 +33,9 @@ public:
     // Begins dynamic rendering into the HDR target (contents undefined: the resolve writes every pixel).
     void begin_hdr_rendering(VkCommandBuffer cmd) const;
     void end_hdr_rendering(VkCommandBuffer cmd) const;
+    // Inside a rendering scope: one impostor (6 vertices) per sphere with `pipeline`; nothing when
+    // the scene has no spheres.
+    void draw_spheres(VkCommandBuffer cmd, VkPipeline pipeline) const;
     // The usual last pass of a method: one fullscreen triangle with `pipeline` into the HDR target.
     void resolve_to_hdr(VkCommandBuffer cmd, VkPipeline pipeline) const;
     // Copies the HDR target into host memory; read_hdr() after the frame completes.

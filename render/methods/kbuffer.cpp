@@ -107,28 +107,8 @@ void KBufferMethod::record_frame(VkCommandBuffer cmd) {
                       VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                       VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     auto insertion_pass = [&](VkPipeline pipeline, VkAttachmentLoadOp load) {
-        VkRenderingAttachmentInfo targets[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
-                                                {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
-        targets[0].imageView = tail_accum_.view();
-        targets[1].imageView = tail_optical_depth_.view();
-        for (VkRenderingAttachmentInfo& t : targets) {
-            t.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
-            t.loadOp = load;
-            t.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-            t.clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
-        }
-        VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-        info.renderArea = {{0, 0}, extent_};
-        info.layerCount = 1;
-        info.colorAttachmentCount = 2;
-        info.pColorAttachments = targets;
-        vkCmdBeginRendering(cmd, &info);
-        if (frame_.sphere_count() > 0) {
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-            descriptors_.bind(cmd);
-            set_viewport(cmd, extent_);
-            vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
-        }
+        begin_color_rendering(cmd, extent_, {tail_accum_.view(), tail_optical_depth_.view()}, load);
+        frame_.draw_spheres(cmd, pipeline);
         vkCmdEndRendering(cmd);
     };
     insertion_pass(keys_pipeline_, VK_ATTACHMENT_LOAD_OP_CLEAR);  // also clears the tail targets

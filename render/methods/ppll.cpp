@@ -161,12 +161,7 @@ void PpllMethod::record_frame(VkCommandBuffer cmd) {
     info.renderArea = {{0, 0}, frame_.extent()};
     info.layerCount = 1;
     vkCmdBeginRendering(cmd, &info);
-    if (frame_.sphere_count() > 0) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, append_pipeline_);
-        descriptors_.bind(cmd);
-        set_viewport(cmd, frame_.extent());
-        vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
-    }
+    frame_.draw_spheres(cmd, append_pipeline_);
     vkCmdEndRendering(cmd);
     timer_.stamp(cmd, 2);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,

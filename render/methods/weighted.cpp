@@ -104,28 +104,8 @@ void WeightedMethod::record_frame(VkCommandBuffer cmd) {
         image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                       VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                       VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    VkRenderingAttachmentInfo targets[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
-                                            {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
-    targets[0].imageView = accum_.view();
-    targets[1].imageView = extra_.view();
-    for (VkRenderingAttachmentInfo& t : targets) {
-        t.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
-        t.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        t.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-        t.clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
-    }
-    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    info.renderArea = {{0, 0}, frame_.extent()};
-    info.layerCount = 1;
-    info.colorAttachmentCount = 2;
-    info.pColorAttachments = targets;
-    vkCmdBeginRendering(cmd, &info);
-    if (frame_.sphere_count() > 0) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, accumulate_pipeline_);
-        descriptors_.bind(cmd);
-        set_viewport(cmd, frame_.extent());
-        vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
-    }
+    begin_color_rendering(cmd, frame_.extent(), {accum_.view(), extra_.view()}, VK_ATTACHMENT_LOAD_OP_CLEAR);
+    frame_.draw_spheres(cmd, accumulate_pipeline_);
     vkCmdEndRendering(cmd);
     timer_.stamp(cmd, 2);
     for (VkImage image : {accum_.get(), extra_.get()})

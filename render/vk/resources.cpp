@@ -99,6 +99,24 @@ DeviceImage::DeviceImage(const Device& device, VkFormat format, VkExtent2D exten
             layer_views_.push_back(make_view(VK_IMAGE_VIEW_TYPE_2D, l, 1, name + ".layer" + std::to_string(l)));
 }
 
+void begin_color_rendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& views,
+                           VkAttachmentLoadOp load) {
+    std::vector<VkRenderingAttachmentInfo> targets(views.size(), {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO});
+    for (std::size_t k = 0; k < views.size(); ++k) {
+        targets[k].imageView = views[k];
+        targets[k].imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+        targets[k].loadOp = load;
+        targets[k].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        targets[k].clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+    }
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, extent};
+    info.layerCount = 1;
+    info.colorAttachmentCount = std::uint32_t(targets.size());
+    info.pColorAttachments = targets.data();
+    vkCmdBeginRendering(cmd, &info);
+}
+
 void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
                     VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
     VkMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};

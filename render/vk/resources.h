@@ -69,6 +69,11 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect
                    VkImageLayout new_layout, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access, std::uint32_t layers = 1);
 
+// Begins dynamic rendering into colour targets kept in GENERAL layout (they are also read as storage
+// images), cleared to zero or loaded as they are.
+void begin_color_rendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& views,
+                           VkAttachmentLoadOp load);
+
 std::string format_bytes(std::uint64_t bytes);
 
 }  // namespace brume::vk

@@ -10,10 +10,13 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace brume {
+
+class DensitySampler;  // sim/density_sampler.h
 
 // A value drawn uniformly from [min, max] per particle (min == max: a constant).
 struct Range {
@@ -41,7 +44,8 @@ struct AgeCurves {
     std::vector<AlbedoKey> albedo_ramp;
 };
 
-enum class EmitterShape { Point, Sphere, Box, Disc };
+// Density: births spread in proportion to a density grid's trilinear field (a [[vdb]] grid seeding smoke).
+enum class EmitterShape { Point, Sphere, Box, Disc, Density };
 
 struct EmitterDesc {
     std::string name;
@@ -50,6 +54,11 @@ struct EmitterDesc {
     double radius = 0.0;             // Sphere (volume) and Disc
     glm::dvec3 half_extent{0.0};     // Box
     glm::dvec3 normal{0.0, 1.0, 0.0};  // Disc plane normal
+    DensitySource density_source;      // Density: the grid, placed in the scene by density_transform
+    VolumeTransform density_transform;
+    // Density: the grid and its sampling tables, read from density_source before simulating (sim/vdb/ loads
+    // it, since brume_sim does not link OpenVDB). Shared, so copying a preset does not copy voxels.
+    std::shared_ptr<const DensitySampler> density;
     double rate = 0.0;               // particles per second, emitted continuously
     struct Burst {
         double time = 0.0;           // seconds

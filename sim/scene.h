@@ -4,6 +4,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,38 @@ struct Sphere {
     glm::dvec3 albedo{1.0};
 };
 
+// Where a density grid's voxels sit in the scene: world = translate + scale * R * (grid position), R the
+// rotations about x, then y, then z, by rotate_deg degrees each. Similarities only, so spheres stay spheres.
+struct VolumeTransform {
+    glm::dvec3 translate{0.0};
+    double scale = 1.0;
+    glm::dvec3 rotate_deg{0.0};
+};
+
+// Where a density grid comes from: a .vdb file (relative paths against base_dir, the directory of the
+// file that names it; empty: the working directory) or "builtin:NAME", a sample volume Brume makes with
+// OpenVDB's own API (sim/vdb/sample_volumes.h).
+struct DensitySource {
+    std::string file;
+    std::string base_dir;
+    std::string grid = "density";  // the float grid to read
+};
+
+// A [[vdb]] table: a density grid loaded as a static cloud of spheres. The scene reader records it and
+// sim/vdb/volume_loader.h converts it (brume_sim does not link OpenVDB); renderers see only spheres.
+struct VdbVolume {
+    DensitySource source;
+    std::string albedo_grid;          // optional float grid in the same file, multiplying albedo per sphere
+    double extinction_scale = 1.0;    // sphere extinction = density * extinction_scale, per scene unit
+    glm::dvec3 albedo{1.0};
+    // The conversion's accuracy: the relative RMS optical-depth error along rays that the sphere cloud
+    // must meet (sim/vdb/sphere_cloud.h) ...
+    double tolerance = 0.05;
+    // ... or, when > 0 (tolerance is then unused), the most accurate cloud of at most this many spheres.
+    std::size_t max_spheres = 0;
+    VolumeTransform transform;
+};
+
 struct RenderSettings {
     // Integration stops once transmittance falls below this (GUIDE section 1); 0 integrates everything.
     double min_transmittance = 1e-4;
@@ -52,6 +85,7 @@ struct Scene {
     RenderSettings render;
     std::vector<Box> boxes;
     std::vector<Sphere> spheres;
+    std::vector<VdbVolume> volumes;  // not yet converted: renderers require this empty
     std::string source;  // where the scene came from ("built-in default", a path), for messages
 };
 

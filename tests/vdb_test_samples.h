@@ -2,7 +2,7 @@
 // analytic DensityGrids that encode_vdb turns into files, and a scratch directory per test.
 #pragma once
 
-#include "sim/vdb/density_grid.h"
+#include "sim/density_grid.h"
 
 #include <gtest/gtest.h>
 

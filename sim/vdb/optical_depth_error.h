@@ -5,7 +5,7 @@
 #pragma once
 
 #include "sim/scene.h"
-#include "sim/vdb/density_grid.h"
+#include "sim/density_grid.h"
 
 #include <vector>
 

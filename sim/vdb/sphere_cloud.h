@@ -7,7 +7,7 @@
 #pragma once
 
 #include "sim/scene.h"
-#include "sim/vdb/density_grid.h"
+#include "sim/density_grid.h"
 
 #include <glm/vec3.hpp>
 

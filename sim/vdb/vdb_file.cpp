@@ -3,10 +3,12 @@
 
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Composite.h>
 #include <openvdb/tools/LevelSetSphere.h>
 #include <openvdb/tools/LevelSetUtil.h>
 #include <openvdb/tools/Prune.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -26,9 +28,11 @@ constexpr std::uint64_t kMaxDenseVoxels = std::uint64_t(1) << 30;
 
 std::string quote(const std::string& s) { return "\"" + s + "\""; }
 
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& problem) {
-    throw VdbError(path.string() + ": " + problem);
+// `source` names the file (its path) or the built-in sample the bytes came from.
+[[noreturn]] void fail(const std::string& source, const std::string& problem) {
+    throw VdbError(source + ": " + problem);
 }
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& problem) { fail(path.string(), problem); }
 
 std::string read_bytes(const std::filesystem::path& path) {
     std::error_code ec;
@@ -43,8 +47,7 @@ std::string read_bytes(const std::filesystem::path& path) {
 // Every grid, fully loaded. The bytes are parsed from memory with stream exceptions on, so a truncated
 // file fails at its first short read; OpenVDB's own file reader instead reads on past the end and
 // reports garbage (a missing grid, an absurd allocation).
-vdb::GridPtrVecPtr read_grids(const std::filesystem::path& path) {
-    const std::string bytes = read_bytes(path);
+vdb::GridPtrVecPtr parse_grids(const std::string& bytes, const std::string& path) {
     if (bytes.empty()) fail(path, "empty file, not a VDB file");
     // OpenVDB's magic number, 0x56444220 as a little-endian int32: checked here so that a short non-VDB
     // file is named as such rather than as a truncated one.
@@ -67,9 +70,17 @@ vdb::GridPtrVecPtr read_grids(const std::filesystem::path& path) {
     }
 }
 
+}  // namespace
+
+std::string read_vdb_bytes(const std::filesystem::path& path) { return read_bytes(path); }
+
+namespace {
+
+vdb::GridPtrVecPtr read_grids(const std::filesystem::path& path) { return parse_grids(read_bytes(path), path.string()); }
+
 glm::ivec3 to_ivec3(const vdb::Coord& c) { return {c.x(), c.y(), c.z()}; }
 
-vdb::GridBase::Ptr find_grid(const std::filesystem::path& path, const vdb::GridPtrVec& grids,
+vdb::GridBase::Ptr find_grid(const std::string& path, const vdb::GridPtrVec& grids,
                              const std::string& name) {
     for (const auto& g : grids)
         if (g->getName() == name) return g;
@@ -80,7 +91,7 @@ vdb::GridBase::Ptr find_grid(const std::filesystem::path& path, const vdb::GridP
 
 // Origin and voxel size of a transform that is a uniform scale and a translation; anything else is refused,
 // since a DensityGrid's voxels are axis-aligned cubes.
-void read_transform(const std::filesystem::path& path, const std::string& what, const vdb::math::Transform& xf,
+void read_transform(const std::string& path, const std::string& what, const vdb::math::Transform& xf,
                     DensityGrid& out) {
     if (!xf.isLinear()) fail(path, what + " has a non-linear (frustum) transform; Brume reads only uniform-scale linear transforms");
     const vdb::Vec3d o = xf.indexToWorld(vdb::Vec3d(0.0));
@@ -104,7 +115,7 @@ void read_transform(const std::filesystem::path& path, const std::string& what, 
     out.voxel_size = s;
 }
 
-void fill_values(const std::filesystem::path& path, const std::string& what, const vdb::FloatGrid& grid,
+void fill_values(const std::string& path, const std::string& what, const vdb::FloatGrid& grid,
                  DensityGrid& out) {
     const vdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
     const vdb::Coord dim = box.dim();
@@ -163,28 +174,38 @@ std::vector<VdbGridInfo> list_vdb_grids(const std::filesystem::path& path) {
 }
 
 DensityGrid read_density_grid(const std::filesystem::path& path, const std::string& grid_name) {
-    const vdb::GridPtrVecPtr grids = read_grids(path);
-    const vdb::GridBase::Ptr base = find_grid(path, *grids, grid_name);
-    const std::string what = "grid " + quote(grid_name);
-    const vdb::FloatGrid::Ptr grid = vdb::gridPtrCast<vdb::FloatGrid>(base);
-    if (!grid) fail(path, what + " holds " + base->valueType() + " values; Brume reads float density grids");
-    if (grid->background() != 0.0f) {
-        std::ostringstream msg;
-        msg << what << " has background " << grid->background()
-            << "; Brume reads grids whose inactive voxels are empty (background 0)";
-        fail(path, msg.str());
-    }
-    DensityGrid out;
-    out.name = grid_name;
-    out.active_voxels = grid->activeVoxelCount();
-    if (out.active_voxels == 0) fail(path, what + " is empty (no active voxels)");
-    read_transform(path, what, grid->transform(), out);
-    fill_values(path, what, *grid, out);
-    return out;
+    return std::move(decode_density_grids(read_bytes(path), path.string(), {grid_name}).front());
 }
 
-std::string encode_vdb(const DensityGrid& grid) {
-    vdb::initialize();
+std::vector<DensityGrid> decode_density_grids(const std::string& bytes, const std::string& source,
+                                              const std::vector<std::string>& grid_names) {
+    const vdb::GridPtrVecPtr grids = parse_grids(bytes, source);
+    std::vector<DensityGrid> result;
+    for (const std::string& grid_name : grid_names) {
+        const vdb::GridBase::Ptr base = find_grid(source, *grids, grid_name);
+        const std::string what = "grid " + quote(grid_name);
+        const vdb::FloatGrid::Ptr grid = vdb::gridPtrCast<vdb::FloatGrid>(base);
+        if (!grid) fail(source, what + " holds " + base->valueType() + " values; Brume reads float density grids");
+        if (grid->background() != 0.0f) {
+            std::ostringstream msg;
+            msg << what << " has background " << grid->background()
+                << "; Brume reads grids whose inactive voxels are empty (background 0)";
+            fail(source, msg.str());
+        }
+        DensityGrid out;
+        out.name = grid_name;
+        out.active_voxels = grid->activeVoxelCount();
+        if (out.active_voxels == 0) fail(source, what + " is empty (no active voxels)");
+        read_transform(source, what, grid->transform(), out);
+        fill_values(source, what, *grid, out);
+        result.push_back(std::move(out));
+    }
+    return result;
+}
+
+namespace {
+
+vdb::FloatGrid::Ptr to_openvdb(const DensityGrid& grid) {
     vdb::FloatGrid::Ptr out = vdb::FloatGrid::create(0.0f);
     vdb::math::Transform::Ptr xf = vdb::math::Transform::createLinearTransform(grid.voxel_size);
     xf->postTranslate(vdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z));
@@ -198,7 +219,18 @@ std::string encode_vdb(const DensityGrid& grid) {
                 if (const float v = grid.at(i, j, k); v != 0.0f)
                     acc.setValue(vdb::Coord(grid.min.x + i, grid.min.y + j, grid.min.z + k), v);
     vdb::tools::prune(out->tree());  // uniform blocks become tiles, as tools write them
-    return encode({out});
+    return out;
+}
+
+}  // namespace
+
+std::string encode_vdb(const DensityGrid& grid) { return encode_vdb(std::vector<DensityGrid>{grid}); }
+
+std::string encode_vdb(const std::vector<DensityGrid>& grids) {
+    vdb::initialize();
+    vdb::GridPtrVec out;
+    for (const DensityGrid& g : grids) out.push_back(to_openvdb(g));
+    return encode(out);
 }
 
 std::string encode_fog_sphere_vdb(double radius, const glm::dvec3& center, double voxel_size,
@@ -228,6 +260,116 @@ std::string encode_refused_vdb_sample(RefusedVdbSample kind) {
     }
     grid->setTransform(xf);
     grid->setName("density");
+    return encode({grid});
+}
+
+}  // namespace brume
+
+namespace brume {
+
+namespace {
+
+// A smooth, deterministic fractal noise in about [-1, 1]: sums of products of sines at rotated, detuned
+// frequencies (no lattice, so no grid-aligned artefacts at any resolution).
+double cloud_noise(const glm::dvec3& p) {
+    double sum = 0.0, amplitude = 0.5, frequency = 2.3;
+    for (int octave = 0; octave < 4; ++octave) {
+        const double o = 1.7 * octave;
+        sum += amplitude * std::sin(frequency * (0.83 * p.x + 0.31 * p.z) + o) *
+               std::sin(frequency * (0.91 * p.y - 0.22 * p.x) + 2.1 + o) *
+               std::sin(frequency * (0.77 * p.z + 0.40 * p.y) + 0.7 + o);
+        amplitude *= 0.55;
+        frequency *= 2.07;
+    }
+    return 2.2 * sum;
+}
+
+vdb::FloatGrid::Ptr level_set_sphere(double radius, const glm::dvec3& c, double voxel) {
+    return vdb::tools::createLevelSetSphere<vdb::FloatGrid>(float(radius), vdb::Vec3f(float(c.x), float(c.y), float(c.z)),
+                                                            float(voxel));
+}
+
+// A cumulus-like cloud: the union of five level-set spheres (csgUnion), made a fog volume, its density
+// modulated by fractal noise so the inside is lumpy and the edge ragged.
+vdb::FloatGrid::Ptr make_cloud(double voxel) {
+    const struct { double r; glm::dvec3 c; } blobs[] = {
+        {0.55, {0.0, -0.1, 0.0}}, {0.42, {-0.45, -0.25, 0.1}}, {0.40, {0.48, -0.2, -0.05}},
+        {0.36, {0.1, 0.3, 0.05}},  {0.30, {-0.2, -0.3, -0.42}},
+    };
+    vdb::FloatGrid::Ptr grid;
+    for (const auto& b : blobs) {
+        vdb::FloatGrid::Ptr s = level_set_sphere(b.r, b.c, voxel);
+        if (!grid) grid = s;
+        else vdb::tools::csgUnion(*grid, *s);
+    }
+    vdb::tools::sdfToFogVolume(*grid);
+    grid->tree().voxelizeActiveTiles();
+    for (auto it = grid->beginValueOn(); it; ++it) {
+        const vdb::Vec3d w = grid->indexToWorld(it.getCoord());
+        const double n = cloud_noise({w.x(), w.y(), w.z()});
+        it.setValue(float(std::clamp(double(*it) * (0.75 + 0.6 * n), 0.0, 1.0)));
+    }
+    vdb::tools::changeBackground(grid->tree(), 0.0f);
+    for (auto it = grid->beginValueOn(); it; ++it)
+        if (*it == 0.0f) it.setValueOff();
+    vdb::tools::prune(grid->tree());
+    return grid;
+}
+
+// A wavy sheet about three voxels thick: height y = 0.2 sin(3x) cos(2.5z) over |x|, |z| < 0.85, density
+// a tent across the sheet, fading out toward the rim. Thin along one axis: the hard case for spheres.
+vdb::FloatGrid::Ptr make_sheet(double voxel) {
+    vdb::FloatGrid::Ptr grid = vdb::FloatGrid::create(0.0f);
+    grid->setTransform(vdb::math::Transform::createLinearTransform(voxel));
+    auto acc = grid->getAccessor();
+    const int n = int(std::ceil(0.9 / voxel));
+    const double half_thickness = 1.5 * voxel;
+    for (int k = -n; k <= n; ++k)
+        for (int i = -n; i <= n; ++i) {
+            const double x = i * voxel, z = k * voxel;
+            const double rim = std::max(std::abs(x), std::abs(z));
+            if (rim >= 0.85) continue;
+            const double fade = std::min(1.0, (0.85 - rim) / 0.15);
+            const double h = 0.2 * std::sin(3.0 * x) * std::cos(2.5 * z);
+            const int j_lo = int(std::floor((h - half_thickness) / voxel)), j_hi = int(std::ceil((h + half_thickness) / voxel));
+            for (int j = j_lo; j <= j_hi; ++j) {
+                const double d = 1.0 - std::abs(j * voxel - h) / half_thickness;
+                if (d > 0.0) acc.setValue(vdb::Coord(i, j, k), float(d * fade));
+            }
+        }
+    return grid;
+}
+
+}  // namespace
+
+std::span<const SampleVolumeInfo> sample_volumes() {
+    static const SampleVolumeInfo kSamples[] = {
+        {"cloud", "a lumpy cumulus: five level-set spheres united, as fog, modulated by fractal noise"},
+        {"fog-sphere", "a level-set sphere of radius 0.9 as a fog volume: 1 inside, a 3-voxel soft edge"},
+        {"sheet", "a wavy sheet three voxels thick, fading toward its square rim"},
+    };
+    return kSamples;
+}
+
+std::string encode_sample_volume_vdb(const std::string& name, int resolution) {
+    if (resolution < kMinSampleResolution || resolution > kMaxSampleResolution)
+        throw VdbError("builtin:" + name + ": resolution must be in [" + std::to_string(kMinSampleResolution) + ", " +
+                       std::to_string(kMaxSampleResolution) + "] (got " + std::to_string(resolution) + ")");
+    vdb::initialize();
+    const double voxel = 2.0 / resolution;  // every sample fits [-1, 1]^3
+    vdb::FloatGrid::Ptr grid;
+    if (name == "cloud") grid = make_cloud(voxel);
+    else if (name == "fog-sphere") {
+        grid = level_set_sphere(0.9, glm::dvec3(0.0), voxel);
+        vdb::tools::sdfToFogVolume(*grid);
+    } else if (name == "sheet") grid = make_sheet(voxel);
+    else {
+        std::string names;
+        for (const SampleVolumeInfo& s : sample_volumes()) names += (names.empty() ? "" : ", ") + std::string(s.name);
+        throw VdbError("builtin:" + name + ": no such built-in volume (there are: " + names + ")");
+    }
+    grid->setName("density");
+    grid->setGridClass(vdb::GRID_FOG_VOLUME);
     return encode({grid});
 }
 

@@ -3,12 +3,13 @@
 // files with OpenVDB's own tools, since the project has no internet to fetch real ones from.
 #pragma once
 
-#include "sim/vdb/density_grid.h"
+#include "sim/density_grid.h"
 
 #include <glm/vec3.hpp>
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -41,15 +42,39 @@ std::vector<VdbGridInfo> list_vdb_grids(const std::filesystem::path& path);
 // or a transform other than a uniform scale and a translation.
 DensityGrid read_density_grid(const std::filesystem::path& path, const std::string& grid_name = "density");
 
+// The whole file, for decode_density_grids; VdbError when it is missing, a directory or unreadable.
+std::string read_vdb_bytes(const std::filesystem::path& path);
+
+// As read_density_grid, for several grids of one file's bytes parsed once; `source` names the bytes in
+// messages (a path, or "builtin:cloud"). The result is in the order of grid_names.
+std::vector<DensityGrid> decode_density_grids(const std::string& bytes, const std::string& source,
+                                              const std::vector<std::string>& grid_names);
+
 // The bytes of a .vdb file holding `grid` as a float fog volume named grid.name: non-zero voxels
 // active, the rest background 0. Callers write them (atomically where it matters).
 std::string encode_vdb(const DensityGrid& grid);
+// Several grids in one file, in order (vdb-export: density and albedo).
+std::string encode_vdb(const std::vector<DensityGrid>& grids);
 
 // A fog sphere made the way VFX tools make one: a level-set sphere (OpenVDB createLevelSetSphere)
 // converted with sdfToFogVolume, so the interior is 1 (stored as tiles where it can) and density
 // falls to 0 over the three voxels inside the surface.
 std::string encode_fog_sphere_vdb(double radius, const glm::dvec3& center, double voxel_size,
                                   const std::string& grid_name = "density");
+
+// Built-in sample volumes, made with OpenVDB's own tools (level sets, CSG, fog conversion) because the
+// project has no internet to fetch real ones from: what "builtin:NAME[:RESOLUTION]" names in scenes and
+// presets, what `brume vdb-sample` writes, what tests and benchmarks convert. Each fits [-1, 1]^3, a
+// float fog volume named "density" with `resolution` voxels across those two units.
+struct SampleVolumeInfo {
+    const char* name;
+    const char* description;
+};
+inline constexpr int kMinSampleResolution = 8;
+inline constexpr int kMaxSampleResolution = 1024;
+std::span<const SampleVolumeInfo> sample_volumes();
+// Throws VdbError for an unknown name (listing the known ones) or a resolution out of range.
+std::string encode_sample_volume_vdb(const std::string& name, int resolution);
 
 // Well-formed files that read_density_grid must refuse, for the tests of its checks.
 enum class RefusedVdbSample {

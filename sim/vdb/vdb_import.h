@@ -3,7 +3,7 @@
 #pragma once
 
 #include "sim/scene.h"
-#include "sim/vdb/density_grid.h"
+#include "sim/density_grid.h"
 #include "sim/vdb/optical_depth_error.h"
 #include "sim/vdb/sphere_cloud.h"
 

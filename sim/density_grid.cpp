@@ -1,4 +1,4 @@
-#include "sim/vdb/density_grid.h"
+#include "sim/density_grid.h"
 
 #include <glm/common.hpp>
 

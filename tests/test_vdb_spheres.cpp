@@ -1,6 +1,6 @@
 // Density grids as sphere clouds (sim/vdb/sphere_cloud.h) and the optical-depth error measured against
-// the grid itself (sim/vdb/optical_depth_error.h). Bounds are what the equal-volume model meets: its
-// error is dominated by sphere-versus-cube shape, not by the density tolerance (see sphere_cloud.h).
+// the grid itself (sim/vdb/optical_depth_error.h): the tolerance bounds that error, also from views the
+// conversion never saw; mass is conserved exactly; uniform regions cost few spheres.
 #include "sim/vdb/optical_depth_error.h"
 #include "sim/vdb/sphere_cloud.h"
 #include "sim/vdb/vdb_file.h"
@@ -13,7 +13,9 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdint>
+#include <string>
 
 namespace brume {
 namespace {
@@ -27,6 +29,16 @@ double sphere_mass(const std::vector<Sphere>& spheres) {
 }
 
 class VdbSpheres : public ScratchDir {};
+
+// A wide-angle camera inside the lumpy cloud, looking across it.
+Camera inside_camera() {
+    Camera c;
+    c.position = {0.1, 0.05, 0.2};
+    c.look_at = {1.0, 0.3, -0.4};
+    c.fov_y_deg = 90.0;
+    c.width = c.height = 96;
+    return c;
+}
 
 TEST(VdbOpticalDepth, GridDepthIsTheExactIntegralOfTheTrilinearField) {
     // Along an axis through a uniform box, the field ramps from 0 to the density over the half voxel
@@ -56,25 +68,37 @@ TEST(VdbOpticalDepth, SphereDepthIsExtinctionTimesChord) {
     EXPECT_EQ(depth[0], 0.0);
 }
 
-TEST(VdbSphereCloud, UniformBoxIsOneSphereOfItsVolume) {
+TEST(VdbSphereCloud, AUniformCellIsOneSphereOfItsMass) {
+    // No cap and any threshold: the uniform box is one cell, one sphere at its centre.
     const DensityGrid box = uniform_box();
-    SphereCloudOptions o;
-    o.extinction_scale = 4.0;
-    o.albedo = {0.9, 0.8, 0.7};
-    const SphereCloud cloud = grid_to_spheres(box, o);
-    ASSERT_EQ(cloud.spheres.size(), 1u);
-    const Sphere& s = cloud.spheres[0];
-    EXPECT_NEAR(glm::length(s.center - 0.5 * (box.world_min() + box.world_max())), 0.0, 1e-12);
-    EXPECT_DOUBLE_EQ(s.extinction, 2.0);
-    EXPECT_EQ(s.albedo, o.albedo);
-    EXPECT_NEAR(sphere_mass(cloud.spheres), 4.0 * box.mass(), 1e-12 * box.mass());
+    for (const double scale : {1.0, 2.0, 3.5}) {
+        SphereCloudOptions o;
+        o.extinction_scale = 4.0;
+        o.albedo = {0.9, 0.8, 0.7};
+        o.sphere_scale = scale;
+        const std::vector<Sphere> spheres = grid_to_spheres_at(box, o, 0.0);
+        ASSERT_EQ(spheres.size(), 1u);
+        const Sphere& s = spheres[0];
+        EXPECT_NEAR(glm::length(s.center - 0.5 * (box.world_min() + box.world_max())), 0.0, 1e-12);
+        const double cell_volume = 12 * 8 * 20 * std::pow(box.voxel_size, 3);
+        EXPECT_NEAR(s.radius, scale * std::cbrt(3.0 * cell_volume / (4.0 * M_PI)), 1e-12);
+        EXPECT_NEAR(s.extinction, 0.5 * 4.0 / (scale * scale * scale), 1e-12);  // the mass spread thinner
+        EXPECT_EQ(s.albedo, o.albedo);
+        EXPECT_NEAR(sphere_mass(spheres), 4.0 * box.mass(), 1e-12 * box.mass());
+    }
 }
 
-TEST(VdbSphereCloud, UniformBallNeedsFarFewerSpheresThanVoxels) {
-    const DensityGrid ball = uniform_ball(48);
-    const SphereCloud cloud = grid_to_spheres(ball, {});
-    EXPECT_LT(cloud.spheres.size() * 5, ball.active_voxels) << cloud.spheres.size() << " spheres";
-    EXPECT_NEAR(sphere_mass(cloud.spheres), ball.mass(), 1e-9 * ball.mass());
+TEST(VdbSphereCloud, CellCapSplitsUniformRegions) {
+    const DensityGrid box = uniform_box();  // 12 x 8 x 20 voxels
+    SphereCloudOptions o;
+    o.max_cell_voxels = 4;
+    const std::vector<Sphere> spheres = grid_to_spheres_at(box, o, 1.0);
+    // Halving keeps cells near-cubic: (12, 8, 20) halves x and z into 4 cells of (6, 8, 10); those halve
+    // every axis into 8 of (3, 4, 5); 5 > 4, so those halve every axis again into 8 of at most (2, 2, 3).
+    EXPECT_EQ(spheres.size(), 4u * 8u * 8u);
+    EXPECT_NEAR(sphere_mass(spheres), box.mass(), 1e-12 * box.mass());
+    o.max_cell_voxels = 1;
+    EXPECT_EQ(grid_to_spheres_at(box, o, 1.0).size(), box.values.size());
 }
 
 TEST(VdbSphereCloud, EmptyCellsMakeNoSpheresAndNoCellIsEmpty) {
@@ -85,45 +109,154 @@ TEST(VdbSphereCloud, EmptyCellsMakeNoSpheresAndNoCellIsEmpty) {
     EXPECT_TRUE(grid_to_spheres(zeros, {}).spheres.empty());
 }
 
-TEST(VdbSphereCloud, MassIsConservedAtEveryTolerance) {
-    const DensityGrid cloud = noise_cloud(48);
-    for (const double tol : {0.0, 0.01, 0.05, 0.2, 1.0}) {
+// The tolerance is a bound on the measured optical-depth error, not on densities: for smooth, lumpy and
+// hard-edged grids, every tolerance the grid can meet is met over the conversion's views.
+TEST(VdbSphereCloudTolerance, MeasuredErrorIsWithinTheTolerance) {
+    const DensityGrid grids[] = {noise_cloud(40), uniform_ball(40)};
+    for (const DensityGrid& grid : grids)
+        for (const double tol : {0.03, 0.1, 0.3}) {
+            SphereCloudOptions o;
+            o.tolerance = tol;
+            o.extinction_scale = 3.0;
+            const SphereCloud c = grid_to_spheres(grid, o);
+            EXPECT_LE(c.error.relative_rms, tol) << tol;
+            EXPECT_GT(c.error.rays, 4000);
+            EXPECT_GE(c.clouds_tried, 1);
+            EXPECT_NEAR(sphere_mass(c.spheres), 3.0 * grid.mass(), 1e-9 * grid.mass()) << tol;
+            // The reported error is the cloud's: measured again independently it is the same.
+            const OpticalDepthViews views(grid, 3.0, grid_axis_views(grid, 96));
+            EXPECT_DOUBLE_EQ(views.measure(c.spheres).relative_rms, c.error.relative_rms) << tol;
+        }
+}
+
+// Views the conversion never saw. From outside (an oblique camera) the error is no larger than along the
+// axes, where a sphere lattice ripples most. From inside the medium, rays start where the spheres blur the
+// field most, and the error is larger (measured 6.2% and 12.4% at tolerances 5% and 10%): a scene's camera
+// is therefore always among the conversion's views (sim/vdb/volume_loader.cpp), and the next test holds
+// such a view to the tolerance.
+TEST(VdbSphereCloudTolerance, ErrorHoldsFromViewsTheConversionDidNotSee) {
+    const DensityGrid grid = noise_cloud(48);
+    Camera oblique;
+    oblique.position = {2.1, 1.4, 2.6};
+    oblique.look_at = {0.0, 0.0, 0.0};
+    oblique.width = oblique.height = 96;
+    for (const double tol : {0.05, 0.1}) {
         SphereCloudOptions o;
         o.tolerance = tol;
-        o.extinction_scale = 2.5;
-        EXPECT_NEAR(sphere_mass(grid_to_spheres(cloud, o).spheres), 2.5 * cloud.mass(), 1e-9 * cloud.mass()) << tol;
+        const SphereCloud c = grid_to_spheres(grid, o);
+        const OpticalDepthError outside = measure_optical_depth_error(grid, 1.0, c.spheres, oblique);
+        EXPECT_GT(outside.rays, 1000);
+        EXPECT_LE(outside.relative_rms, 1.25 * tol) << tol;
+        EXPECT_LT(std::abs(outside.bias), 0.5 * tol) << tol;
+        const OpticalDepthError inside = measure_optical_depth_error(grid, 1.0, c.spheres, inside_camera());
+        EXPECT_LE(inside.relative_rms, 1.5 * tol) << tol;
     }
 }
 
-TEST(VdbSphereCloud, CoarserToleranceNeverMakesMoreSpheres) {
-    const DensityGrid cloud = noise_cloud(32);
+TEST(VdbSphereCloudTolerance, GivenViewsAreHeldToTheToleranceToo) {
+    const DensityGrid grid = noise_cloud(48);
+    SphereCloudOptions o;
+    o.tolerance = 0.05;
+    o.views.push_back(inside_camera());
+    const SphereCloud c = grid_to_spheres(grid, o);
+    EXPECT_LE(c.error.relative_rms, 0.05);
+    std::vector<Camera> all = grid_axis_views(grid, o.axis_view_resolution);
+    all.push_back(inside_camera());
+    EXPECT_DOUBLE_EQ(OpticalDepthViews(grid, 1.0, all).measure(c.spheres).relative_rms, c.error.relative_rms);
+    // The inside view alone: the pooled figure does not hide it behind the axis views' many rays.
+    EXPECT_LE(measure_optical_depth_error(grid, 1.0, c.spheres, inside_camera()).relative_rms, 1.25 * 0.05);
+}
+
+TEST(VdbSphereCloudTolerance, UniformBallNeedsFarFewerSpheresThanVoxels) {
+    const DensityGrid ball = uniform_ball(64);
+    SphereCloudOptions o;
+    o.tolerance = 0.1;
+    const SphereCloud c = grid_to_spheres(ball, o);
+    EXPECT_LT(c.spheres.size() * 10, ball.active_voxels) << c.spheres.size() << " spheres";
+    EXPECT_LE(c.error.relative_rms, 0.1);
+    EXPECT_NEAR(sphere_mass(c.spheres), ball.mass(), 1e-9 * ball.mass());
+}
+
+TEST(VdbSphereCloudTolerance, LooserToleranceNeverMakesMoreSpheres) {
+    const DensityGrid cloud = noise_cloud(40);
     std::size_t previous = SIZE_MAX;
-    for (const double tol : {0.0, 0.01, 0.05, 0.2, 0.5, 1.0}) {
+    for (const double tol : {0.03, 0.1, 0.3}) {
         SphereCloudOptions o;
         o.tolerance = tol;
         const std::size_t n = grid_to_spheres(cloud, o).spheres.size();
         EXPECT_LE(n, previous) << tol;
         previous = n;
     }
-    EXPECT_EQ(previous, 1u);  // tolerance 1: the whole grid is one cell
 }
 
-TEST(VdbSphereCloud, MaxSpheresCoarsensTheToleranceUntilTheCountFits) {
+TEST(VdbSphereCloudTolerance, AnUnreachableToleranceSaysWhatCanBeReached) {
+    // The lumpy cloud at 48^3 has detail a few voxels across, which spheres twice their cell's radius blur.
+    const DensityGrid cloud = noise_cloud(24);
+    SphereCloudOptions o;
+    o.tolerance = 0.001;
+    try {
+        grid_to_spheres(cloud, o);
+        FAIL() << "a 0.1% tolerance was met";
+    } catch (const ToleranceUnreachable& e) {
+        EXPECT_GT(e.finest_error(), 0.001);
+        EXPECT_NE(std::string(e.what()).find("one sphere per voxel"), std::string::npos) << e.what();
+        // Asking for what the finest cloud reaches gets exactly that cloud.
+        o.tolerance = e.finest_error();
+        const SphereCloud c = grid_to_spheres(cloud, o);
+        EXPECT_LE(c.error.relative_rms, o.tolerance);
+    }
+}
+
+TEST(VdbSphereCloud, SphereScaleTradesOverlapForRipple) {
+    // A uniform ball at one sphere per voxel: cells of equal volume leave ~10% RMS of lattice ripple; twice
+    // the radius (an eighth of the extinction) leaves under 1.5% (sphere_cloud.h has the Fourier argument).
+    const DensityGrid ball = uniform_ball(40);
+    const OpticalDepthViews views(ball, 1.0, grid_axis_views(ball, 96));
+    SphereCloudOptions o;
+    o.max_cell_voxels = 1;
+    o.sphere_scale = 1.0;
+    const double equal_volume = views.measure(grid_to_spheres_at(ball, o, 0.0)).relative_rms;
+    o.sphere_scale = 2.0;
+    const double doubled = views.measure(grid_to_spheres_at(ball, o, 0.0)).relative_rms;
+    EXPECT_GT(equal_volume, 0.05);
+    EXPECT_LT(doubled, 0.025);  // what remains is mostly the ball's hard edge, blurred
+    EXPECT_LT(doubled * 4.0, equal_volume);
+}
+
+TEST(VdbSphereCloud, MaxSpheresGivesTheMostAccurateCloudThatFits) {
     const DensityGrid cloud = noise_cloud(48);
-    const std::size_t unlimited = grid_to_spheres(cloud, {}).spheres.size();
-    for (const std::size_t limit : {std::size_t(1), std::size_t(100), unlimited / 4, unlimited}) {
+    double previous_error = INFINITY;
+    for (const std::size_t limit : {std::size_t(1), std::size_t(100), std::size_t(3000), std::size_t(1000000)}) {
         SphereCloudOptions o;
         o.max_spheres = limit;
         const SphereCloud c = grid_to_spheres(cloud, o);
         EXPECT_LE(c.spheres.size(), limit);
-        EXPECT_GE(c.tolerance, o.tolerance);
-        if (limit == unlimited) {
-            EXPECT_EQ(c.tolerance, o.tolerance);
-        }
-        if (limit == unlimited / 4) {
-            EXPECT_GT(c.spheres.size(), limit / 2) << "bisection stopped far short";
-        }
+        EXPECT_GE(c.spheres.size(), 1u);
+        EXPECT_LE(c.error.relative_rms, previous_error) << limit;  // more spheres allowed, never worse
         EXPECT_NEAR(sphere_mass(c.spheres), cloud.mass(), 1e-9 * cloud.mass());
+        previous_error = c.error.relative_rms;
+        if (limit == 1000000) {
+            EXPECT_EQ(c.spheres.size(), std::size_t(std::count_if(cloud.values.begin(), cloud.values.end(),
+                                                                  [](float v) { return v > 0.0f; })));
+        }
+    }
+}
+
+TEST(VdbSphereCloud, AlbedoGridTintsEachSphereByItsCell) {
+    // Density 1 everywhere; albedo 0.2 for x < 0 and 0.8 for x > 0, on the same voxels.
+    const DensityGrid density = analytic_grid(16, 0.125, [](glm::dvec3) { return 1.0; });
+    const DensityGrid albedo = analytic_grid(16, 0.125, [](glm::dvec3 p) { return p.x < 0.0 ? 0.2 : 0.8; });
+    SphereCloudOptions o;
+    o.albedo = {1.0, 0.5, 0.25};
+    o.albedo_grid = &albedo;
+    o.max_cell_voxels = 4;
+    const std::vector<Sphere> spheres = grid_to_spheres_at(density, o, 1.0);
+    ASSERT_EQ(spheres.size(), 64u);
+    for (const Sphere& s : spheres) {
+        const double a = s.center.x < 0.0 ? 0.2 : 0.8;
+        EXPECT_NEAR(s.albedo.x, 1.0 * a, 1e-6);
+        EXPECT_NEAR(s.albedo.y, 0.5 * a, 1e-6);
+        EXPECT_NEAR(s.albedo.z, 0.25 * a, 1e-6);
     }
 }
 
@@ -132,48 +265,35 @@ TEST(VdbSphereCloud, BadOptionsAreRefused) {
     SphereCloudOptions o;
     o.tolerance = 1.5;
     EXPECT_THROW(grid_to_spheres(box, o), std::invalid_argument);
+    o.tolerance = 0.0;
+    EXPECT_THROW(grid_to_spheres(box, o), std::invalid_argument);
     o = {};
     o.extinction_scale = 0.0;
     EXPECT_THROW(grid_to_spheres(box, o), std::invalid_argument);
     o = {};
     o.albedo = {1.0, 2.0, 0.0};
     EXPECT_THROW(grid_to_spheres(box, o), std::invalid_argument);
+    o = {};
+    o.sphere_scale = 0.5;
+    EXPECT_THROW(grid_to_spheres(box, o), std::invalid_argument);
 }
 
-// The measured error of the equal-volume model on smooth grids, from the camera vdb-import writes. It
-// does not fall below about 10% RMS whatever the tolerance: that is the shape error of spheres standing
-// in for cubes (measured 10.8%, 10.6%, 10.4% at 0.2, 0.05, 0.01).
-TEST_F(VdbSpheres, FogSphereOpticalDepthErrorIsMeasuredAndBounded) {
+// Through a file: vdb-import's path, with the camera it frames the cloud with among the measured views.
+TEST_F(VdbSpheres, FogSphereFileConvertsWithinTolerance) {
     write_bytes(dir_ / "fog.vdb", encode_fog_sphere_vdb(1.0, {0, 0, 0}, 1.0 / 32.0));
-    for (const double tol : {0.2, 0.05, 0.01}) {
+    for (const double tol : {0.2, 0.1, 0.05}) {
         SphereCloudOptions o;
         o.tolerance = tol;
         o.extinction_scale = 2.0;
         const VdbImport im = import_vdb(dir_ / "fog.vdb", "density", o);
-        RecordProperty("spheres_tol_" + std::to_string(tol), int(im.scene.spheres.size()));
         EXPECT_LT(im.scene.spheres.size() * 3, im.active_voxels) << tol;
         EXPECT_NEAR(im.sphere_mass, im.grid_mass, 1e-9 * im.grid_mass);
         EXPECT_GT(im.error.rays, 2000);
-        EXPECT_LT(im.error.relative_rms, 0.13) << tol;
-        EXPECT_LT(im.error.relative_max, 0.45) << tol;
-        EXPECT_LT(std::abs(im.error.bias), 0.01) << tol;
+        EXPECT_LE(im.error.relative_rms, tol) << tol;
         EXPECT_EQ(im.scene.source, (dir_ / "fog.vdb").string());
-    }
-}
-
-TEST(VdbSphereCloudError, NoiseCloudErrorFallsWithTheTolerance) {
-    // Measured 19% RMS at 0.2 (1121 spheres), 15% at 0.05, 11% at 0.01 (33882 of 49509 voxels).
-    const DensityGrid cloud = noise_cloud(48);
-    double previous_rms = 1.0;
-    for (const double tol : {0.2, 0.05, 0.01}) {
-        SphereCloudOptions o;
-        o.tolerance = tol;
-        const VdbImport im = import_density_grid(cloud, o);
-        EXPECT_LT(im.error.relative_rms, tol == 0.2 ? 0.21 : 0.16) << tol;
-        EXPECT_LT(im.error.relative_rms, previous_rms) << tol;
-        EXPECT_LT(im.error.relative_max, 0.45) << tol;
-        EXPECT_LT(std::abs(im.error.bias), 0.02) << tol;
-        previous_rms = im.error.relative_rms;
+        // The scene camera's own view, measured alone, is within tolerance too.
+        const DensityGrid grid = read_density_grid(dir_ / "fog.vdb");
+        EXPECT_LE(measure_optical_depth_error(grid, 2.0, im.scene.spheres, im.scene.camera).relative_rms, 1.25 * tol);
     }
 }
 

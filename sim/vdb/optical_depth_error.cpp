@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <atomic>
 #include <limits>
+#include <thread>
 
 namespace brume {
 
@@ -30,9 +32,14 @@ void clip_to_box(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo,
     }
 }
 
-// Conservative pixel rectangle [i0, i1) x [j0, j1) of a sphere: the projection of its bounding cube's corners,
-// or the whole image when a corner is not in front of the eye.
+// Conservative pixel rectangle [i0, i1) x [j0, j1) of a sphere: empty behind the eye, else the projection of
+// its bounding cube's corners, or the whole image when a corner is not in front of the eye.
 void pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1, int& j0, int& j1) {
+    // Wholly behind the eye: no ray (t >= 0) meets it. (A camera inside a cloud has half the cloud there.)
+    if (glm::dot(s.center - rays.eye, rays.forward) < -s.radius) {
+        i0 = i1 = j0 = j1 = 0;
+        return;
+    }
     i0 = 0, i1 = rays.width, j0 = 0, j1 = rays.height;
     const double rr = glm::dot(rays.right, rays.right), uu = glm::dot(rays.up, rays.up);
     double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
@@ -107,29 +114,103 @@ std::vector<double> sphere_optical_depths(const std::vector<Sphere>& spheres, co
     return depth;
 }
 
+namespace {
+
+// Runs body(index) for index in [0, count) on `threads` threads (0: all), interleaved so uneven rows share out.
+template <class Body>
+void parallel_for(int count, int threads, const Body& body) {
+    unsigned n = threads > 0 ? unsigned(threads) : std::max(1u, std::thread::hardware_concurrency());
+    n = std::min<unsigned>(n, unsigned(std::max(count, 1)));
+    if (n <= 1) {
+        for (int i = 0; i < count; ++i) body(i);
+        return;
+    }
+    std::atomic<int> next{0};
+    std::vector<std::thread> pool;
+    for (unsigned t = 0; t < n; ++t)
+        pool.emplace_back([&] {
+            for (int i = next++; i < count; i = next++) body(i);
+        });
+    for (std::thread& t : pool) t.join();
+}
+
+std::vector<double> grid_depths(const DensityGrid& grid, double extinction_scale, const Camera& camera, int threads) {
+    const CameraRays rays = make_camera_rays(camera);
+    std::vector<double> depth(std::size_t(rays.width) * std::size_t(rays.height), 0.0);
+    parallel_for(rays.height, threads, [&](int j) {
+        for (int i = 0; i < rays.width; ++i)
+            depth[std::size_t(j) * std::size_t(rays.width) + std::size_t(i)] =
+                grid_optical_depth(grid, extinction_scale, rays.eye, rays.pixel_direction(i, j));
+    });
+    return depth;
+}
+
+struct ErrorSums {
+    double d2 = 0.0, g2 = 0.0, d = 0.0, g = 0.0, max_d = 0.0, max_g = 0.0;
+    long rays = 0;
+    void add(double grid, double spheres) {
+        if (grid == 0.0 && spheres == 0.0) return;
+        ++rays;
+        const double diff = spheres - grid;
+        d2 += diff * diff, g2 += grid * grid, d += diff, g += grid;
+        max_d = std::max(max_d, std::abs(diff));
+        max_g = std::max(max_g, grid);
+    }
+    OpticalDepthError result() const {
+        OpticalDepthError e;
+        e.rays = rays;
+        e.max_grid_depth = max_g;
+        if (g > 0.0) {
+            e.relative_rms = std::sqrt(d2 / g2);
+            e.relative_max = max_d / max_g;
+            e.bias = d / g;
+        } else if (rays > 0) {
+            e.relative_rms = e.relative_max = e.bias = std::numeric_limits<double>::infinity();  // depth where none is
+        }
+        return e;
+    }
+};
+
+}  // namespace
+
+std::vector<Camera> grid_axis_views(const DensityGrid& grid, int resolution) {
+    const glm::dvec3 lo = grid.support_min(), hi = grid.support_max();
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    const double radius = 0.5 * glm::length(hi - lo);
+    std::vector<Camera> views;
+    const glm::dvec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const glm::dvec3 ups[3] = {{0, 1, 0}, {0, 0, 1}, {0, 1, 0}};
+    for (int a = 0; a < 3; ++a) {
+        Camera c;
+        c.fov_y_deg = 30.0;
+        // The bounding sphere just fits the view, so every ray that can meet the grid is a pixel ray.
+        c.position = centre - axes[a] * (radius / std::sin(c.fov_y_deg * 0.5 * 3.14159265358979323846 / 180.0));
+        c.look_at = centre;
+        c.up = ups[a];
+        c.width = c.height = resolution;
+        views.push_back(c);
+    }
+    return views;
+}
+
+OpticalDepthViews::OpticalDepthViews(const DensityGrid& grid, double extinction_scale, std::vector<Camera> views,
+                                     int threads)
+    : views_(std::move(views)), threads_(threads) {
+    for (const Camera& c : views_) grid_depths_.push_back(grid_depths(grid, extinction_scale, c, threads_));
+}
+
+OpticalDepthError OpticalDepthViews::measure(const std::vector<Sphere>& spheres) const {
+    std::vector<std::vector<double>> sphere_depths(views_.size());
+    parallel_for(int(views_.size()), threads_, [&](int v) { sphere_depths[v] = sphere_optical_depths(spheres, views_[v]); });
+    ErrorSums sums;
+    for (std::size_t v = 0; v < views_.size(); ++v)
+        for (std::size_t p = 0; p < grid_depths_[v].size(); ++p) sums.add(grid_depths_[v][p], sphere_depths[v][p]);
+    return sums.result();
+}
+
 OpticalDepthError measure_optical_depth_error(const DensityGrid& grid, double extinction_scale,
                                               const std::vector<Sphere>& spheres, const Camera& camera) {
-    const CameraRays rays = make_camera_rays(camera);
-    const std::vector<double> sphere_depth = sphere_optical_depths(spheres, camera);
-    OpticalDepthError e;
-    double sum_d2 = 0.0, sum_g2 = 0.0, sum_d = 0.0, sum_g = 0.0, max_d = 0.0;
-    for (int j = 0; j < rays.height; ++j)
-        for (int i = 0; i < rays.width; ++i) {
-            const double g = grid_optical_depth(grid, extinction_scale, rays.eye, rays.pixel_direction(i, j));
-            const double s = sphere_depth[std::size_t(j) * std::size_t(rays.width) + std::size_t(i)];
-            if (g == 0.0 && s == 0.0) continue;
-            ++e.rays;
-            const double d = s - g;
-            sum_d2 += d * d, sum_g2 += g * g, sum_d += d, sum_g += g;
-            max_d = std::max(max_d, std::abs(d));
-            e.max_grid_depth = std::max(e.max_grid_depth, g);
-        }
-    if (sum_g > 0.0) {
-        e.relative_rms = std::sqrt(sum_d2 / sum_g2);
-        e.relative_max = max_d / e.max_grid_depth;
-        e.bias = sum_d / sum_g;
-    }
-    return e;
+    return OpticalDepthViews(grid, extinction_scale, {camera}).measure(spheres);
 }
 
 }  // namespace brume

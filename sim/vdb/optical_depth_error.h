@@ -1,23 +1,24 @@
-// How far a sphere cloud's optical depth is from its grid's, measured over the pixel rays of a camera:
-// the grid's optical depth exactly (the trilinear field is a cubic between voxel planes, which Simpson's
-// rule integrates exactly) against the spheres' sum of extinction * chord. This is the error that
-// grid_to_spheres' tolerance aims at but does not bound: see sphere_cloud.h.
+// How far a sphere cloud's optical depth is from its grid's, measured over the pixel rays of cameras: the
+// grid's optical depth exactly (the trilinear field is a cubic between voxel planes, which Simpson's rule
+// integrates exactly) against the spheres' sum of extinction * chord. This is the error a sphere cloud's
+// tolerance bounds (sim/vdb/sphere_cloud.h).
 #pragma once
 
-#include "sim/scene.h"
 #include "sim/density_grid.h"
+#include "sim/scene.h"
 
+#include <span>
 #include <vector>
 
 namespace brume {
 
 struct OpticalDepthError {
     // Over the rays where either model has optical depth, with d = spheres - grid per ray:
-    double relative_rms = 0.0;  // sqrt(sum d^2 / sum grid^2)
+    double relative_rms = 0.0;  // sqrt(sum d^2 / sum grid^2): the figure tolerances bound
     double relative_max = 0.0;  // max |d| / max grid
     double bias = 0.0;          // sum d / sum grid: a systematic excess (+) or deficit (-)
     double max_grid_depth = 0.0;
-    int rays = 0;  // rays that meet either model
+    long rays = 0;  // rays that meet either model
 };
 
 // Optical depth of the grid (density * extinction_scale) along the ray origin + t * unit_dir, t >= 0.
@@ -28,6 +29,30 @@ double grid_optical_depth(const DensityGrid& grid, double extinction_scale, cons
 // rays (sim/camera_rays.h), along the whole ray (t >= 0).
 std::vector<double> sphere_optical_depths(const std::vector<Sphere>& spheres, const Camera& camera);
 
+// Cameras looking at the grid along +x, +y and +z, `resolution` pixels square, far enough for the whole
+// support to fit. Axis-aligned rays are where the voxel lattice shows most (a sphere cloud's ripple adds
+// up coherently along them), so they make a conservative test of any conversion.
+std::vector<Camera> grid_axis_views(const DensityGrid& grid, int resolution);
+
+// The grid's optical depth along every pixel ray of a set of views, computed once (the expensive part),
+// against which any number of sphere clouds are then measured: a conversion tries several.
+class OpticalDepthViews {
+public:
+    // `threads` 0: every hardware thread.
+    OpticalDepthViews(const DensityGrid& grid, double extinction_scale, std::vector<Camera> views, int threads = 0);
+
+    // Pooled over the rays of every view.
+    OpticalDepthError measure(const std::vector<Sphere>& spheres) const;
+
+    const std::vector<Camera>& views() const { return views_; }
+
+private:
+    std::vector<Camera> views_;
+    std::vector<std::vector<double>> grid_depths_;  // per view, per pixel
+    int threads_;
+};
+
+// One-off measurement over one camera (vdb-import's report, tests).
 OpticalDepthError measure_optical_depth_error(const DensityGrid& grid, double extinction_scale,
                                               const std::vector<Sphere>& spheres, const Camera& camera);
 

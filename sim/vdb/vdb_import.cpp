@@ -1,9 +1,11 @@
 #include "sim/vdb/vdb_import.h"
 
+#include "sim/vdb/density_source.h"
 #include "sim/vdb/vdb_file.h"
 
 #include <glm/geometric.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -23,30 +25,45 @@ Camera frame_grid_camera(const DensityGrid& grid) {
 }
 
 VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions& options) {
-    SphereCloud cloud = grid_to_spheres(grid, options);
+    const auto start = std::chrono::steady_clock::now();
+    SphereCloudOptions with_camera = options;
+    const Camera camera = frame_grid_camera(grid);
+    with_camera.views.push_back(camera);
+    SphereCloud cloud = grid_to_spheres(grid, with_camera);
     if (cloud.spheres.empty())
         throw std::runtime_error("grid \"" + grid.name + "\" has no density (every active voxel is 0)");
     VdbImport out;
-    out.tolerance = cloud.tolerance;
+    out.split_threshold = cloud.split_threshold;
+    out.max_cell_voxels = cloud.max_cell_voxels;
+    out.lattice_spacing = cloud.lattice_spacing;
+    out.clouds_tried = cloud.clouds_tried;
+    out.error = cloud.error;
     out.active_voxels = grid.active_voxels;
     out.grid_mass = grid.mass() * options.extinction_scale;
     for (const Sphere& s : cloud.spheres)
         out.sphere_mass += s.extinction * 4.0 / 3.0 * 3.14159265358979323846 * s.radius * s.radius * s.radius;
-    out.scene.camera = frame_grid_camera(grid);
+    out.scene.camera = camera;
     out.scene.spheres = std::move(cloud.spheres);
-    out.error = measure_optical_depth_error(grid, options.extinction_scale, out.scene.spheres, out.scene.camera);
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }
 
-VdbImport import_vdb(const std::filesystem::path& path, const std::string& grid_name,
-                     const SphereCloudOptions& options) {
-    const DensityGrid grid = read_density_grid(path, grid_name);
+VdbImport import_vdb(const std::filesystem::path& path, const std::string& grid_name, const SphereCloudOptions& options,
+                     const std::string& albedo_grid) {
+    DensitySource source;
+    source.file = path.string();
+    source.grid = grid_name;
+    std::vector<std::string> names{grid_name};
+    if (!albedo_grid.empty()) names.push_back(albedo_grid);
+    const std::vector<DensityGrid> grids = read_density_source(source, names);
+    SphereCloudOptions with_albedo = options;
+    if (grids.size() > 1) with_albedo.albedo_grid = &grids[1];
     VdbImport out;
     try {
-        out = import_density_grid(grid, options);
+        out = import_density_grid(grids[0], with_albedo);
     } catch (const std::invalid_argument&) {
         throw;
-    } catch (const std::runtime_error& e) {
+    } catch (const std::runtime_error& e) {  // no density, an unreachable tolerance
         throw VdbError(path.string() + ": " + e.what());
     }
     out.scene.source = path.string();

@@ -14,11 +14,15 @@ namespace brume {
 
 struct VdbImport {
     Scene scene;
-    double tolerance = 0.0;  // the one grid_to_spheres used
+    double split_threshold = 0.0;  // how grid_to_spheres made the cells (sim/vdb/sphere_cloud.h SphereCloud)
+    int max_cell_voxels = 0;
+    double lattice_spacing = 0.0;
+    int clouds_tried = 0;
     std::uint64_t active_voxels = 0;
     double grid_mass = 0.0;    // integral of extinction over the grid
     double sphere_mass = 0.0;  // sum of extinction * volume over the spheres
-    OpticalDepthError error;   // over the scene camera's pixel rays
+    OpticalDepthError error;   // over the conversion's views: the three axis views and the scene camera
+    double seconds = 0.0;      // converting and measuring
 };
 
 // A camera outside the grid's bounding sphere, looking at its centre from the front (+z) and a little
@@ -29,8 +33,10 @@ Camera frame_grid_camera(const DensityGrid& grid);
 // std::runtime_error when the grid has no density at all (nothing to render).
 VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions& options);
 
-// read_density_grid (throws VdbError) then import_density_grid; scene.source is the file.
-VdbImport import_vdb(const std::filesystem::path& path, const std::string& grid_name,
-                     const SphereCloudOptions& options);
+// Reads the grid (and, when albedo_grid is not empty, that grid of the same file for options.albedo_grid)
+// from a file or a "builtin:NAME[:RES]" sample (sim/vdb/density_source.h), then import_density_grid;
+// scene.source is the file. Throws VdbError naming the file for every problem with it.
+VdbImport import_vdb(const std::filesystem::path& path, const std::string& grid_name, const SphereCloudOptions& options,
+                     const std::string& albedo_grid = "");
 
 }  // namespace brume

@@ -1,11 +1,14 @@
 #include "sim/emitters.h"
 
+#include "sim/density_sampler.h"
 #include "sim/rng.h"
+#include "sim/scene_file.h"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace brume {
 namespace {
@@ -21,6 +24,7 @@ enum Slot : std::uint64_t {
     kJitter0, kJitter1, kJitter2,
     kLifetime, kRadius, kExtinction,
     kAlbedoR, kAlbedoG, kAlbedoB,
+    kPos3,                       // density shape: the voxel (kPos0..2 are its tent offsets)
 };
 
 double lerp(const Range& r, double u) { return r.min + (r.max - r.min) * u; }
@@ -53,6 +57,9 @@ glm::dvec3 sample_position(const EmitterDesc& e, std::uint64_t key) {
         const double phi = 2.0 * kPi * u1;
         return e.center + r * (std::cos(phi) * t + std::sin(phi) * b);
     }
+    case EmitterShape::Density:
+        require_density_loaded(e);
+        return e.density->sample(rng::uniform(key, kPos3), u0, u1, u2);
     }
     return e.center;
 }
@@ -71,6 +78,12 @@ glm::dvec3 sample_direction(const EmitterDesc& e, std::uint64_t key) {
 }
 
 }  // namespace
+
+void require_density_loaded(const EmitterDesc& e) {
+    if (e.shape == EmitterShape::Density && !e.density)
+        throw std::logic_error("emitter " + toml_text::quoted(e.name) +
+                               ": its density grid was not loaded (call load_emitter_densities)");
+}
 
 std::uint64_t continuous_count(const EmitterDesc& e, double t) {
     if (!(e.rate > 0.0)) return 0;

@@ -9,6 +9,10 @@
 //
 // Randomness. A particle is a pure function of (seed, emitter index, emission counter): counter-based
 // draws (sim/rng.h), so nothing else (step size, budget, other emitters) changes it.
+//
+// Shapes. Point, Sphere (uniform in the ball), Box (uniform), Disc (uniform in area), and Density:
+// in proportion to a density grid's trilinear field (sim/density_sampler.h), which must be loaded into
+// EmitterDesc::density first (sim/vdb/emitter_densities.h).
 #pragma once
 
 #include "sim/particles.h"
@@ -24,6 +28,10 @@ namespace brume {
 // decimal text, so rate * t can land a rounding error below an integer the user meant exactly (7.3 * 10
 // in binary is just under 73): values within 1e-10 relative below an integer count as reaching it.
 std::uint64_t continuous_count(const EmitterDesc& e, double t);
+
+// Throws std::logic_error for a Density emitter whose sampler is null: a preset simulated without
+// load_emitter_densities. The simulator checks every emitter up front, so the mistake shows at once.
+void require_density_loaded(const EmitterDesc& e);
 
 // Birth time of continuous particle n (from 0): start + (n + 1) / rate.
 double continuous_birth_time(const EmitterDesc& e, std::uint64_t n);

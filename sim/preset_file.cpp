@@ -1,5 +1,7 @@
 #include "sim/preset_file.h"
 
+#include "sim/volume_transform.h"
+
 #include <glm/geometric.hpp>
 #include <toml++/toml.h>
 
@@ -76,23 +78,26 @@ std::string limit_text(double v) {
 }
 
 // The schema, in the order keys are checked and written.
-constexpr std::array<std::string_view, 5> kSceneRootKeys{"camera", "lighting", "render", "box", "sphere"};
-constexpr std::array<std::string_view, 11> kPresetRootKeys{
-    "preset", "timeline", "camera", "lighting", "render", "box", "sphere", "emitter", "force", "camera_path",
+constexpr std::array<std::string_view, 6> kSceneRootKeys{"camera", "lighting", "render", "box", "sphere", "vdb"};
+constexpr std::array<std::string_view, 12> kPresetRootKeys{
+    "preset", "timeline", "camera", "lighting", "render", "box", "sphere", "vdb", "emitter", "force", "camera_path",
     "render_settings"};
 constexpr std::array<std::string_view, 6> kCameraKeys{"position", "look_at", "up", "fov_y_deg", "width", "height"};
 constexpr std::array<std::string_view, 4> kLightingKeys{"ambient", "sun", "sun_direction", "background"};
 constexpr std::array<std::string_view, 1> kRenderKeys{"min_transmittance"};
 constexpr std::array<std::string_view, 3> kBoxKeys{"min", "max", "radiance"};
 constexpr std::array<std::string_view, 4> kSphereKeys{"center", "radius", "extinction", "albedo"};
+constexpr std::array<std::string_view, 10> kVdbKeys{"file",        "grid",        "albedo_grid", "extinction_scale",
+                                                    "albedo",      "tolerance",   "max_spheres", "translate",
+                                                    "scale",       "rotate"};
 
 constexpr std::array<std::string_view, 2> kPresetKeys{"name", "description"};
 constexpr std::array<std::string_view, 7> kTimelineKeys{"fps",  "duration",      "substeps",  "preroll",
                                                         "seed", "max_particles", "resolution"};
-constexpr std::array<std::string_view, 19> kEmitterKeys{
-    "name",  "shape",     "center", "radius", "half_extent", "normal",   "rate",
-    "start", "stop",      "bursts", "direction", "speed",   "cone_deg", "jitter",
-    "lifetime", "particle_radius", "extinction", "albedo", "curves"};
+constexpr std::array<std::string_view, 24> kEmitterKeys{
+    "name",      "shape",    "center", "radius",   "half_extent",     "normal",     "file",   "grid",
+    "translate", "scale",    "rotate", "rate",     "start",           "stop",       "bursts", "direction",
+    "speed",     "cone_deg", "jitter", "lifetime", "particle_radius", "extinction", "albedo", "curves"};
 constexpr std::array<std::string_view, 2> kBurstKeys{"time", "count"};
 constexpr std::array<std::string_view, 4> kCurveKeys{"radius_growth", "fade_in", "fade_out", "albedo_ramp"};
 constexpr std::array<std::string_view, 2> kRampKeys{"age", "multiplier"};
@@ -106,16 +111,19 @@ constexpr std::array<std::string_view, 3> kCameraKeyKeys{"time", "position", "lo
 constexpr std::array<std::string_view, 2> kRenderSettingsKeys{"method", "exposure"};
 
 // Names in enum order.
-constexpr std::array<std::string_view, 4> kShapeNames{"point", "sphere", "box", "disc"};
+constexpr std::array<std::string_view, 5> kShapeNames{"point", "sphere", "box", "disc", "density"};
 constexpr std::array<std::string_view, 6> kForceNames{"gravity", "buoyancy", "wind", "drag", "turbulence", "vortex"};
 constexpr std::array<std::string_view, 3> kCameraPathNames{"static", "keyframes", "orbit"};
 constexpr std::array<std::string_view, 2> kMethodNames{"ppll", "reference"};
 
 // The keys each emitter shape, force type and camera path type reads, beside the ones all share.
 constexpr std::array<std::string_view, 0> kNoKeys{};
-constexpr std::array<std::string_view, 1> kRadiusKey{"radius"};
-constexpr std::array<std::string_view, 1> kBoxShapeKeys{"half_extent"};
-constexpr std::array<std::string_view, 2> kDiscShapeKeys{"radius", "normal"};
+// A density emitter is placed by its transform, so center belongs to the other shapes only.
+constexpr std::array<std::string_view, 1> kPointShapeKeys{"center"};
+constexpr std::array<std::string_view, 2> kSphereShapeKeys{"center", "radius"};
+constexpr std::array<std::string_view, 2> kBoxShapeKeys{"center", "half_extent"};
+constexpr std::array<std::string_view, 3> kDiscShapeKeys{"center", "radius", "normal"};
+constexpr std::array<std::string_view, 5> kDensityShapeKeys{"file", "grid", "translate", "scale", "rotate"};
 constexpr std::array<std::string_view, 1> kGravityKeys{"vector"};
 constexpr std::array<std::string_view, 1> kStrengthKey{"strength"};
 constexpr std::array<std::string_view, 2> kWindKeys{"vector", "strength"};
@@ -127,10 +135,11 @@ constexpr std::array<std::string_view, 5> kOrbitKeys{"center", "radius", "height
 
 std::span<const std::string_view> shape_keys(EmitterShape s) {
     switch (s) {
-        case EmitterShape::Point: return kNoKeys;
-        case EmitterShape::Sphere: return kRadiusKey;
+        case EmitterShape::Point: return kPointShapeKeys;
+        case EmitterShape::Sphere: return kSphereShapeKeys;
         case EmitterShape::Box: return kBoxShapeKeys;
         case EmitterShape::Disc: return kDiscShapeKeys;
+        case EmitterShape::Density: return kDensityShapeKeys;
     }
     return kNoKeys;
 }
@@ -162,12 +171,13 @@ struct Section {
     const char* hint;
     bool preset_only;
 };
-const std::array<Section, 11> kSections{{
+const std::array<Section, 12> kSections{{
     {kCameraKeys, "it belongs under [camera]", false},
     {kLightingKeys, "it belongs under [lighting]", false},
     {kRenderKeys, "it belongs under [render]", false},
     {kBoxKeys, "it belongs in a [[box]] section", false},
     {kSphereKeys, "it belongs in a [[sphere]] section", false},
+    {kVdbKeys, "it belongs in a [[vdb]] section", false},
     {kPresetKeys, "it belongs under [preset]", true},
     {kTimelineKeys, "it belongs under [timeline]", true},
     {kEmitterKeys, "it belongs in an [[emitter]] section", true},
@@ -224,6 +234,7 @@ public:
         if (const toml::node* n = root.get("render")) render(*n, top / "render", s.render);
         if (const toml::node* n = root.get("box")) boxes(*n, top / "box", s.boxes);
         if (const toml::node* n = root.get("sphere")) spheres(*n, top / "sphere", s.spheres);
+        if (const toml::node* n = root.get("vdb")) volumes(*n, top / "vdb", s.volumes);
         // After [camera]: its resolution overrides the camera's size.
         if (const toml::node* n = root.get("timeline")) timeline(*n, top / "timeline", p.timeline, s.camera);
         if (const toml::node* n = root.get("emitter")) emitters(*n, top / "emitter", p.emitters);
@@ -680,6 +691,88 @@ private:
         }
     }
 
+    void volumes(const toml::node& node, const KeyPath& array_path, std::vector<VdbVolume>& out) const {
+        const toml::array& a = table_array(node, array_path, kMaxVolumes, "[[vdb]] volumes");
+        out.resize(a.size());
+        for (std::size_t i = 0; i < a.size(); ++i) volume(*a[i].as_table(), array_path[i], out[i]);
+    }
+
+    void volume(const toml::table& t, const KeyPath& path, VdbVolume& v) const {
+        check_keys(t, path, kVdbKeys);
+        density_source(t, path, "each [[vdb]] needs file", v.source);
+        if (const toml::node* n = t.get("albedo_grid")) v.albedo_grid = grid_name(*n, path / "albedo_grid");
+        if (const toml::node* n = t.get("extinction_scale"))
+            v.extinction_scale = positive(*n, path / "extinction_scale", kMaxExtinction);
+        if (const toml::node* n = t.get("albedo")) v.albedo = uniform_albedo(*n, path / "albedo");
+        // Two ways to say how fine the conversion is: meeting both at once is not generally possible.
+        const toml::node* tolerance = t.get("tolerance");
+        const toml::node* max_spheres = t.get("max_spheres");
+        if (tolerance && max_spheres) {
+            const toml::node* last = last_of({tolerance, max_spheres});
+            fail(*last, path / (last == tolerance ? "tolerance" : "max_spheres"),
+                 "give tolerance or max_spheres, not both (tolerance: the accuracy to meet; max_spheres: the "
+                 "most spheres to spend)");
+        }
+        if (tolerance) v.tolerance = in_interval(*tolerance, path / "tolerance", 0.0, 1.0, true);
+        if (max_spheres)
+            v.max_spheres = std::size_t(integer_in(*max_spheres, path / "max_spheres", 1, std::int64_t(kMaxSpheres)));
+        v.transform = volume_transform(t, path);
+    }
+
+    // `file` (required) and `grid`: where a [[vdb]] volume or a density emitter reads its grid. The file
+    // is not opened here: brume_sim does not link OpenVDB, and a relative path is taken against the
+    // directory of the file that names it, which load_*_file sets afterwards.
+    void density_source(const toml::table& t, const KeyPath& path, std::string_view needs, DensitySource& s) const {
+        const KeyPath file_path = path / "file";
+        const toml::node& file = required(t, "file", path, std::string(needs) + ": a .vdb path or builtin:NAME");
+        s.file = one_line(file, file_path);
+        if (s.file.empty()) fail(file, file_path, "must not be empty (a .vdb path or builtin:NAME)");
+        if (const toml::node* n = t.get("grid")) s.grid = grid_name(*n, path / "grid");
+    }
+
+    // A grid's name, as OpenVDB files store it: any non-empty line of text.
+    std::string grid_name(const toml::node& n, const KeyPath& path) const {
+        std::string name = one_line(n, path);
+        if (name.empty()) fail(n, path, "must not be empty (it names a grid in the file)");
+        return name;
+    }
+
+    // One number for grey, or [r, g, b]; each in [0, 1].
+    glm::dvec3 uniform_albedo(const toml::node& n, const KeyPath& path) const {
+        if (n.is_integer() || n.is_floating_point()) return glm::dvec3(in_interval(n, path, 0.0, 1.0, false));
+        if (!n.is_array()) fail(n, path, "must be a number or [r, g, b] (got " + describe(n) + ")");
+        return albedo(n, path).v;
+    }
+
+    // translate, scale and rotate, each checked by volume_transform_problem on its own so that the
+    // message points at the key that is wrong; the transform's rules live in one place.
+    VolumeTransform volume_transform(const toml::table& t, const KeyPath& path) const {
+        VolumeTransform result;
+        const auto check = [&](const toml::node& n, std::string_view key, const VolumeTransform& alone) {
+            const std::string problem = volume_transform_problem(alone);
+            if (!problem.empty()) fail(n, path / key, problem);
+        };
+        if (const toml::node* n = t.get("translate")) {
+            VolumeTransform alone;
+            alone.translate = vec3(*n, path / "translate").v;
+            check(*n, "translate", alone);
+            result.translate = alone.translate;
+        }
+        if (const toml::node* n = t.get("scale")) {
+            VolumeTransform alone;
+            alone.scale = number(*n, path / "scale");
+            check(*n, "scale", alone);
+            result.scale = alone.scale;
+        }
+        if (const toml::node* n = t.get("rotate")) {
+            VolumeTransform alone;
+            alone.rotate_deg = vec3(*n, path / "rotate").v;
+            check(*n, "rotate", alone);
+            result.rotate_deg = alone.rotate_deg;
+        }
+        return result;
+    }
+
     // --- Preset sections -------------------------------------------------------------------------
 
     void preset(const toml::node& node, const KeyPath& path, Preset& p) const {
@@ -757,6 +850,10 @@ private:
 
         if (const toml::node* n = t.get("name")) e.name = one_line(*n, path / "name");
         if (const toml::node* n = t.get("center")) e.center = coordinates(*n, path / "center");
+        if (e.shape == EmitterShape::Density) {
+            density_source(t, path, "a \"density\" emitter needs file", e.density_source);
+            e.density_transform = volume_transform(t, path);
+        }
         const std::string needs = "a " + toml_text::quoted(shape_name) + " emitter needs " +
                                   (e.shape == EmitterShape::Box ? "half_extent" : "radius");
         if (e.shape == EmitterShape::Sphere || e.shape == EmitterShape::Disc)
@@ -1050,10 +1147,14 @@ void append_emitter(std::string& out, const EmitterDesc& e) {
     out += "\n[[emitter]]\n";
     append_string(out, "name", e.name);
     append_string(out, "shape", kShapeNames[std::size_t(e.shape)]);
-    append_vec3(out, "center", e.center);
+    if (e.shape != EmitterShape::Density) append_vec3(out, "center", e.center);
     if (e.shape == EmitterShape::Sphere || e.shape == EmitterShape::Disc) append_number(out, "radius", e.radius);
     if (e.shape == EmitterShape::Box) append_vec3(out, "half_extent", e.half_extent);
     if (e.shape == EmitterShape::Disc) append_vec3(out, "normal", e.normal);
+    if (e.shape == EmitterShape::Density) {
+        toml_text::append_density_source(out, e.density_source);
+        toml_text::append_volume_transform(out, e.density_transform);
+    }
     append_number(out, "rate", e.rate);
     append_number(out, "start", e.start);
     if (!(std::isinf(e.stop) && e.stop > 0)) append_number(out, "stop", e.stop);  // absent: never stops
@@ -1155,7 +1256,13 @@ Preset parse_preset_toml(std::string_view text, const std::string& source_name) 
 }
 
 Preset load_preset_file(const std::filesystem::path& path) {
-    return parse_preset_toml(toml_text::read_file(path), path.string());
+    Preset p = parse_preset_toml(toml_text::read_file(path), path.string());
+    // Relative grid files are found beside the preset, wherever it is run from.
+    const std::string dir = path.parent_path().string();
+    for (VdbVolume& v : p.scene.volumes) v.source.base_dir = dir;
+    for (EmitterDesc& e : p.emitters)
+        if (e.shape == EmitterShape::Density) e.density_source.base_dir = dir;
+    return p;
 }
 
 std::string preset_to_toml(const Preset& p) {

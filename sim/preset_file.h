@@ -7,8 +7,16 @@
 //   [timeline]        fps, duration, substeps, preroll, seed, max_particles, resolution = [w, h]
 //                     (resolution overrides [camera] width and height)
 //   [camera] [lighting] [render] [[box]] [[sphere]]     as in a scene file
-//   [[emitter]]       name, shape = "point"|"sphere"|"box"|"disc", center, radius (sphere, disc),
-//                     half_extent (box), normal (disc), rate, start, stop, bursts = [{ time, count }],
+//   [[vdb]]           a density grid converted to static spheres (sim/scene.h VdbVolume), also in scene
+//                     files: file (required: a .vdb path, relative to this file's directory, or
+//                     "builtin:NAME[:RESOLUTION]"), grid (default "density"), albedo_grid,
+//                     extinction_scale (> 0), albedo (a number or [r, g, b], in [0, 1]), tolerance (in
+//                     (0, 1]) or max_spheres (1 to kMaxSpheres) but not both, and the placement
+//                     translate = [x, y, z], scale, rotate = [x, y, z] (degrees about x, then y, then z)
+//   [[emitter]]       name, shape = "point"|"sphere"|"box"|"disc"|"density", center (all but density),
+//                     radius (sphere, disc), half_extent (box), normal (disc), file, grid, translate,
+//                     scale, rotate (density: births follow the grid's trilinear field, the keys as in
+//                     [[vdb]]), rate, start, stop, bursts = [{ time, count }],
 //                     direction, speed, cone_deg, jitter, lifetime, particle_radius, extinction,
 //                     albedo = [r, g, b] or { min = [r, g, b], max = [r, g, b] }
 //   [emitter.curves]  radius_growth, fade_in, fade_out, albedo_ramp = [{ age, multiplier = [r, g, b] }]
@@ -51,7 +59,7 @@ inline constexpr std::size_t kMaxListEntries = 1'000'000;  // bursts, ramp keys,
 
 // Which sections a document may hold.
 enum class DocumentKind {
-    Scene,   // [camera], [lighting], [render], [[box]], [[sphere]]: parse_scene_toml
+    Scene,   // [camera], [lighting], [render], [[box]], [[sphere]], [[vdb]]: parse_scene_toml
     Preset,  // those and the preset sections
 };
 
@@ -60,16 +68,19 @@ enum class DocumentKind {
 Preset parse_toml_document(std::string_view text, const std::string& source_name, DocumentKind kind);
 
 // Parses and validates a preset; source_name stands for the file in messages, becomes scene.source,
-// and its stem is the name unless [preset] sets one.
+// and its stem is the name unless [preset] sets one. Grid files are not opened (base_dir stays empty and
+// density emitters' samplers null: sim/vdb/volume_loader.h prepare_preset reads them).
 Preset parse_preset_toml(std::string_view text, const std::string& source_name);
 
 // Reads and parses a file; a missing or unreadable file is a SceneFileError naming it and the OS reason.
+// The base_dir of every [[vdb]] volume and density emitter is the file's directory, as in load_scene_file.
 Preset load_preset_file(const std::filesystem::path& path);
 
 // Writes every field parse_preset_toml reads, numbers as their shortest exact text, so that
 // parse_preset_toml(preset_to_toml(p)) reproduces p (bar scene.source). The camera's width and height
 // are also written as [timeline] resolution; fields the emitter's shape, force's type or path's type
-// does not use are left out (they read back as defaults). No validation, as for scene_to_toml.
+// does not use are left out (they read back as defaults), as is base_dir and the density sampler.
+// No validation, as for scene_to_toml.
 std::string preset_to_toml(const Preset& preset);
 
 }  // namespace brume

@@ -141,6 +141,17 @@ std::string read_file(const std::filesystem::path& path) {
     return text;
 }
 
+void append_density_source(std::string& out, const DensitySource& source) {
+    out += "file = " + toml_text::quoted(source.file) + '\n';
+    out += "grid = " + toml_text::quoted(source.grid) + '\n';
+}
+
+void append_volume_transform(std::string& out, const VolumeTransform& transform) {
+    append_vec3(out, "translate", transform.translate);
+    append_number(out, "scale", transform.scale);
+    append_vec3(out, "rotate", transform.rotate_deg);
+}
+
 void append_scene_sections(std::string& out, const Scene& scene) {
     out.reserve(out.size() + 1024 + scene.boxes.size() * 128 + scene.spheres.size() * 160);
     const Camera& c = scene.camera;
@@ -175,6 +186,19 @@ void append_scene_sections(std::string& out, const Scene& scene) {
         append_number(out, "extinction", s.extinction);
         append_vec3(out, "albedo", s.albedo);
     }
+    for (const VdbVolume& v : scene.volumes) {
+        out += "\n[[vdb]]\n";
+        append_density_source(out, v.source);
+        if (!v.albedo_grid.empty()) out += "albedo_grid = " + toml_text::quoted(v.albedo_grid) + '\n';
+        append_number(out, "extinction_scale", v.extinction_scale);
+        append_vec3(out, "albedo", v.albedo);
+        // One or the other: the reader refuses both.
+        if (v.max_spheres == 0)
+            append_number(out, "tolerance", v.tolerance);
+        else
+            out += "max_spheres = " + std::to_string(v.max_spheres) + '\n';
+        append_volume_transform(out, v.transform);
+    }
 }
 
 }  // namespace toml_text
@@ -184,7 +208,10 @@ Scene parse_scene_toml(std::string_view text, const std::string& source_name) {
 }
 
 Scene load_scene_file(const std::filesystem::path& path) {
-    return parse_scene_toml(toml_text::read_file(path), path.string());
+    Scene scene = parse_scene_toml(toml_text::read_file(path), path.string());
+    const std::string dir = path.parent_path().string();
+    for (VdbVolume& v : scene.volumes) v.source.base_dir = dir;
+    return scene;
 }
 
 std::string scene_to_toml(const Scene& scene) {

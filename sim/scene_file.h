@@ -21,6 +21,7 @@ namespace brume {
 // Beyond these a scene is rejected as absurd rather than rendered slowly or wrongly.
 inline constexpr std::size_t kMaxSpheres = 50'000'000;
 inline constexpr std::size_t kMaxBoxes = 100'000;
+inline constexpr std::size_t kMaxVolumes = 10'000;  // [[vdb]] tables
 inline constexpr int kMaxImageSide = 16384;         // camera.width and camera.height
 inline constexpr double kMaxCoordinate = 1e7;       // |any coordinate|, any radius
 inline constexpr double kMaxExtinction = 1e9;       // sphere.extinction
@@ -49,13 +50,17 @@ private:
 
 // Parses and validates a scene; source_name stands for the file in messages and becomes Scene::source.
 // A preset section ([timeline], [[emitter]], ...) is an error here: presets are read by sim/preset_file.h.
+// [[vdb]] tables are recorded, not read: their base_dir is left empty (the working directory).
 Scene parse_scene_toml(std::string_view text, const std::string& source_name);
 
 // Reads and parses a file; a missing or unreadable file is a SceneFileError naming it and the OS reason.
+// Every volume's base_dir is the file's directory (path.parent_path(), as given), so a relative [[vdb]]
+// file is found beside the scene wherever it is run from.
 Scene load_scene_file(const std::filesystem::path& path);
 
 // Writes every field in the schema parse_scene_toml reads. Numbers are printed as the shortest text that
-// reads back to the same double, so parse_scene_toml(scene_to_toml(s)) reproduces s exactly (bar source).
+// reads back to the same double, so parse_scene_toml(scene_to_toml(s)) reproduces s exactly (bar source
+// and the volumes' base_dir: a [[vdb]] file is written as given).
 // No validation: a scene with NaN or negative radii is written as is and rejected when read back.
 std::string scene_to_toml(const Scene& scene);
 
@@ -75,7 +80,11 @@ std::optional<std::string_view> suggest(std::string_view unknown, std::span<cons
 std::string quoted(std::string_view s);
 // The whole file; a missing or unreadable file is a SceneFileError naming it and the OS reason.
 std::string read_file(const std::filesystem::path& path);
-// The [camera], [lighting], [render], [[box]] and [[sphere]] sections, as scene_to_toml writes them.
+// A density grid's `file` and `grid` keys (base_dir is not written: it is where the file is read from),
+// and its placement's translate, scale and rotate: shared by [[vdb]] and density emitters.
+void append_density_source(std::string& out, const DensitySource& source);
+void append_volume_transform(std::string& out, const VolumeTransform& transform);
+// The [camera], [lighting], [render], [[box]], [[sphere]] and [[vdb]] sections, as scene_to_toml writes them.
 void append_scene_sections(std::string& out, const Scene& scene);
 
 }  // namespace toml_text

@@ -25,6 +25,7 @@ Simulator::Simulator(const Preset& preset) : preset_(preset) {
         throw std::invalid_argument("simulator: preroll must be finite and non-negative");
     if (preset_.emitters.size() > (std::size_t(1) << (64 - kParticleIdCounterBits)))
         throw std::invalid_argument("simulator: at most 65536 emitters");
+    for (const EmitterDesc& e : preset_.emitters) require_density_loaded(e);
     substeps_ = std::uint64_t(tl.substeps);
     steps_per_second_ = tl.fps * double(tl.substeps);
     preroll_steps_ = std::uint64_t(std::llround(tl.preroll * steps_per_second_));

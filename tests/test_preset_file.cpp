@@ -69,6 +69,17 @@ radius = 0.5
 extinction = 2
 albedo = [0.5, 0.6, 0.7]
 
+[[vdb]]
+file = "grids/cloud.vdb"
+grid = "smoke"
+albedo_grid = "tint"
+extinction_scale = 3.5
+albedo = [0.8, 0.85, 0.9]
+max_spheres = 5000
+translate = [0, 2, -1]
+scale = 0.5
+rotate = [0, 90, 0]
+
 [[emitter]]
 name = "disc one"
 shape = "disc"
@@ -104,6 +115,16 @@ albedo = [0.7, 0.8, 0.9]
 shape = "sphere"
 radius = 1.5
 lifetime = 4
+
+[[emitter]]
+name = "seeded"
+shape = "density"
+file = "builtin:cloud:32"
+grid = "density2"
+translate = [0.5, 1.5, -0.25]
+scale = 2
+rotate = [15, 45, -5]
+rate = 100
 
 [[force]]
 type = "gravity"
@@ -186,6 +207,21 @@ void expect_identical(const Scene& a, const Scene& b) {
                     same(s.albedo, t.albedo))
             << "sphere " << i;
     }
+    ASSERT_EQ(a.volumes.size(), b.volumes.size());
+    for (std::size_t i = 0; i < a.volumes.size(); ++i) {
+        const VdbVolume &v = a.volumes[i], &w = b.volumes[i];
+        EXPECT_EQ(v.source.file, w.source.file) << "volume " << i;
+        EXPECT_EQ(v.source.grid, w.source.grid) << "volume " << i;
+        EXPECT_EQ(v.albedo_grid, w.albedo_grid) << "volume " << i;
+        EXPECT_TRUE(same(v.extinction_scale, w.extinction_scale) && same(v.albedo, w.albedo)) << "volume " << i;
+        EXPECT_EQ(v.max_spheres, w.max_spheres) << "volume " << i;
+        if (v.max_spheres == 0) {  // with a sphere budget the tolerance is unused, and not written
+            EXPECT_TRUE(same(v.tolerance, w.tolerance)) << "volume " << i;
+        }
+        EXPECT_TRUE(same(v.transform.translate, w.transform.translate) && same(v.transform.scale, w.transform.scale) &&
+                    same(v.transform.rotate_deg, w.transform.rotate_deg))
+            << "volume " << i;
+    }
 }
 
 void expect_identical(const Preset& a, const Preset& b) {
@@ -208,6 +244,12 @@ void expect_identical(const Preset& a, const Preset& b) {
         EXPECT_TRUE(same(e.radius, f.radius));
         EXPECT_TRUE(same(e.half_extent, f.half_extent));
         EXPECT_TRUE(same(e.normal, f.normal));
+        // base_dir is where a file was read from, not what it says: not compared.
+        EXPECT_EQ(e.density_source.file, f.density_source.file);
+        EXPECT_EQ(e.density_source.grid, f.density_source.grid);
+        EXPECT_TRUE(same(e.density_transform.translate, f.density_transform.translate));
+        EXPECT_TRUE(same(e.density_transform.scale, f.density_transform.scale));
+        EXPECT_TRUE(same(e.density_transform.rotate_deg, f.density_transform.rotate_deg));
         EXPECT_TRUE(same(e.rate, f.rate));
         ASSERT_EQ(e.bursts.size(), f.bursts.size());
         for (std::size_t k = 0; k < e.bursts.size(); ++k) {
@@ -301,7 +343,20 @@ TEST(PresetFile, EveryKeyLandsInItsField) {
     ASSERT_EQ(p.scene.spheres.size(), 1u);
     EXPECT_EQ(p.scene.spheres[0].radius, 0.5);
 
-    ASSERT_EQ(p.emitters.size(), 3u);
+    ASSERT_EQ(p.scene.volumes.size(), 1u);
+    const VdbVolume& v = p.scene.volumes[0];
+    EXPECT_EQ(v.source.file, "grids/cloud.vdb");
+    EXPECT_EQ(v.source.grid, "smoke");
+    EXPECT_EQ(v.source.base_dir, "");
+    EXPECT_EQ(v.albedo_grid, "tint");
+    EXPECT_EQ(v.extinction_scale, 3.5);
+    expect_vec(v.albedo, 0.8, 0.85, 0.9);
+    EXPECT_EQ(v.max_spheres, 5000u);
+    expect_vec(v.transform.translate, 0.0, 2.0, -1.0);
+    EXPECT_EQ(v.transform.scale, 0.5);
+    expect_vec(v.transform.rotate_deg, 0.0, 90.0, 0.0);
+
+    ASSERT_EQ(p.emitters.size(), 4u);
     const EmitterDesc& e = p.emitters[0];
     EXPECT_EQ(e.name, "disc one");
     EXPECT_EQ(e.shape, EmitterShape::Disc);
@@ -349,6 +404,17 @@ TEST(PresetFile, EveryKeyLandsInItsField) {
     EXPECT_EQ(p.emitters[2].shape, EmitterShape::Sphere);
     EXPECT_EQ(p.emitters[2].radius, 1.5);
     EXPECT_EQ(p.emitters[2].lifetime.min, 4.0);  // an integer read as a float
+    const EmitterDesc& seeded = p.emitters[3];
+    EXPECT_EQ(seeded.name, "seeded");
+    EXPECT_EQ(seeded.shape, EmitterShape::Density);
+    EXPECT_EQ(seeded.density_source.file, "builtin:cloud:32");
+    EXPECT_EQ(seeded.density_source.grid, "density2");
+    EXPECT_EQ(seeded.density_source.base_dir, "");
+    expect_vec(seeded.density_transform.translate, 0.5, 1.5, -0.25);
+    EXPECT_EQ(seeded.density_transform.scale, 2.0);
+    expect_vec(seeded.density_transform.rotate_deg, 15.0, 45.0, -5.0);
+    EXPECT_EQ(seeded.density, nullptr) << "parsing reads no grid: load_emitter_densities does";
+    EXPECT_EQ(seeded.rate, 100.0);
 
     ASSERT_EQ(p.forces.size(), 6u);
     EXPECT_EQ(p.forces[0].kind, ForceKind::Gravity);
@@ -421,6 +487,20 @@ TEST(PresetFile, AStaticSceneIsAPreset) {
                      p.scene);
 }
 
+TEST(PresetFile, DensityEmitterDefaults) {
+    const Preset p = parse_preset_toml("[[emitter]]\nshape = \"density\"\nfile = \"builtin:fog-sphere\"\n", "d.toml");
+    ASSERT_EQ(p.emitters.size(), 1u);
+    const EmitterDesc& e = p.emitters[0];
+    const VolumeTransform identity;
+    EXPECT_EQ(e.shape, EmitterShape::Density);
+    EXPECT_EQ(e.density_source.file, "builtin:fog-sphere");
+    EXPECT_EQ(e.density_source.grid, "density");
+    EXPECT_TRUE(same(e.density_transform.translate, identity.translate));
+    EXPECT_EQ(e.density_transform.scale, 1.0);
+    EXPECT_TRUE(same(e.density_transform.rotate_deg, identity.rotate_deg));
+    EXPECT_EQ(e.density, nullptr);
+}
+
 // --- Writing --------------------------------------------------------------------------------------
 
 TEST(PresetFile, RoundTripIsExact) {
@@ -428,6 +508,11 @@ TEST(PresetFile, RoundTripIsExact) {
     const std::string text = preset_to_toml(original);
     expect_identical(parse_preset_toml(text, "written.toml"), original);
     EXPECT_NE(text.find("resolution = [400, 300]\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("[[vdb]]\nfile = \"grids/cloud.vdb\"\ngrid = \"smoke\"\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("max_spheres = 5000\n"), std::string::npos) << text;
+    EXPECT_EQ(text.find("tolerance"), std::string::npos) << "max_spheres, not both: " << text;
+    EXPECT_NE(text.find("shape = \"density\"\nfile = \"builtin:cloud:32\"\ngrid = \"density2\"\n"), std::string::npos)
+        << text;
     EXPECT_NE(text.find("octaves = 3\n"), std::string::npos) << text;  // integers stay integers
 }
 
@@ -447,6 +532,20 @@ TEST(PresetFile, RoundTripKeepsAwkwardValues) {
     e.curves.albedo_ramp = {{0.0, {0.0, 0.25, 1.0}}, {1.0, {1.0, 1.0, 1.0}}};
     p.emitters.push_back(e);
     p.emitters[0].name = "plain";
+    EmitterDesc d;
+    d.name = "seeded";
+    d.shape = EmitterShape::Density;
+    d.center = {0.0, 0.0, 0.0};  // unused by the shape, so not written
+    d.density_source = {"dir \"quoted\"\\cloud.vdb", "/base/not/written", "grid with spaces"};
+    d.density_transform.translate = {-0.0, 1.0 / 3.0, -1e7};
+    d.density_transform.scale = 5e-324;
+    d.density_transform.rotate_deg = {-3600.0, 0.1, 2.0 / 3.0};
+    p.emitters.push_back(d);
+    VdbVolume v;
+    v.source.file = "builtin:sheet:16";
+    v.tolerance = 1.0 / 3.0;
+    v.extinction_scale = 1e9;
+    p.scene.volumes.push_back(v);
     ForceDesc f;
     f.kind = ForceKind::Turbulence;
     f.strength = 1e-300;
@@ -457,6 +556,7 @@ TEST(PresetFile, RoundTripKeepsAwkwardValues) {
     const std::string text = preset_to_toml(p);
     expect_identical(parse_preset_toml(text, "awk.toml"), p);
     EXPECT_EQ(text.find("stop ="), std::string::npos) << "an emitter that never stops has no stop key";
+    EXPECT_EQ(text.find("/base/not/written"), std::string::npos) << text;
 
     p.emitters[0].name = "tab\there";
     EXPECT_THROW(parse_preset_toml(preset_to_toml(p), "tab.toml"), SceneFileError);
@@ -547,10 +647,53 @@ TEST(PresetFileErrors, KeysOfAnotherShapeOrType) {
                     "not used by type \"orbit\" (orbit takes center, radius, height, start_deg, deg_per_second)");
 }
 
+TEST(PresetFileErrors, DensityEmitters) {
+    const std::string head = "# a density emitter\n[[emitter]]\nshape = \"density\"\nfile = \"cloud.vdb\"\n";
+    expect_rejected("[[emitter]]\nshape = \"density\"\ngrid = \"smoke\"\n", "[[emitter]]", "emitter[0].file",
+                    "missing (a \"density\" emitter needs file: a .vdb path or builtin:NAME)");
+    expect_rejected(head + "center = [0, 1, 0]\n", "center", "emitter[0].center",
+                    "not used by shape \"density\" (it is for shape \"point\", \"sphere\", \"box\", \"disc\")");
+    expect_rejected(head + "radius = 1\n", "radius", "emitter[0].radius",
+                    "not used by shape \"density\" (it is for shape \"sphere\", \"disc\")");
+    expect_rejected(head + "half_extent = [1, 1, 1]\n", "half_extent", "emitter[0].half_extent",
+                    "not used by shape \"density\" (it is for shape \"box\")");
+    expect_rejected(head + "normal = [0, 1, 0]\n", "normal", "emitter[0].normal", "not used by shape \"density\"");
+    // ... and the density keys are not for the other shapes.
+    expect_rejected(emitter("file = \"cloud.vdb\""), "file", "emitter[0].file",
+                    "not used by shape \"point\" (it is for shape \"density\")");
+    for (const char* key : {"grid = \"density\"", "translate = [0, 0, 0]", "scale = 1", "rotate = [0, 0, 0]"})
+        expect_rejected("[[emitter]]\nshape = \"sphere\"\nradius = 1\n" + std::string(key) + "\n", key,
+                        "emitter[0]." + std::string(key).substr(0, std::string(key).find(' ')),
+                        "not used by shape \"sphere\" (it is for shape \"density\")");
+    expect_rejected(head + "fiel = \"x.vdb\"\n", "fiel", "emitter[0].fiel", "unknown key (did you mean \"file\"?)");
+    expect_rejected("[[emitter]]\nshape = \"density\"\nfile = \"\"\n", "file", "emitter[0].file", "must not be empty");
+    expect_rejected("[[emitter]]\nshape = \"density\"\nfile = [\"a.vdb\"]\n", "file", "emitter[0].file",
+                    "must be a string");
+    expect_rejected(head + "grid = \"\"\n", "grid", "emitter[0].grid", "must not be empty");
+    expect_rejected(head + "scale = 0\n", "scale", "emitter[0].scale", "scale must be positive, finite and at most");
+    expect_rejected(head + "scale = -2\n", "scale", "emitter[0].scale", "(got -2)");
+    expect_rejected(head + "translate = [0, -2e7, 0]\n", "translate", "emitter[0].translate",
+                    "translate components must be finite");
+    expect_rejected(head + "rotate = [0, nan, 0]\n", "rotate", "emitter[0].rotate[1]", "must be finite (got nan)");
+    expect_rejected(head + "rotate = [0, 0, -3601]\n", "rotate", "emitter[0].rotate",
+                    "rotate components must be finite degrees");
+    // [[vdb]] keys that density emitters do not take.
+    expect_rejected(head + "tolerance = 0.1\n", "tolerance", "emitter[0].tolerance", "unknown key");
+    EXPECT_NO_THROW(parse_preset_toml(head + "grid = \"smoke\"\nscale = 3\nrate = 10\n", "ok.toml"));
+}
+
+TEST(PresetFileErrors, VdbTablesInPresets) {
+    // The scene's [[vdb]] tables are read by the same code in presets (test_scene_file checks each rule).
+    expect_rejected("[[vdb]]\nfile = \"a.vdb\"\ntolerance = 0.1\nmax_spheres = 10\n", "max_spheres",
+                    "vdb[0].max_spheres", "give tolerance or max_spheres, not both");
+    expect_rejected("[[vdb]]\nfile = \"a.vdb\"\nscael = 2\n", "scael", "vdb[0].scael", "did you mean \"scale\"?");
+    expect_rejected("\ntolerance = 0.1\n", "tolerance", "tolerance", "it belongs in a [[vdb]] section");
+}
+
 TEST(PresetFileErrors, UnknownNames) {
-    expect_rejected(
-        emitter("shape = \"sphre\""), "sphre", "emitter[0].shape",
-        "must be one of \"point\", \"sphere\", \"box\", \"disc\" (got \"sphre\"; did you mean \"sphere\"?)");
+    expect_rejected(emitter("shape = \"sphre\""), "sphre", "emitter[0].shape",
+                    "must be one of \"point\", \"sphere\", \"box\", \"disc\", \"density\" (got \"sphre\"; did you mean "
+                    "\"sphere\"?)");
     expect_rejected(force("gravty", "vector = [0, -1, 0]"), "gravty", "force[0].type",
                     "(got \"gravty\"; did you mean \"gravity\"?)");
     expect_rejected(force("magnetism", ""), "magnetism", "force[0].type",
@@ -984,6 +1127,41 @@ TEST_F(PresetOnDisk, UnknownNameListsTheBuiltIns) {
         EXPECT_NE(what.find("built-in presets: " + list), std::string::npos) << what;
     }
     EXPECT_THROW(resolve_preset((dir_ / "missing.toml").string()), SceneFileError);
+}
+
+TEST_F(PresetOnDisk, GridFilesAreFoundBesideThePreset) {
+    fs::create_directories(dir_ / "presets" / "grids");
+    std::ofstream(dir_ / "presets" / "grids" / "plume.vdb") << "stand-in bytes";
+    const fs::path path = dir_ / "presets" / "seeded.toml";
+    std::ofstream(path) << "[[vdb]]\nfile = \"grids/plume.vdb\"\n\n[[emitter]]\nshape = \"sphere\"\nradius = 1\n\n"
+                           "[[emitter]]\nshape = \"density\"\nfile = \"grids/plume.vdb\"\n";
+    const std::string dir = (dir_ / "presets").string();
+    for (const Preset& p : {load_preset_file(path), resolve_preset(path.string())}) {
+        ASSERT_EQ(p.scene.volumes.size(), 1u);
+        ASSERT_EQ(p.emitters.size(), 2u);
+        EXPECT_EQ(p.scene.volumes[0].source.base_dir, dir);
+        EXPECT_EQ(p.emitters[1].density_source.base_dir, dir);
+        EXPECT_EQ(p.emitters[0].density_source.base_dir, "") << "not a density emitter";
+        EXPECT_TRUE(fs::exists(fs::path(p.emitters[1].density_source.base_dir) / p.emitters[1].density_source.file));
+    }
+    // A relative preset path gives a relative base_dir, right from the working directory it was given in.
+    const fs::path previous = fs::current_path();
+    fs::current_path(dir_);
+    Preset relative;
+    EXPECT_NO_THROW(relative = load_preset_file("presets/seeded.toml"));
+    const bool found = fs::exists(fs::path(relative.emitters.at(1).density_source.base_dir) / "grids/plume.vdb");
+    fs::current_path(previous);
+    EXPECT_EQ(relative.emitters[1].density_source.base_dir, "presets");
+    EXPECT_TRUE(found);
+    // Text parsed without a file, as the built-in presets are, reads grids from the working directory.
+    const Preset text = parse_preset_toml(file_text(path), "seeded.toml");
+    EXPECT_EQ(text.scene.volumes[0].source.base_dir, "");
+    EXPECT_EQ(text.emitters[1].density_source.base_dir, "");
+    for (const std::string& name : builtin_preset_names()) {
+        const Preset b = *builtin_preset(name);
+        for (const VdbVolume& v : b.scene.volumes) EXPECT_EQ(v.source.base_dir, "") << name;
+        for (const EmitterDesc& e : b.emitters) EXPECT_EQ(e.density_source.base_dir, "") << name;
+    }
 }
 
 TEST_F(PresetOnDisk, ErrorsNameTheFile) {

@@ -122,6 +122,24 @@ void expect_identical(const Scene& a, const Scene& b) {
         EXPECT_TRUE(same_bits(a.spheres[i].extinction, b.spheres[i].extinction)) << "sphere " << i;
         EXPECT_TRUE(same_bits(a.spheres[i].albedo, b.spheres[i].albedo)) << "sphere " << i;
     }
+    // base_dir is where a file was read from, not part of what it says: not compared.
+    ASSERT_EQ(a.volumes.size(), b.volumes.size());
+    for (std::size_t i = 0; i < a.volumes.size(); ++i) {
+        const VdbVolume &v = a.volumes[i], &w = b.volumes[i];
+        EXPECT_EQ(v.source.file, w.source.file) << "volume " << i;
+        EXPECT_EQ(v.source.grid, w.source.grid) << "volume " << i;
+        EXPECT_EQ(v.albedo_grid, w.albedo_grid) << "volume " << i;
+        EXPECT_TRUE(same_bits(v.extinction_scale, w.extinction_scale)) << "volume " << i;
+        EXPECT_TRUE(same_bits(v.albedo, w.albedo)) << "volume " << i;
+        EXPECT_EQ(v.max_spheres, w.max_spheres) << "volume " << i;
+        // With a sphere budget the tolerance is unused, and not written.
+        if (v.max_spheres == 0) {
+            EXPECT_TRUE(same_bits(v.tolerance, w.tolerance)) << "volume " << i;
+        }
+        EXPECT_TRUE(same_bits(v.transform.translate, w.transform.translate)) << "volume " << i;
+        EXPECT_TRUE(same_bits(v.transform.scale, w.transform.scale)) << "volume " << i;
+        EXPECT_TRUE(same_bits(v.transform.rotate_deg, w.transform.rotate_deg)) << "volume " << i;
+    }
 }
 
 TEST(SceneFile, ExampleParsesToExactValues) {
@@ -221,6 +239,89 @@ TEST(SceneFile, RoundTripKeepsEveryBitOfAwkwardValues) {
     const Scene back = parse_scene_toml(scene_to_toml(s), "awkward.toml");
     expect_identical(back, s);
     EXPECT_EQ(back.source, "awkward.toml");
+}
+
+// --- [[vdb]] volumes --------------------------------------------------------------------------------
+
+// Every [[vdb]] key in the first table, the defaults in the second (but for max_spheres).
+constexpr const char* kVolumes = R"(
+[[vdb]]
+file = "clouds/cumulus.vdb"
+grid = "smoke"
+albedo_grid = "tint"
+extinction_scale = 2.5
+albedo = [0.9, 0.8, 0.7]
+tolerance = 0.02
+translate = [1.0, -2.0, 0.5]
+scale = 0.25
+rotate = [10, 20, -30]
+
+[[vdb]]
+file = "builtin:cloud:32"
+albedo = 0.75
+max_spheres = 2000
+)";
+
+TEST(SceneFile, VdbTablesAreRead) {
+    const Scene s = parse_scene_toml(kVolumes, "clouds.toml");
+    ASSERT_EQ(s.volumes.size(), 2u);
+    const VdbVolume& v = s.volumes[0];
+    EXPECT_EQ(v.source.file, "clouds/cumulus.vdb");
+    EXPECT_EQ(v.source.grid, "smoke");
+    EXPECT_EQ(v.source.base_dir, "") << "parsing text reads no file: the working directory";
+    EXPECT_EQ(v.albedo_grid, "tint");
+    EXPECT_EQ(v.extinction_scale, 2.5);
+    expect_vec(v.albedo, 0.9, 0.8, 0.7);
+    EXPECT_EQ(v.tolerance, 0.02);
+    EXPECT_EQ(v.max_spheres, 0u);
+    expect_vec(v.transform.translate, 1.0, -2.0, 0.5);
+    EXPECT_EQ(v.transform.scale, 0.25);
+    expect_vec(v.transform.rotate_deg, 10.0, 20.0, -30.0);
+
+    const VdbVolume defaults;
+    const VdbVolume& w = s.volumes[1];
+    EXPECT_EQ(w.source.file, "builtin:cloud:32");
+    EXPECT_EQ(w.source.grid, "density");
+    EXPECT_EQ(w.albedo_grid, "");
+    EXPECT_EQ(w.extinction_scale, defaults.extinction_scale);
+    expect_vec(w.albedo, 0.75, 0.75, 0.75);  // one number: grey
+    EXPECT_EQ(w.max_spheres, 2000u);
+    EXPECT_EQ(w.tolerance, defaults.tolerance);
+    EXPECT_TRUE(same_bits(w.transform.translate, defaults.transform.translate));
+    EXPECT_EQ(w.transform.scale, 1.0);
+    EXPECT_TRUE(same_bits(w.transform.rotate_deg, defaults.transform.rotate_deg));
+    EXPECT_TRUE(s.spheres.empty()) << "volumes are converted later, by sim/vdb/volume_loader.h";
+}
+
+TEST(SceneFile, VdbRoundTripIsExact) {
+    const Scene original = parse_scene_toml(kVolumes, "clouds.toml");
+    const std::string text = scene_to_toml(original);
+    expect_identical(parse_scene_toml(text, "written.toml"), original);
+    // Exactly one of tolerance and max_spheres per table, integers as integers.
+    EXPECT_NE(text.find("tolerance = 0.02\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("max_spheres = 2000\n"), std::string::npos) << text;
+    EXPECT_EQ(text.find("tolerance", text.find("max_spheres")), std::string::npos) << text;
+    EXPECT_EQ(text.find("albedo_grid"), text.rfind("albedo_grid")) << "an empty albedo_grid is left out";
+
+    Scene s;
+    VdbVolume v;
+    v.source.file = "odd \"name\" \\ back\\slashed.vdb";  // escaped when written, read back as it was
+    v.source.grid = "density";
+    v.source.base_dir = "/not/written";
+    v.extinction_scale = 1.0 / 3.0;
+    v.albedo = {0.0, 0.30000000000000004, 1.0};
+    v.tolerance = 5e-324;
+    v.transform.translate = {-0.0, 1e7, -1.0 / 7.0};
+    v.transform.scale = 1e-300;
+    v.transform.rotate_deg = {3600.0, -0.1, 1e-10};
+    s.volumes.push_back(v);
+    v.max_spheres = 50'000'000;
+    s.volumes.push_back(v);
+    const std::string written = scene_to_toml(s);
+    EXPECT_EQ(written.find("/not/written"), std::string::npos) << written;
+    const Scene back = parse_scene_toml(written, "awkward.toml");
+    expect_identical(back, s);
+    EXPECT_EQ(back.volumes[0].source.base_dir, "");
 }
 
 TEST(SceneFile, DefaultSceneHasItsStatedContent) {
@@ -416,6 +517,66 @@ TEST(SceneFileErrors, TooManyBoxes) {
     expect_rejected(over, 2, "box", "too many boxes (got 100001, the limit is 100000)");
 }
 
+// A [[vdb]] table whose file is on line 3, with `line` added on line 4.
+std::string vdb(const std::string& line) { return "# a volume\n[[vdb]]\nfile = \"cloud.vdb\"\n" + line + "\n"; }
+
+TEST(SceneFileErrors, VdbKeysAndTables) {
+    expect_rejected("\n[[vdb]]\ngrid = \"density\"\n", 2, "vdb[0].file",
+                    "missing (each [[vdb]] needs file: a .vdb path or builtin:NAME)");
+    expect_rejected(vdb("tolerence = 0.1"), 4, "vdb[0].tolerence", "unknown key (did you mean \"tolerance\"?)");
+    expect_rejected(vdb("radius = 1"), 4, "vdb[0].radius", "unknown key (allowed here: file, grid, albedo_grid");
+    expect_rejected("[[vbd]]\nfile = \"a.vdb\"\n", 1, "vbd", "unknown table (did you mean \"vdb\"?)");
+    expect_rejected("[vdb]\nfile = \"a.vdb\"\n", 1, "vdb", "write [[vdb]], not [vdb]");
+    expect_rejected("albedo_grid = \"tint\"\n", 1, "albedo_grid", "it belongs in a [[vdb]] section");
+    expect_rejected(vdb("") + "[[vdb]]\nfile = \"b.vdb\"\nmax_spheres = 0\n", 7, "vdb[1].max_spheres",
+                    "must be between 1 and 50000000 (got 0)");
+}
+
+TEST(SceneFileErrors, VdbValues) {
+    expect_rejected("[[vdb]]\nfile = \"\"\n", 2, "vdb[0].file", "must not be empty");
+    expect_rejected("[[vdb]]\nfile = 3\n", 2, "vdb[0].file", "must be a string (got an integer 3)");
+    expect_rejected("[[vdb]]\nfile = \"a\\nb.vdb\"\n", 2, "vdb[0].file", "must be one line");
+    expect_rejected(vdb("grid = \"\""), 4, "vdb[0].grid", "must not be empty (it names a grid in the file)");
+    expect_rejected(vdb("grid = 1.5"), 4, "vdb[0].grid", "must be a string");
+    expect_rejected(vdb("albedo_grid = \"\""), 4, "vdb[0].albedo_grid", "must not be empty");
+    expect_rejected(vdb("extinction_scale = 0"), 4, "vdb[0].extinction_scale", "must be positive (got 0)");
+    expect_rejected(vdb("extinction_scale = -2"), 4, "vdb[0].extinction_scale", "must be positive (got -2)");
+    expect_rejected(vdb("extinction_scale = 2e9"), 4, "vdb[0].extinction_scale", "absurd size: must be at most 1e9");
+    expect_rejected(vdb("extinction_scale = nan"), 4, "vdb[0].extinction_scale", "must be finite (got nan)");
+    expect_rejected(vdb("albedo = 1.5"), 4, "vdb[0].albedo", "must be in [0, 1] (got 1.5)");
+    expect_rejected(vdb("albedo = [0.5, -0.1, 0.5]"), 4, "vdb[0].albedo[1]", "must be in [0, 1] (got -0.1)");
+    expect_rejected(vdb("albedo = [0.5, 0.5]"), 4, "vdb[0].albedo", "exactly 3 numbers (got 2)");
+    expect_rejected(vdb("albedo = \"grey\""), 4, "vdb[0].albedo", "must be a number or [r, g, b] (got a string");
+    expect_rejected(vdb("tolerance = 0"), 4, "vdb[0].tolerance", "must be in (0, 1] (got 0)");
+    expect_rejected(vdb("tolerance = 1.5"), 4, "vdb[0].tolerance", "must be in (0, 1] (got 1.5)");
+    expect_rejected(vdb("tolerance = inf"), 4, "vdb[0].tolerance", "must be finite (got inf)");
+    expect_rejected(vdb("max_spheres = 0"), 4, "vdb[0].max_spheres", "must be between 1 and 50000000 (got 0)");
+    expect_rejected(vdb("max_spheres = 50000001"), 4, "vdb[0].max_spheres", "(got 50000001)");
+    expect_rejected(vdb("max_spheres = 100.0"), 4, "vdb[0].max_spheres", "must be an integer");
+    // Both: the later of the two is pointed at, and the message names both.
+    expect_rejected(vdb("tolerance = 0.1\nmax_spheres = 100"), 5, "vdb[0].max_spheres",
+                    "give tolerance or max_spheres, not both");
+    expect_rejected(vdb("max_spheres = 100\ntolerance = 0.1"), 5, "vdb[0].tolerance",
+                    "give tolerance or max_spheres, not both");
+    EXPECT_NO_THROW(parse_scene_toml(vdb("tolerance = 1\nalbedo = 0\nextinction_scale = 1e9"), "ok.toml"));
+    EXPECT_NO_THROW(parse_scene_toml(vdb("max_spheres = 50000000\nalbedo = [1, 0, 1]"), "ok.toml"));
+}
+
+TEST(SceneFileErrors, VdbTransform) {
+    expect_rejected(vdb("scale = 0"), 4, "vdb[0].scale", "scale must be positive, finite and at most");
+    expect_rejected(vdb("scale = -1"), 4, "vdb[0].scale", "(got -1)");
+    expect_rejected(vdb("scale = 2e7"), 4, "vdb[0].scale", "(got 2e+07)");
+    expect_rejected(vdb("scale = inf"), 4, "vdb[0].scale", "must be finite (got inf)");
+    expect_rejected(vdb("scale = [1, 1, 1]"), 4, "vdb[0].scale", "must be a number");
+    expect_rejected(vdb("translate = [0, 2e7, 0]"), 4, "vdb[0].translate", "translate components must be finite");
+    expect_rejected(vdb("translate = [0, nan, 0]"), 4, "vdb[0].translate[1]", "must be finite (got nan)");
+    expect_rejected(vdb("translate = [1, 2]"), 4, "vdb[0].translate", "exactly 3 numbers (got 2)");
+    expect_rejected(vdb("rotate = [0, 0, 4000]"), 4, "vdb[0].rotate", "rotate components must be finite degrees");
+    expect_rejected(vdb("rotate = 90"), 4, "vdb[0].rotate", "must be an array of 3 numbers");
+    EXPECT_NO_THROW(parse_scene_toml(vdb("translate = [-1e7, 0, 1e7]\nscale = 1e7\nrotate = [-3600, 0, 3600]"),
+                                     "ok.toml"));
+}
+
 TEST(SceneFileErrors, MalformedTomlReportsLineAndColumn) {
     const SceneFileError e = error_for("[camera]\nwidth = 160\nheight = = 3\n");
     const std::string what = e.what();
@@ -463,6 +624,32 @@ TEST_F(SceneFileOnDisk, ErrorsInAFileNameThePath) {
     } catch (const SceneFileError& e) {
         EXPECT_EQ(std::string(e.what()), path.string() + ":4: sphere[0].radius: must be positive and finite (got -3)");
     }
+}
+
+TEST_F(SceneFileOnDisk, VdbFilesAreFoundBesideTheScene) {
+    fs::create_directories(dir_ / "scenes" / "grids");
+    std::ofstream(dir_ / "scenes" / "grids" / "cloud.vdb") << "not really a vdb";
+    const fs::path path = dir_ / "scenes" / "cloud.toml";
+    std::ofstream(path) << "[[vdb]]\nfile = \"grids/cloud.vdb\"\n[[vdb]]\nfile = \"builtin:sheet\"\n";
+    const Scene s = load_scene_file(path);
+    ASSERT_EQ(s.volumes.size(), 2u);
+    for (const VdbVolume& v : s.volumes) EXPECT_EQ(v.source.base_dir, (dir_ / "scenes").string());
+    EXPECT_TRUE(fs::exists(fs::path(s.volumes[0].source.base_dir) / s.volumes[0].source.file));
+    EXPECT_EQ(s.volumes[0].source.file, "grids/cloud.vdb") << "the file is kept as written";
+
+    // A relative scene path gives a relative base_dir, still right from the same working directory.
+    const fs::path previous = fs::current_path();
+    fs::current_path(dir_);
+    Scene relative;
+    EXPECT_NO_THROW(relative = load_scene_file(fs::path("scenes") / "cloud.toml"));
+    const bool found = fs::exists(fs::path(relative.volumes.at(0).source.base_dir) / relative.volumes[0].source.file);
+    const Scene here = load_scene_file(fs::path("scenes/..") / "scenes" / "cloud.toml");
+    fs::current_path(previous);
+    EXPECT_EQ(relative.volumes[0].source.base_dir, "scenes");
+    EXPECT_TRUE(found);
+    EXPECT_EQ(here.volumes[0].source.base_dir, "scenes/../scenes");
+    // Written back, the base_dir is not: a copy elsewhere looks beside itself.
+    EXPECT_EQ(scene_to_toml(s).find(dir_.string()), std::string::npos);
 }
 
 TEST_F(SceneFileOnDisk, MissingFileNamesTheFileAndTheReason) {

@@ -8,6 +8,7 @@
 #include "render/reference.h"
 #include "render/vk/device.h"
 #include "sim/builtin_presets.h"
+#include "sim/vdb/volume_loader.h"
 #include "sim/builtin_scenes.h"
 #include "sim/camera_path.h"
 #include "sim/layers_scene.h"
@@ -78,8 +79,9 @@ Scene disjoint_scene(int count, int width, int height) {
 }
 
 BenchScene preset_frames(const std::string& name, int frames, int width, int height) {
-    const std::optional<Preset> preset = builtin_preset(name);
+    std::optional<Preset> preset = builtin_preset(name);
     if (!preset) throw std::invalid_argument("no built-in preset '" + name + "'");
+    prepare_preset(*preset);
     BenchScene out{name, {}};
     Simulator sim(*preset);
     // Start a quarter in, where emitters have filled the view, and take consecutive frames.
@@ -174,7 +176,7 @@ std::string number(double v) {
 }  // namespace
 
 void add_bench_methods_options(CLI::App& cmd, BenchArgs& args) {
-    cmd.add_option("-o,--output", args.output_dir, "bench methods: directory for results.csv/json and charts");
+    cmd.add_option("-o,--output", args.output_dir, "bench methods and vdb: directory for results and charts");
     cmd.add_option("--methods", args.methods, "bench methods: comma-separated specs (default: all, with settings sweeps)");
     cmd.add_option("--scenes", args.scenes, "bench methods: comma-separated scenes/presets");
     cmd.add_option("--size", args.size, "bench methods: resolution WxH (default 160x120)");

@@ -1,5 +1,7 @@
 #include "app/cli_util.h"
 
+#include "sim/vdb/volume_loader.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -7,6 +9,12 @@
 #include <stdexcept>
 
 namespace brume::app {
+
+void print_volume_report(const VolumeReport& r) {
+    std::printf("%s: %zu spheres from %llu active voxels, optical-depth error %.2f%% RMS (%.1f%% max) over %ld rays, %.2f s\n",
+                r.source.c_str(), r.spheres, static_cast<unsigned long long>(r.active_voxels), 100.0 * r.error.relative_rms,
+                100.0 * r.error.relative_max, r.error.rays, r.seconds);
+}
 
 std::uint64_t parse_bytes(const std::string& text) {
     std::size_t used = 0;

@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+namespace brume {
+struct VolumeReport;
+}
+
 namespace brume::app {
 
 // "512M", "2G", "1.5GiB", "1000000" -> bytes. Throws std::invalid_argument naming the text.
@@ -16,6 +20,9 @@ void parse_size(const std::string& text, int& width, int& height);
 std::vector<int> parse_int_list(const std::string& text);
 
 double median(std::vector<double> values);
+
+// One line on what converting a [[vdb]] volume did: spheres, voxels, measured error, time.
+void print_volume_report(const VolumeReport& report);
 
 // A JSON string literal (quotes, backslashes and control characters escaped).
 std::string json_string(const std::string& text);

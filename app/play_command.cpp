@@ -11,6 +11,7 @@
 #include "sim/builtin_presets.h"
 #include "sim/camera_path.h"
 #include "sim/simulator.h"
+#include "sim/vdb/volume_loader.h"
 
 #include <atomic>
 #include <chrono>
@@ -88,6 +89,7 @@ int run_play(const PlayArgs& args) {
     }
     Preset preset = resolve_preset(args.preset.empty() ? default_preset_name() : args.preset);
     if (!args.size.empty()) parse_size(args.size, preset.scene.camera.width, preset.scene.camera.height);
+    for (const VolumeReport& v : prepare_preset(preset)) print_volume_report(v);
     const std::string method = args.method.empty() ? preset.render.method : args.method;
     const double exposure = args.exposure_set ? args.exposure : preset.render.exposure;
     if (!std::isfinite(exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");

@@ -8,6 +8,7 @@
 #include "render/vk/device.h"
 #include "sim/builtin_scenes.h"
 #include "sim/scene_file.h"
+#include "sim/vdb/volume_loader.h"
 
 #include <chrono>
 #include <cmath>
@@ -81,6 +82,7 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
 int run_render(const RenderArgs& args) {
     Scene scene = args.scene.empty() ? default_scene() : load_scene_file(args.scene);
     if (!args.size.empty()) parse_size(args.size, scene.camera.width, scene.camera.height);
+    for (const VolumeReport& v : convert_scene_volumes(scene)) print_volume_report(v);
     std::string exr = args.exr, png = args.png;
     if (exr.empty() && png.empty()) {
         exr = "brume.exr";

@@ -332,6 +332,9 @@ void store(Image& image, int i, int j, const dvec3& v) {
 }
 
 void check_camera(const Scene& scene) {
+    if (!scene.volumes.empty())
+        throw std::logic_error("reference renderer: the scene's [[vdb]] volumes were not converted to spheres "
+                               "(sim/vdb/volume_loader.h convert_scene_volumes)");
     if (scene.camera.width <= 0 || scene.camera.height <= 0)
         throw std::invalid_argument("reference renderer: camera of " + std::to_string(scene.camera.width) + "x" +
                                     std::to_string(scene.camera.height) + " pixels");

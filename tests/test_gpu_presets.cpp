@@ -1,10 +1,11 @@
 // Every shipped preset simulates and renders; ppll matches the reference on real simulated frames,
-// including the fog bank whose camera flies through the particles.
+// including the fog bank whose camera flies through the particles and the cloud read from a density grid.
 #include "gpu_test_env.h"
 #include "render/methods/ppll.h"
 #include "sim/builtin_presets.h"
 #include "sim/camera_path.h"
 #include "sim/simulator.h"
+#include "sim/vdb/volume_loader.h"
 
 namespace brume {
 namespace {
@@ -25,8 +26,9 @@ Scene frame_scene(const Preset& preset, Simulator& sim, int frame) {
 }
 
 TEST_P(Presets, SimulatedFrameMatchesReference) {
-    const std::optional<Preset> preset = builtin_preset(GetParam());
+    std::optional<Preset> preset = builtin_preset(GetParam());
     ASSERT_TRUE(preset.has_value());
+    prepare_preset(*preset);  // [[vdb]] volumes to spheres, density emitters' grids
     Simulator sim(*preset);
     // A frame a third of the way in: emitters have filled the view, the fog-bank camera is moving.
     const int frame = preset->timeline.frame_count() / 3;

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 namespace brume {
 
@@ -28,6 +29,9 @@ FrameResources::FrameResources(const Device& device, const SharedDescriptors& de
 }
 
 void FrameResources::upload(const Scene& scene) {
+    if (!scene.volumes.empty())
+        throw std::logic_error("the scene's [[vdb]] volumes were not converted to spheres "
+                               "(sim/vdb/volume_loader.h convert_scene_volumes)");
     const VkExtent2D extent{std::uint32_t(scene.camera.width), std::uint32_t(scene.camera.height)};
     if (extent.width != extent_.width || extent.height != extent_.height) {
         const VkImageUsageFlags storage_target = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;

@@ -8,6 +8,7 @@
 #include "sim/vdb/optical_depth_error.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,12 +24,13 @@ struct VolumeReport {
 };
 
 // Appends every scene.volumes entry's spheres to scene.spheres (in table order, after the scene's own
-// spheres) and empties scene.volumes. Throws VdbError naming the volume (its index and source) when a
+// spheres) and empties scene.volumes. Each conversion meets its tolerance over the axis views, the scene's
+// camera and `more_views` (world space). Throws VdbError naming the volume (its index and source) when a
 // grid cannot be read, holds no density, or cannot meet its tolerance.
-std::vector<VolumeReport> convert_scene_volumes(Scene& scene);
+std::vector<VolumeReport> convert_scene_volumes(Scene& scene, const std::vector<Camera>& more_views = {});
 
-// Everything a preset needs before simulating and rendering: convert_scene_volumes on its scene and
-// load_emitter_densities (sim/vdb/emitter_densities.h).
+// Everything a preset needs before simulating and rendering: convert_scene_volumes on its scene, with
+// cameras along its camera path among the views, and load_emitter_densities (sim/vdb/emitter_densities.h).
 std::vector<VolumeReport> prepare_preset(Preset& preset);
 
 }  // namespace brume

@@ -1,0 +1,92 @@
+#include "sim/vdb/volume_loader.h"
+
+#include "sim/camera_path.h"
+#include "sim/scene_file.h"
+#include "sim/vdb/density_source.h"
+#include "sim/vdb/emitter_densities.h"
+#include "sim/vdb/sphere_cloud.h"
+#include "sim/vdb/vdb_file.h"
+#include "sim/volume_transform.h"
+
+#include <glm/matrix.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace brume {
+
+namespace {
+
+// The scene camera seen from the grid's side of the transform, at most 128 pixels across: the view the
+// conversion must satisfy besides the axis views (a small image samples the same error statistics).
+Camera camera_in_grid_space(const Camera& camera, const VolumeTransform& t) {
+    Camera c = camera;
+    c.position = world_to_volume(t, camera.position);
+    c.look_at = world_to_volume(t, camera.look_at);
+    c.up = glm::transpose(volume_rotation(t)) * camera.up;
+    const int longest = std::max(camera.width, camera.height);
+    if (longest > 128) {
+        c.width = std::max(1, int(std::lround(camera.width * 128.0 / longest)));
+        c.height = std::max(1, int(std::lround(camera.height * 128.0 / longest)));
+    }
+    return c;
+}
+
+}  // namespace
+
+std::vector<VolumeReport> convert_scene_volumes(Scene& scene, const std::vector<Camera>& more_views) {
+    std::vector<VolumeReport> reports;
+    for (std::size_t i = 0; i < scene.volumes.size(); ++i) {
+        const VdbVolume& v = scene.volumes[i];
+        const auto start = std::chrono::steady_clock::now();
+        VolumeReport report;
+        report.source = density_source_label(v.source);
+        const std::string where = "vdb[" + std::to_string(i) + "] (" + report.source + "): ";
+        try {
+            std::vector<std::string> names{v.source.grid};
+            if (!v.albedo_grid.empty()) names.push_back(v.albedo_grid);
+            const std::vector<DensityGrid> grids = read_density_source(v.source, names);
+            SphereCloudOptions options;
+            options.tolerance = v.tolerance;
+            options.max_spheres = v.max_spheres;
+            options.extinction_scale = v.extinction_scale;
+            options.albedo = v.albedo;
+            if (grids.size() > 1) options.albedo_grid = &grids[1];
+            options.views.push_back(camera_in_grid_space(scene.camera, v.transform));
+            for (const Camera& c : more_views) options.views.push_back(camera_in_grid_space(c, v.transform));
+            const SphereCloud cloud = grid_to_spheres(grids[0], options);
+            if (cloud.spheres.empty()) throw std::runtime_error("grid \"" + v.source.grid + "\" holds no density (every voxel is 0)");
+            if (scene.spheres.size() + cloud.spheres.size() > kMaxSpheres)
+                throw std::runtime_error(std::to_string(cloud.spheres.size()) + " spheres would take the scene past " +
+                                         std::to_string(kMaxSpheres) + "; raise the tolerance or set max_spheres");
+            for (const Sphere& s : cloud.spheres) scene.spheres.push_back(volume_to_world(v.transform, s));
+            report.spheres = cloud.spheres.size();
+            report.active_voxels = grids[0].active_voxels;
+            report.error = cloud.error;
+        } catch (const VdbError& e) {
+            throw VdbError("vdb[" + std::to_string(i) + "]: " + e.what());
+        } catch (const std::exception& e) {  // bad options, an unreachable tolerance, no density
+            throw VdbError(where + e.what());
+        }
+        report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        reports.push_back(report);
+    }
+    scene.volumes.clear();
+    return reports;
+}
+
+std::vector<VolumeReport> prepare_preset(Preset& preset) {
+    // A moving camera sees the cloud from wherever its path goes: four views spread over the timeline.
+    std::vector<Camera> path_views;
+    if (preset.camera_path.kind != CameraPath::Kind::Static && !preset.scene.volumes.empty()) {
+        const double start = preset.timeline.preroll, length = preset.timeline.duration;
+        for (int k = 0; k < 4; ++k) path_views.push_back(camera_at(preset, start + length * k / 3.0));
+    }
+    std::vector<VolumeReport> reports = convert_scene_volumes(preset.scene, path_views);
+    load_emitter_densities(preset);
+    return reports;
+}
+
+}  // namespace brume

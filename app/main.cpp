@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
     brume::app::VdbInfoArgs vdb_info_args;
     brume::app::VdbImportArgs vdb_import_args;
     brume::app::add_vdb_commands(app, vdb_info_args, vdb_import_args);
+    brume::app::VdbExportArgs vdb_export_args;
+    brume::app::VdbSampleArgs vdb_sample_args;
+    brume::app::add_vdb_export_commands(app, vdb_export_args, vdb_sample_args);
     app.add_subcommand("devices", "List the Vulkan devices Brume can use");
     app.add_subcommand("methods", "List the rendering methods and their settings");
     try {
@@ -75,6 +78,8 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("bench")) return brume::app::run_bench(bench_args);
         if (app.got_subcommand("vdb-info")) return brume::app::run_vdb_info(vdb_info_args);
         if (app.got_subcommand("vdb-import")) return brume::app::run_vdb_import(vdb_import_args);
+        if (app.got_subcommand("vdb-export")) return brume::app::run_vdb_export(vdb_export_args);
+        if (app.got_subcommand("vdb-sample")) return brume::app::run_vdb_sample(vdb_sample_args);
         if (app.got_subcommand("devices")) return list_devices();
         if (app.got_subcommand("methods")) return list_methods();
     } catch (const brume::SceneFileError& e) {

@@ -322,6 +322,125 @@ if expect_error regress.option_error_one_line "brume: error:" "--repeat"; then
     if [ "$(wc -l <"$err")" -eq 1 ]; then ok regress.option_error_one_line; else fail regress.option_error_one_line "$(wc -l <"$err") lines"; fi
 fi
 
+# --- 12. vdb-export and vdb-sample: a frame's spheres as a density grid, sample volumes to try vdb-import on. ----
+vdb=$work/vdb
+mkdir -p "$vdb"
+# A preset that simulates in a moment: 60 particles burst at 0.5 s, 1 s at 4 fps (frames 0-3), so frame 0
+# has no particles and frame 3 has all of them.
+cat >"$vdb/puff.toml" <<'EOF'
+[timeline]
+fps = 4.0
+duration = 1.0
+seed = 3
+
+[[emitter]]
+name = "puff"
+shape = "sphere"
+center = [0.0, 1.0, 0.0]
+radius = 0.5
+bursts = [{ time = 0.5, count = 60 }]
+speed = [0.1, 0.3]
+lifetime = 10.0
+particle_radius = [0.1, 0.2]
+extinction = [1.0, 3.0]
+EOF
+# vdb_lists NAME FILE GRID...: `brume vdb-info FILE` succeeds and lists every GRID.
+vdb_lists() {
+    local name=$1 file=$2
+    shift 2
+    run vdb-info "$file"
+    expect_success "$name" || return 1
+    local g
+    for g in "$@"; do
+        if ! grep -q "^$g " "$out"; then
+            fail "$name" "vdb-info does not list grid '$g': $(head -n 1 "$out")"
+            return 1
+        fi
+    done
+    return 0
+}
+run vdb-export "$vdb/puff.toml" --resolution 32 -o "$vdb/puff.vdb"
+if expect_success vdb_export.preset_file; then
+    if ! grep -q "frame 3 of puff" "$out"; then
+        fail vdb_export.preset_file "the last frame (3) was not exported: $(head -n 1 "$out")"
+    elif ! grep -q "relative difference" "$out"; then
+        fail vdb_export.preset_file "no mass comparison printed: $(tail -n 1 "$out")"
+    else
+        vdb_lists vdb_export.preset_file "$vdb/puff.vdb" density && ok vdb_export.preset_file
+    fi
+fi
+run vdb-export "$vdb/puff.toml" --frame 2 --voxel-size 0.05 --extinction-scale 2 --albedo-grid -o "$vdb/albedo.vdb"
+expect_success vdb_export.albedo_grid && vdb_lists vdb_export.albedo_grid "$vdb/albedo.vdb" density albedo &&
+    ok vdb_export.albedo_grid
+run vdb-export "$data/small.toml" --resolution 16 -o "$vdb/scene.vdb"
+expect_success vdb_export.scene_file && vdb_lists vdb_export.scene_file "$vdb/scene.vdb" density && ok vdb_export.scene_file
+run vdb-export crossing --frame 0 --resolution 24 -o "$vdb/crossing.vdb"
+expect_success vdb_export.builtin_preset && vdb_lists vdb_export.builtin_preset "$vdb/crossing.vdb" density &&
+    ok vdb_export.builtin_preset
+
+run vdb-sample --list
+if expect_success vdb_sample.list; then
+    missing=
+    for n in cloud fog-sphere sheet; do grep -q "^$n " "$out" || missing="$missing $n"; done
+    if [ -n "$missing" ]; then fail vdb_sample.list "not listed:$missing"; else ok vdb_sample.list; fi
+fi
+run vdb-sample fog-sphere --resolution 16 -o "$vdb/fog.vdb"
+expect_success vdb_sample.write && vdb_lists vdb_sample.write "$vdb/fog.vdb" density && ok vdb_sample.write
+
+# Every refusal names its problem and leaves an existing output as it was, with nothing beside it.
+vkeep=$work/vdb_keep
+mkdir -p "$vkeep"
+cp "$vdb/puff.vdb" "$vkeep/out.vdb"
+vbefore=$(cksum <"$vkeep/out.vdb")
+# vdb_refused NAME PATTERN... -- ARGS...: brume ARGS fails naming every PATTERN, out.vdb is untouched.
+vdb_refused() {
+    local name=$1
+    shift
+    local patterns=()
+    while [ "$1" != "--" ]; do
+        patterns+=("$1")
+        shift
+    done
+    shift
+    run "$@"
+    expect_error "$name" "${patterns[@]}" || return
+    if [ "$(cksum <"$vkeep/out.vdb")" != "$vbefore" ]; then
+        fail "$name" "the existing out.vdb changed"
+    elif ! dir_holds "$vkeep" out.vdb; then
+        fail "$name" "the output directory holds more than out.vdb: $(listing "$vkeep")"
+    else
+        ok "$name"
+    fi
+}
+vdb_refused vdb_export.unknown_preset "no-such-preset" "built-in presets" -- \
+    vdb-export no-such-preset -o "$vkeep/out.vdb"
+vdb_refused vdb_export.frame_out_of_range "--frame 9" "0-3" -- \
+    vdb-export "$vdb/puff.toml" --frame 9 -o "$vkeep/out.vdb"
+vdb_refused vdb_export.frame_negative "--frame -1" -- vdb-export "$vdb/puff.toml" --frame -1 -o "$vkeep/out.vdb"
+vdb_refused vdb_export.no_spheres "frame 0 of puff" "no spheres" -- \
+    vdb-export "$vdb/puff.toml" --frame 0 -o "$vkeep/out.vdb"
+vdb_refused vdb_export.absurd_size "voxels" "larger voxel size" -- \
+    vdb-export "$vdb/puff.toml" --voxel-size 1e-5 -o "$vkeep/out.vdb"
+vdb_refused vdb_export.bad_voxel_size "--voxel-size" -- vdb-export "$vdb/puff.toml" --voxel-size -1 -o "$vkeep/out.vdb"
+vdb_refused vdb_export.size_and_resolution "--voxel-size" "--resolution" -- \
+    vdb-export "$vdb/puff.toml" --voxel-size 0.1 --resolution 32 -o "$vkeep/out.vdb"
+vdb_refused vdb_export.bad_extinction_scale "--extinction-scale" -- \
+    vdb-export "$vdb/puff.toml" --extinction-scale 0 -o "$vkeep/out.vdb"
+vdb_refused vdb_export.bad_scene "bad_nan_radius.toml" -- vdb-export "$data/bad_nan_radius.toml" -o "$vkeep/out.vdb"
+vdb_refused vdb_sample.unknown_name "nebula" "cloud" -- vdb-sample nebula -o "$vkeep/out.vdb"
+vdb_refused vdb_sample.bad_resolution "--resolution" -- vdb-sample cloud --resolution 4 -o "$vkeep/out.vdb"
+vdb_refused vdb_sample.no_output "-o" -- vdb-sample cloud
+# An output that cannot be written is refused before any work, and no directory is made for it.
+run vdb-export "$vdb/puff.toml" -o "$work/vdb_no/dir/out.vdb"
+expect_error vdb_export.missing_dir "$work/vdb_no/dir/out.vdb" && ok vdb_export.missing_dir
+run vdb-sample sheet -o "$work/vdb_no/dir/out.vdb"
+expect_error vdb_sample.missing_dir "$work/vdb_no/dir/out.vdb" && ok vdb_sample.missing_dir
+if [ -e "$work/vdb_no" ]; then
+    fail vdb.missing_dir_not_created "a failed write created $work/vdb_no"
+else
+    ok vdb.missing_dir_not_created
+fi
+
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1
 if [ "$failed" -ne 0 ]; then

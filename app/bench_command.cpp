@@ -1,6 +1,7 @@
 #include "app/bench_command.h"
 
 #include "app/bench_methods.h"
+#include "app/bench_vdb.h"
 #include "app/cli_util.h"
 #include "render/image_compare.h"
 #include "render/methods/ppll.h"
@@ -33,11 +34,14 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
     CLI::App* cmd = app.add_subcommand("bench", "Benchmarks that print figures side by side");
     cmd->add_option("which", args.which,
                     "methods (default: every method on every scene, charted), layers (seed 000 Tables 1-2), "
-                    "or sim (simulation step)")
-        ->check(CLI::IsMember({"methods", "layers", "sim"}));
+                    "sim (simulation step) or vdb (OpenVDB import: spheres against error)")
+        ->check(CLI::IsMember({"methods", "layers", "sim", "vdb"}));
     add_bench_methods_options(*cmd, args);
     cmd->add_option("--particles", args.particles, "bench sim: live particles")->check(CLI::Range(std::size_t(1), std::size_t(10000000)));
     cmd->add_option("--steps", args.steps, "bench sim: steps timed (median reported)")->check(CLI::Range(1, 100000));
+    cmd->add_option("--vdb-sample", args.vdb_sample, "bench vdb: built-in volume (cloud, fog-sphere, sheet)")->capture_default_str();
+    cmd->add_option("--vdb-sizes", args.vdb_sizes, "bench vdb: grid resolutions, e.g. 128,256")->capture_default_str();
+    cmd->add_option("--tolerances", args.tolerances, "bench vdb: RMS optical-depth error tolerances")->capture_default_str();
     cmd->add_option("--sizes", args.sizes, "Resolutions, e.g. 800x600,1024x768");
     cmd->add_option("--layers", args.layers, "Layer counts, e.g. 2-16:2 or 2,8,16 (even)");
     cmd->add_option("--frames", args.frames, "ppll frames per point (median reported)")->check(CLI::Range(1, 10000));
@@ -63,6 +67,7 @@ int run_bench_sim(const BenchArgs& args) {
 int run_bench(const BenchArgs& args) {
     if (args.which == "sim") return run_bench_sim(args);
     if (args.which == "methods") return run_bench_methods(args);
+    if (args.which == "vdb") return run_bench_vdb(args);
     std::vector<std::pair<int, int>> sizes;
     for (std::size_t start = 0; start <= args.sizes.size();) {
         const std::size_t comma = args.sizes.find(',', start);

@@ -1,5 +1,6 @@
 // `brume bench layers`: the full-screen-layers benchmark of seed 000 (Tables 1-2) for ppll, with
 // the CPU reference timed on the same frames. `brume bench sim`: milliseconds per simulation step.
+// `brume bench vdb` (app/bench_vdb.h): OpenVDB import, spheres against error.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -25,6 +26,10 @@ struct BenchArgs {
     std::string scenes = "default,cloud-1000,disjoint-300,layers-8,crossing,plume,fog-bank,explosion";
     std::string size;
     int anim_frames = 16;
+    // bench vdb
+    std::string vdb_sample = "cloud";
+    std::string vdb_sizes = "128,256";
+    std::string tolerances = "0.02,0.05,0.1,0.2";
 };
 
 void add_bench_command(CLI::App& app, BenchArgs& args);

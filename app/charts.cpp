@@ -119,6 +119,14 @@ std::vector<std::string> write_charts(const fs::path& dir, const std::vector<Cha
         scripts.push_back({"error_vs_depth", both_terminals("error_vs_depth", plot.str())});
     }
 
+    return draw_charts(dir, scripts);
+}
+
+namespace {
+
+// Writes each script as DIR/STEM.gp and runs gnuplot on it; returns the SVG and PNG files drawn.
+std::vector<std::string> draw_charts_impl(const fs::path& dir,
+                                          const std::vector<std::pair<std::string, std::string>>& scripts) {
     std::vector<std::string> written;
     bool gnuplot_missing = false;
     for (const auto& [stem, script] : scripts) {
@@ -145,6 +153,29 @@ std::vector<std::string> write_charts(const fs::path& dir, const std::vector<Cha
         written.push_back((dir / (stem + ".png")).string());
     }
     return written;
+}
+
+}  // namespace
+
+std::vector<std::string> draw_charts(const fs::path& dir, const std::vector<std::pair<std::string, std::string>>& scripts) {
+    return draw_charts_impl(dir, scripts);
+}
+
+std::vector<std::string> write_vdb_chart(const fs::path& dir, const std::vector<VdbSeries>& series) {
+    std::ostringstream data, plot;
+    plot << "set title 'OpenVDB import: spheres against measured optical-depth error'\n"
+         << "set xlabel 'spheres'\nset ylabel 'RMS optical-depth error (relative)'\n"
+         << "set logscale xy\nset format x '10^{%L}'\nset format y '%.0e'\nset grid\nset key top right\nplot ";
+    for (std::size_t k = 0; k < series.size(); ++k) {
+        data << "# " << series[k].label << "\n";
+        for (const auto& [spheres, error] : series[k].points) data << spheres << ' ' << num(error) << '\n';
+        data << "\n\n";
+        plot << (k ? ", \\\n     " : "") << "'vdb_spheres_vs_error.dat' index " << k
+             << " using 1:2 with linespoints title " << quoted(series[k].label);
+    }
+    plot << "\n";
+    write_file_atomically(dir / "vdb_spheres_vs_error.dat", data.str());
+    return draw_charts(dir, {{"vdb_spheres_vs_error", both_terminals("vdb_spheres_vs_error", plot.str())}});
 }
 
 }  // namespace brume::app

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace brume::app {
@@ -30,6 +31,18 @@ struct DepthErrorSeries {
 std::vector<std::string> write_charts(const std::filesystem::path& dir, const std::vector<ChartPoint>& points,
                                       const std::vector<TemporalSeries>& temporal,
                                       const std::vector<DepthErrorSeries>& depth);
+
+// `brume bench vdb`: per grid, (sphere count, RMS optical-depth error) for each tolerance.
+struct VdbSeries {
+    std::string label;
+    std::vector<std::pair<double, double>> points;
+};
+std::vector<std::string> write_vdb_chart(const std::filesystem::path& dir, const std::vector<VdbSeries>& series);
+
+// Writes each (stem, gnuplot script) as DIR/STEM.gp and draws it; returns the SVG and PNG files drawn.
+// Without gnuplot, says so once on stderr and returns none.
+std::vector<std::string> draw_charts(const std::filesystem::path& dir,
+                                     const std::vector<std::pair<std::string, std::string>>& scripts);
 
 // The Pareto front of `points`: those no other point beats on both time and error, by time.
 std::vector<ChartPoint> pareto_front(std::vector<ChartPoint> points);

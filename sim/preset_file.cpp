@@ -235,6 +235,12 @@ public:
         if (const toml::node* n = root.get("box")) boxes(*n, top / "box", s.boxes);
         if (const toml::node* n = root.get("sphere")) spheres(*n, top / "sphere", s.spheres);
         if (const toml::node* n = root.get("vdb")) volumes(*n, top / "vdb", s.volumes);
+        // Four lines of TOML render a .vdb: with no camera placement given, the loader frames the volumes.
+        {
+            const toml::table* camera_table = root.get("camera") ? root.get("camera")->as_table() : nullptr;
+            const bool placed = camera_table && (camera_table->get("position") || camera_table->get("look_at"));
+            s.frame_volumes = !s.volumes.empty() && !placed;
+        }
         // After [camera]: its resolution overrides the camera's size.
         if (const toml::node* n = root.get("timeline")) timeline(*n, top / "timeline", p.timeline, s.camera);
         if (const toml::node* n = root.get("emitter")) emitters(*n, top / "emitter", p.emitters);

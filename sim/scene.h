@@ -86,6 +86,9 @@ struct Scene {
     std::vector<Box> boxes;
     std::vector<Sphere> spheres;
     std::vector<VdbVolume> volumes;  // not yet converted: renderers require this empty
+    // Set by the scene reader when there are volumes and [camera] places neither position nor look_at: the
+    // volume loader then aims the camera (keeping its up, field of view and size) so the volumes fill the view.
+    bool frame_volumes = false;
     std::string source;  // where the scene came from ("built-in default", a path), for messages
 };
 

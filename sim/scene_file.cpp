@@ -156,8 +156,10 @@ void append_scene_sections(std::string& out, const Scene& scene) {
     out.reserve(out.size() + 1024 + scene.boxes.size() * 128 + scene.spheres.size() * 160);
     const Camera& c = scene.camera;
     out += "\n[camera]\n";
-    append_vec3(out, "position", c.position);
-    append_vec3(out, "look_at", c.look_at);
+    if (!scene.frame_volumes) {  // else the volume loader places it
+        append_vec3(out, "position", c.position);
+        append_vec3(out, "look_at", c.look_at);
+    }
     append_vec3(out, "up", c.up);
     append_number(out, "fov_y_deg", c.fov_y_deg);
     out += "width = " + std::to_string(c.width) + '\n';

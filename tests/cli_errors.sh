@@ -441,6 +441,55 @@ else
     ok vdb.missing_dir_not_created
 fi
 
+# --- 13. [[vdb]] in a scene: four lines of TOML render a .vdb; every problem with the volume is named. ------
+vs=$work/vdb_scene
+mkdir -p "$vs/sub"
+run vdb-sample cloud --resolution 24 -o "$vs/sub/cloud.vdb"
+expect_success vdb_scene.sample || true
+# The file is found beside the scene, whatever the working directory; the camera frames the cloud.
+printf '[[vdb]]\nfile = "cloud.vdb"\nextinction_scale = 4.0\ntolerance = 0.05\n' >"$vs/sub/four.toml"
+run render "$vs/sub/four.toml" --png "$vs/four.png"
+if expect_success vdb_scene.four_lines; then
+    if ! has_magic "$vs/four.png" $PNG_MAGIC; then
+        fail vdb_scene.four_lines "no PNG written"
+    elif ! grep -q "optical-depth error" "$out"; then
+        fail vdb_scene.four_lines "the conversion's measured error was not reported: $(head -n 1 "$out")"
+    else
+        ok vdb_scene.four_lines
+    fi
+fi
+cp "$vs/four.png" "$vs/keep.png"
+vsbefore=$(cksum <"$vs/keep.png")
+# vdb_scene_refused NAME SCENE_TEXT PATTERN...: rendering the scene fails naming every PATTERN and the
+# existing keep.png is untouched.
+vdb_scene_refused() {
+    local name=$1 text=$2
+    shift 2
+    printf '%s\n' "$text" >"$vs/sub/bad.toml"
+    run render "$vs/sub/bad.toml" --png "$vs/keep.png"
+    expect_error "$name" "$@" || return
+    if [ "$(cksum <"$vs/keep.png")" != "$vsbefore" ]; then fail "$name" "the existing keep.png changed"; else ok "$name"; fi
+}
+vdb_scene_refused vdb_scene.missing_file '[[vdb]]
+file = "nowhere.vdb"' "vdb[0]" "$vs/sub/nowhere.vdb" "cannot open"
+vdb_scene_refused vdb_scene.wrong_grid '[[vdb]]
+file = "cloud.vdb"
+grid = "smoke"' "vdb[0]" "no grid named \"smoke\"" "\"density\""
+vdb_scene_refused vdb_scene.not_a_vdb '[[vdb]]
+file = "bad.toml"' "vdb[0]" "not a VDB file"
+vdb_scene_refused vdb_scene.unreachable_tolerance '[[vdb]]
+file = "builtin:sheet:24"
+tolerance = 0.001' "vdb[0] (builtin:sheet:24)" "cannot be met" "one sphere per voxel"
+vdb_scene_refused vdb_scene.unknown_builtin '[[vdb]]
+file = "builtin:nebula"' "builtin:nebula" "no such built-in volume"
+vdb_scene_refused vdb_scene.both_limits '[[vdb]]
+file = "cloud.vdb"
+tolerance = 0.1
+max_spheres = 100' "bad.toml:4" "max_spheres"
+vdb_scene_refused vdb_scene.bad_scale '[[vdb]]
+file = "cloud.vdb"
+scale = -2.0' "bad.toml:3" "vdb[0].scale"
+
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1
 if [ "$failed" -ne 0 ]; then

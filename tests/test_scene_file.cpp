@@ -464,6 +464,20 @@ TEST(SceneFileErrors, VectorsNeedExactlyThreeNumbers) {
                     "must not be negative (got -0.2)");
 }
 
+// A scene that gives volumes but places no camera leaves the framing to the volume loader, and says so
+// again when written back; placing either end of the view turns framing off.
+TEST(SceneFile, VolumesWithoutACameraPlacementAreFramed) {
+    const Scene framed = parse_scene_toml("[camera]\nfov_y_deg = 30.0\nwidth = 64\n[[vdb]]\nfile = \"c.vdb\"\n", "f.toml");
+    EXPECT_TRUE(framed.frame_volumes);
+    const Scene again = parse_scene_toml(scene_to_toml(framed), "again.toml");
+    EXPECT_TRUE(again.frame_volumes);
+    EXPECT_EQ(again.camera.fov_y_deg, 30.0);
+    EXPECT_EQ(again.camera.width, 64);
+    EXPECT_FALSE(parse_scene_toml("[[vdb]]\nfile = \"c.vdb\"\n[camera]\nlook_at = [1.0, 0.0, 0.0]\n", "p.toml").frame_volumes);
+    EXPECT_FALSE(parse_scene_toml("[[vdb]]\nfile = \"c.vdb\"\n[camera]\nposition = [1.0, 0.0, 9.0]\n", "p.toml").frame_volumes);
+    EXPECT_FALSE(parse_scene_toml("[camera]\nwidth = 64\n", "none.toml").frame_volumes);  // nothing to frame
+}
+
 TEST(SceneFileErrors, CameraValues) {
     expect_rejected("[camera]\nwidth = 0\n", 2, "camera.width", "must be between 1 and 16384 (got 0)");
     expect_rejected("[camera]\nwidth = 100000\n", 2, "camera.width", "must be between 1 and 16384 (got 100000)");

@@ -8,6 +8,8 @@
 #include "sim/vdb/vdb_file.h"
 #include "sim/volume_transform.h"
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
 #include <algorithm>
@@ -34,20 +36,69 @@ Camera camera_in_grid_space(const Camera& camera, const VolumeTransform& t) {
     return c;
 }
 
+// `camera` moved back along the direction from a little above and in front (+z) of the box's centre until
+// the box's bounding sphere fills the narrower field of view with a 10% margin; up, field of view and size
+// are kept.
+Camera frame_box(Camera camera, const glm::dvec3& lo, const glm::dvec3& hi) {
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-9);
+    const double tan_half_y = std::tan(camera.fov_y_deg * 0.5 * 3.14159265358979323846 / 180.0);
+    const double tan_half = tan_half_y * std::min(1.0, double(camera.width) / double(camera.height));
+    const double half_angle = std::atan(tan_half);
+    glm::dvec3 back = glm::normalize(glm::dvec3(0.0, 0.35, 1.0));
+    if (glm::length(glm::cross(back, camera.up)) < 1e-6 * glm::length(camera.up)) back = glm::dvec3(1.0, 0.0, 0.0);
+    camera.position = centre + back * (1.1 * radius / std::sin(half_angle));
+    camera.look_at = centre;
+    return camera;
+}
+
 }  // namespace
 
 std::vector<VolumeReport> convert_scene_volumes(Scene& scene, const std::vector<Camera>& more_views) {
+    struct Loaded {
+        std::vector<DensityGrid> grids;  // density, then albedo when asked for
+        std::chrono::steady_clock::time_point start;
+    };
+    const auto where = [&](std::size_t i) {
+        return "vdb[" + std::to_string(i) + "] (" + density_source_label(scene.volumes[i].source) + "): ";
+    };
+    // Read every grid first, so that a camera left to frame the volumes is placed before any conversion,
+    // which measures its error from that camera.
+    std::vector<Loaded> loaded;
+    for (std::size_t i = 0; i < scene.volumes.size(); ++i) {
+        const VdbVolume& v = scene.volumes[i];
+        Loaded l;
+        l.start = std::chrono::steady_clock::now();
+        std::vector<std::string> names{v.source.grid};
+        if (!v.albedo_grid.empty()) names.push_back(v.albedo_grid);
+        try {
+            l.grids = read_density_source(v.source, names);
+        } catch (const VdbError& e) {
+            throw VdbError("vdb[" + std::to_string(i) + "]: " + e.what());
+        }
+        loaded.push_back(std::move(l));
+    }
+    if (scene.frame_volumes && !loaded.empty()) {
+        glm::dvec3 lo(INFINITY), hi(-INFINITY);
+        for (std::size_t i = 0; i < loaded.size(); ++i) {
+            const DensityGrid& g = loaded[i].grids[0];
+            const glm::dvec3 a = g.world_min(), b = g.world_max();
+            for (int c = 0; c < 8; ++c) {
+                const glm::dvec3 corner(c & 1 ? b.x : a.x, c & 2 ? b.y : a.y, c & 4 ? b.z : a.z);
+                const glm::dvec3 w = volume_to_world(scene.volumes[i].transform, corner);
+                lo = glm::min(lo, w);
+                hi = glm::max(hi, w);
+            }
+        }
+        scene.camera = frame_box(scene.camera, lo, hi);
+    }
     std::vector<VolumeReport> reports;
     for (std::size_t i = 0; i < scene.volumes.size(); ++i) {
         const VdbVolume& v = scene.volumes[i];
-        const auto start = std::chrono::steady_clock::now();
+        const std::vector<DensityGrid>& grids = loaded[i].grids;
         VolumeReport report;
         report.source = density_source_label(v.source);
-        const std::string where = "vdb[" + std::to_string(i) + "] (" + report.source + "): ";
         try {
-            std::vector<std::string> names{v.source.grid};
-            if (!v.albedo_grid.empty()) names.push_back(v.albedo_grid);
-            const std::vector<DensityGrid> grids = read_density_source(v.source, names);
             SphereCloudOptions options;
             options.tolerance = v.tolerance;
             options.max_spheres = v.max_spheres;
@@ -65,15 +116,14 @@ std::vector<VolumeReport> convert_scene_volumes(Scene& scene, const std::vector<
             report.spheres = cloud.spheres.size();
             report.active_voxels = grids[0].active_voxels;
             report.error = cloud.error;
-        } catch (const VdbError& e) {
-            throw VdbError("vdb[" + std::to_string(i) + "]: " + e.what());
         } catch (const std::exception& e) {  // bad options, an unreachable tolerance, no density
-            throw VdbError(where + e.what());
+            throw VdbError(where(i) + e.what());
         }
-        report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loaded[i].start).count();
         reports.push_back(report);
     }
     scene.volumes.clear();
+    scene.frame_volumes = false;
     return reports;
 }
 

@@ -39,7 +39,7 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
     add_bench_methods_options(*cmd, args);
     cmd->add_option("--particles", args.particles, "bench sim: live particles")->check(CLI::Range(std::size_t(1), std::size_t(10000000)));
     cmd->add_option("--steps", args.steps, "bench sim: steps timed (median reported)")->check(CLI::Range(1, 100000));
-    cmd->add_option("--vdb-sample", args.vdb_sample, "bench vdb: built-in volume (cloud, fog-sphere, sheet)")->capture_default_str();
+    cmd->add_option("--vdb-sample", args.vdb_sample, "bench vdb: built-in volumes, comma-separated (cloud, fog-sphere, sheet)")->capture_default_str();
     cmd->add_option("--vdb-sizes", args.vdb_sizes, "bench vdb: grid resolutions, e.g. 128,256")->capture_default_str();
     cmd->add_option("--tolerances", args.tolerances, "bench vdb: RMS optical-depth error tolerances")->capture_default_str();
     cmd->add_option("--sizes", args.sizes, "Resolutions, e.g. 800x600,1024x768");

@@ -49,15 +49,21 @@ std::vector<double> parse_tolerances(const std::string& text) {
 
 int run_bench_vdb(const BenchArgs& args) {
     const std::vector<int> sizes = parse_int_list(args.vdb_sizes);
+    std::vector<std::string> samples;
+    {
+        std::stringstream in(args.vdb_sample);
+        for (std::string item; std::getline(in, item, ',');) samples.push_back(item);
+        if (samples.empty()) throw std::invalid_argument("--vdb-sample: none given");
+    }
     const std::vector<double> tolerances = parse_tolerances(args.tolerances);
     if (!args.output_dir.empty()) {
         fs::create_directories(args.output_dir);
         check_writable_path(fs::path(args.output_dir) / "results_vdb.csv");
     }
-    std::printf("# brume bench vdb: built-in sample \"%s\" (builtin:%s:N), spheres twice their cell's equal-volume radius;\n"
+    std::printf("# brume bench vdb: built-in samples %s (builtin:NAME:N), spheres twice their cell's equal-volume radius;\n"
                 "# error = RMS optical-depth error against the trilinear grid over three %dx%d axis views; 'voxels' is\n"
                 "# one sphere per non-empty voxel; times on %u hardware threads\n",
-                args.vdb_sample.c_str(), args.vdb_sample.c_str(), SphereCloudOptions{}.axis_view_resolution,
+                args.vdb_sample.c_str(), SphereCloudOptions{}.axis_view_resolution,
                 SphereCloudOptions{}.axis_view_resolution, std::max(1u, std::thread::hardware_concurrency()));
     std::printf("%-16s %9s %7s %9s %9s %8s %-15s %6s %8s %8s %8s %8s\n", "grid", "voxels", "read_s", "tolerance",
                 "spheres", "vox/sph", "cells", "tried", "conv_s", "rms_err", "max_err", "bias");
@@ -65,13 +71,16 @@ int run_bench_vdb(const BenchArgs& args) {
     csv << "grid,active_voxels,read_s,tolerance,spheres,cell_cap,threshold,lattice_spacing,clouds_tried,convert_s,rms_error,"
            "max_error,bias\n";
     std::vector<VdbSeries> series;
-    for (const int n : sizes) {
+    std::vector<std::pair<std::string, int>> grids;  // every sample at every size
+    for (const std::string& sample : samples)
+        for (const int n : sizes) grids.emplace_back(sample, n);
+    for (const auto& [sample, n] : grids) {
         DensitySource source;
-        source.file = "builtin:" + args.vdb_sample + ":" + std::to_string(n);
+        source.file = "builtin:" + sample + ":" + std::to_string(n);
         const auto read_start = std::chrono::steady_clock::now();
         const DensityGrid grid = read_density_source(source);
         const double read_s = seconds_since(read_start);
-        const std::string label = args.vdb_sample + " " + std::to_string(n) + "^3";
+        const std::string label = sample + " " + std::to_string(n) + "^3";
         VdbSeries s{label, {}};
         const auto row = [&](const std::string& tolerance, std::size_t spheres, int cap, double threshold, double spacing,
                              int tried, double convert_s, const OpticalDepthError& e) {

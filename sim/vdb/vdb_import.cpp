@@ -5,24 +5,26 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
 namespace brume {
 
-Camera frame_grid_camera(const DensityGrid& grid) {
-    Camera c;
-    const glm::dvec3 lo = grid.world_min(), hi = grid.world_max();
+Camera frame_box(Camera camera, const glm::dvec3& lo, const glm::dvec3& hi) {
     const glm::dvec3 centre = 0.5 * (lo + hi);
-    const double radius = 0.5 * glm::length(hi - lo);
-    const double half_fov = c.fov_y_deg * 0.5 * 3.14159265358979323846 / 180.0;
-    // The bounding sphere fills the vertical view with a 10% margin; the view is 4:3, wider than tall.
-    c.position = centre + glm::normalize(glm::dvec3(0.0, 0.35, 1.0)) * (1.1 * radius / std::sin(half_fov));
-    c.look_at = centre;
-    c.up = {0.0, 1.0, 0.0};
-    return c;
+    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-9);
+    const double tan_half_y = std::tan(camera.fov_y_deg * 0.5 * 3.14159265358979323846 / 180.0);
+    const double half_angle = std::atan(tan_half_y * std::min(1.0, double(camera.width) / double(camera.height)));
+    glm::dvec3 back = glm::normalize(glm::dvec3(0.0, 0.35, 1.0));
+    if (glm::length(glm::cross(back, camera.up)) < 1e-6 * glm::length(camera.up)) back = glm::dvec3(1.0, 0.0, 0.0);
+    camera.position = centre + back * (1.1 * radius / std::sin(half_angle));
+    camera.look_at = centre;
+    return camera;
 }
+
+Camera frame_grid_camera(const DensityGrid& grid) { return frame_box(Camera{}, grid.world_min(), grid.world_max()); }
 
 VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions& options) {
     const auto start = std::chrono::steady_clock::now();

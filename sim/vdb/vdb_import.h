@@ -25,8 +25,12 @@ struct VdbImport {
     double seconds = 0.0;      // converting and measuring
 };
 
-// A camera outside the grid's bounding sphere, looking at its centre from the front (+z) and a little
-// above, far enough that the whole cloud fits the default 40-degree view.
+// `camera` moved to look at the box's centre from the front (+z) and a little above, back far enough that
+// the box's bounding sphere fills the narrower field of view with a 10% margin; up, field of view and
+// size are kept.
+Camera frame_box(Camera camera, const glm::dvec3& lo, const glm::dvec3& hi);
+
+// The default camera framing the grid's voxels: what vdb-import writes.
 Camera frame_grid_camera(const DensityGrid& grid);
 
 // Converts and measures an already read grid. Throws std::invalid_argument for bad options and

@@ -6,6 +6,7 @@
 #include "sim/vdb/emitter_densities.h"
 #include "sim/vdb/sphere_cloud.h"
 #include "sim/vdb/vdb_file.h"
+#include "sim/vdb/vdb_import.h"
 #include "sim/volume_transform.h"
 
 #include <glm/common.hpp>
@@ -34,22 +35,6 @@ Camera camera_in_grid_space(const Camera& camera, const VolumeTransform& t) {
         c.height = std::max(1, int(std::lround(camera.height * 128.0 / longest)));
     }
     return c;
-}
-
-// `camera` moved back along the direction from a little above and in front (+z) of the box's centre until
-// the box's bounding sphere fills the narrower field of view with a 10% margin; up, field of view and size
-// are kept.
-Camera frame_box(Camera camera, const glm::dvec3& lo, const glm::dvec3& hi) {
-    const glm::dvec3 centre = 0.5 * (lo + hi);
-    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-9);
-    const double tan_half_y = std::tan(camera.fov_y_deg * 0.5 * 3.14159265358979323846 / 180.0);
-    const double tan_half = tan_half_y * std::min(1.0, double(camera.width) / double(camera.height));
-    const double half_angle = std::atan(tan_half);
-    glm::dvec3 back = glm::normalize(glm::dvec3(0.0, 0.35, 1.0));
-    if (glm::length(glm::cross(back, camera.up)) < 1e-6 * glm::length(camera.up)) back = glm::dvec3(1.0, 0.0, 0.0);
-    camera.position = centre + back * (1.1 * radius / std::sin(half_angle));
-    camera.look_at = centre;
-    return camera;
 }
 
 }  // namespace

@@ -71,7 +71,7 @@ struct SampleVolumeInfo {
     const char* description;
 };
 inline constexpr int kMinSampleResolution = 8;
-inline constexpr int kMaxSampleResolution = 1024;
+inline constexpr int kMaxSampleResolution = 512;  // 512^3 dense floats: 0.5 GiB
 std::span<const SampleVolumeInfo> sample_volumes();
 // Throws VdbError for an unknown name (listing the known ones) or a resolution out of range.
 std::string encode_sample_volume_vdb(const std::string& name, int resolution);

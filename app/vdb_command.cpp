@@ -38,7 +38,9 @@ void add_vdb_commands(CLI::App& app, VdbInfoArgs& info, VdbImportArgs& import) {
         ->delimiter(',')
         ->expected(3)
         ->check(CLI::Range(0.0, 1.0));
-    cmd->add_option("--albedo-grid", import.albedo_grid, "Float grid of the same file multiplying the albedo per sphere");
+    cmd->add_option("--albedo-grid", import.albedo_grid,
+                    "Float grid of the same file multiplying the albedo per sphere (default: \"albedo\" if the "
+                    "file has one; \"\" for none)");
     cmd->add_option("--sphere-scale", import.sphere_scale,
                     "Sphere radius / its cell's equal-volume radius: 1 leaves ~10% lattice ripple, 2 (default) ~0.4%")
         ->check(CLI::Range(kMinSphereScale, kMaxSphereScale))
@@ -109,9 +111,10 @@ int run_vdb_import(const VdbImportArgs& args) {
     char goal[64];
     if (args.max_spheres > 0) std::snprintf(goal, sizeof goal, "at most %zu spheres", args.max_spheres);
     else std::snprintf(goal, sizeof goal, "tolerance %g", args.tolerance);
-    std::printf("%s: %zu spheres from %llu active voxels of grid \"%s\" (%s: %s; %d clouds measured, %.2f s)\n",
+    const std::string tint = im.albedo_grid.empty() ? "" : ", albedo from grid \"" + im.albedo_grid + "\"";
+    std::printf("%s: %zu spheres from %llu active voxels of grid \"%s\"%s (%s: %s; %d clouds measured, %.2f s)\n",
                 args.output.c_str(), im.scene.spheres.size(), static_cast<unsigned long long>(im.active_voxels),
-                args.grid.c_str(), goal, cells, im.clouds_tried, im.seconds);
+                args.grid.c_str(), tint.c_str(), goal, cells, im.clouds_tried, im.seconds);
     std::printf("optical depth against the trilinear grid over the axis views and the %dx%d camera (%lld rays meet "
                 "the cloud): RMS %.2f%%, max %.2f%% (of the largest %.4g), bias %+.2f%%; extinction mass %.6g (grid "
                 "%.6g)\n",

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,7 @@ struct VdbImportArgs {
     std::size_t max_spheres = 0;
     double extinction_scale = 1.0;
     std::vector<double> albedo{1.0, 1.0, 1.0};
-    std::string albedo_grid;  // empty: none
+    std::optional<std::string> albedo_grid;  // unset: the file's "albedo" grid if any; "": none
     double sphere_scale = 2.0;
 };
 

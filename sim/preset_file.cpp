@@ -706,7 +706,8 @@ private:
     void volume(const toml::table& t, const KeyPath& path, VdbVolume& v) const {
         check_keys(t, path, kVdbKeys);
         density_source(t, path, "each [[vdb]] needs file", v.source);
-        if (const toml::node* n = t.get("albedo_grid")) v.albedo_grid = grid_name(*n, path / "albedo_grid");
+        // "" turns off the default (the file's "albedo" grid when it has one).
+        if (const toml::node* n = t.get("albedo_grid")) v.albedo_grid = one_line(*n, path / "albedo_grid");
         if (const toml::node* n = t.get("extinction_scale"))
             v.extinction_scale = positive(*n, path / "extinction_scale", kMaxExtinction);
         if (const toml::node* n = t.get("albedo")) v.albedo = uniform_albedo(*n, path / "albedo");

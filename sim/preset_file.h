@@ -9,7 +9,8 @@
 //   [camera] [lighting] [render] [[box]] [[sphere]]     as in a scene file
 //   [[vdb]]           a density grid converted to static spheres (sim/scene.h VdbVolume), also in scene
 //                     files: file (required: a .vdb path, relative to this file's directory, or
-//                     "builtin:NAME[:RESOLUTION]"), grid (default "density"), albedo_grid,
+//                     "builtin:NAME[:RESOLUTION]"), grid (default "density"), albedo_grid (default:
+//                     the file's "albedo" grid if it has one; "" for none),
 //                     extinction_scale (> 0), albedo (a number or [r, g, b], in [0, 1]), tolerance (in
 //                     (0, 1]) or max_spheres (1 to kMaxSpheres) but not both, and the placement
 //                     translate = [x, y, z], scale, rotate = [x, y, z] (degrees about x, then y, then z)

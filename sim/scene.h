@@ -5,6 +5,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,7 +64,9 @@ struct DensitySource {
 // sim/vdb/volume_loader.h converts it (brume_sim does not link OpenVDB); renderers see only spheres.
 struct VdbVolume {
     DensitySource source;
-    std::string albedo_grid;          // optional float grid in the same file, multiplying albedo per sphere
+    // A float grid in the same file multiplying the albedo per sphere. Unset: the file's grid named
+    // "albedo" when it has one (what vdb-export writes); "": none; a name: that grid, which must exist.
+    std::optional<std::string> albedo_grid;
     double extinction_scale = 1.0;    // sphere extinction = density * extinction_scale, per scene unit
     glm::dvec3 albedo{1.0};
     // The conversion's accuracy: the relative RMS optical-depth error along rays that the sphere cloud

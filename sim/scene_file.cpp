@@ -191,7 +191,7 @@ void append_scene_sections(std::string& out, const Scene& scene) {
     for (const VdbVolume& v : scene.volumes) {
         out += "\n[[vdb]]\n";
         append_density_source(out, v.source);
-        if (!v.albedo_grid.empty()) out += "albedo_grid = " + toml_text::quoted(v.albedo_grid) + '\n';
+        if (v.albedo_grid) out += "albedo_grid = " + toml_text::quoted(*v.albedo_grid) + '\n';
         append_number(out, "extinction_scale", v.extinction_scale);
         append_vec3(out, "albedo", v.albedo);
         // One or the other: the reader refuses both.

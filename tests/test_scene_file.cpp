@@ -282,7 +282,7 @@ TEST(SceneFile, VdbTablesAreRead) {
     const VdbVolume& w = s.volumes[1];
     EXPECT_EQ(w.source.file, "builtin:cloud:32");
     EXPECT_EQ(w.source.grid, "density");
-    EXPECT_EQ(w.albedo_grid, "");
+    EXPECT_FALSE(w.albedo_grid.has_value()) << "unset: the file's \"albedo\" grid when it has one";
     EXPECT_EQ(w.extinction_scale, defaults.extinction_scale);
     expect_vec(w.albedo, 0.75, 0.75, 0.75);  // one number: grey
     EXPECT_EQ(w.max_spheres, 2000u);
@@ -301,7 +301,14 @@ TEST(SceneFile, VdbRoundTripIsExact) {
     EXPECT_NE(text.find("tolerance = 0.02\n"), std::string::npos) << text;
     EXPECT_NE(text.find("max_spheres = 2000\n"), std::string::npos) << text;
     EXPECT_EQ(text.find("tolerance", text.find("max_spheres")), std::string::npos) << text;
-    EXPECT_EQ(text.find("albedo_grid"), text.rfind("albedo_grid")) << "an empty albedo_grid is left out";
+    EXPECT_EQ(text.find("albedo_grid"), text.rfind("albedo_grid")) << "an unset albedo_grid is left out";
+    // "" (no albedo grid, not even the file's "albedo") is kept apart from unset through a round trip.
+    const Scene none = parse_scene_toml("[[vdb]]\nfile = \"c.vdb\"\nalbedo_grid = \"\"\n", "none.toml");
+    ASSERT_TRUE(none.volumes[0].albedo_grid.has_value());
+    EXPECT_EQ(*none.volumes[0].albedo_grid, "");
+    const Scene none_again = parse_scene_toml(scene_to_toml(none), "again.toml");
+    ASSERT_TRUE(none_again.volumes[0].albedo_grid.has_value());
+    EXPECT_EQ(*none_again.volumes[0].albedo_grid, "");
 
     Scene s;
     VdbVolume v;
@@ -552,7 +559,7 @@ TEST(SceneFileErrors, VdbValues) {
     expect_rejected("[[vdb]]\nfile = \"a\\nb.vdb\"\n", 2, "vdb[0].file", "must be one line");
     expect_rejected(vdb("grid = \"\""), 4, "vdb[0].grid", "must not be empty (it names a grid in the file)");
     expect_rejected(vdb("grid = 1.5"), 4, "vdb[0].grid", "must be a string");
-    expect_rejected(vdb("albedo_grid = \"\""), 4, "vdb[0].albedo_grid", "must not be empty");
+    expect_rejected(vdb("albedo_grid = \"a\\nb\""), 4, "vdb[0].albedo_grid", "must be one line of text");
     expect_rejected(vdb("extinction_scale = 0"), 4, "vdb[0].extinction_scale", "must be positive (got 0)");
     expect_rejected(vdb("extinction_scale = -2"), 4, "vdb[0].extinction_scale", "must be positive (got -2)");
     expect_rejected(vdb("extinction_scale = 2e9"), 4, "vdb[0].extinction_scale", "absurd size: must be at most 1e9");

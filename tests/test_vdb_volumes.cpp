@@ -15,7 +15,9 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <string>
 
 namespace brume {
@@ -119,6 +121,34 @@ TEST_F(VdbVolumeFiles, RelativeFilesAreFoundBesideTheSceneAndAlbedoGridsTint) {
     }
     EXPECT_LT(low, 0.4);   // the x < 0 side is darker ...
     EXPECT_GT(high, 0.6);  // ... than the x > 0 side
+}
+
+TEST_F(VdbVolumeFiles, AFileWithAnAlbedoGridTintsByDefault) {
+    // What vdb-export writes: "density" and "albedo". Unset albedo_grid uses it; "" turns it off.
+    DensityGrid density = analytic_grid(8, 0.25, [](glm::dvec3) { return 1.0; });
+    DensityGrid albedo = analytic_grid(8, 0.25, [](glm::dvec3) { return 0.5; });
+    albedo.name = "albedo";
+    write_bytes(dir_ / "exported.vdb", encode_vdb(std::vector<DensityGrid>{density, albedo}));
+    write_bytes(dir_ / "plain.vdb", encode_vdb(density));
+    const auto albedos = [&](const std::string& text) {
+        write_bytes(dir_ / "s.toml", text);
+        Scene scene = load_scene_file(dir_ / "s.toml");
+        convert_scene_volumes(scene);
+        double lo = 1.0, hi = 0.0;
+        for (const Sphere& s : scene.spheres) lo = std::min(lo, s.albedo.x), hi = std::max(hi, s.albedo.x);
+        return std::make_pair(lo, hi);
+    };
+    const auto tinted = albedos("[[vdb]]\nfile = \"exported.vdb\"\ntolerance = 0.3\n");
+    EXPECT_NEAR(tinted.first, 0.5, 1e-6);
+    EXPECT_NEAR(tinted.second, 0.5, 1e-6);
+    const auto off = albedos("[[vdb]]\nfile = \"exported.vdb\"\nalbedo_grid = \"\"\ntolerance = 0.3\n");
+    EXPECT_EQ(off.first, 1.0);
+    EXPECT_EQ(off.second, 1.0);
+    const auto plain = albedos("[[vdb]]\nfile = \"plain.vdb\"\ntolerance = 0.3\n");  // no albedo grid: no tint
+    EXPECT_EQ(plain.first, 1.0);
+    write_bytes(dir_ / "s.toml", "[[vdb]]\nfile = \"plain.vdb\"\nalbedo_grid = \"albedo\"\n");  // named: required
+    Scene required = load_scene_file(dir_ / "s.toml");
+    EXPECT_THROW(convert_scene_volumes(required), VdbError);
 }
 
 TEST(VdbVolumes, ProblemsNameTheVolume) {

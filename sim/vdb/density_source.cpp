@@ -41,10 +41,11 @@ std::filesystem::path density_source_path(const DensitySource& source) {
     return std::filesystem::path(source.base_dir) / file;
 }
 
-std::vector<DensityGrid> read_density_source(const DensitySource& source, const std::vector<std::string>& grid_names) {
+std::vector<DensityGrid> read_density_source(const DensitySource& source, const std::vector<std::string>& grid_names,
+                                             const std::string& if_present) {
     if (source.file.empty()) throw VdbError("a density source needs a file (a .vdb path or builtin:NAME)");
     const std::string bytes = is_builtin(source) ? builtin_bytes(source) : read_vdb_bytes(density_source_path(source));
-    return decode_density_grids(bytes, density_source_label(source), grid_names);
+    return decode_density_grids(bytes, density_source_label(source), grid_names, if_present);
 }
 
 DensityGrid read_density_source(const DensitySource& source) {

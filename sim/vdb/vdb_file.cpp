@@ -178,10 +178,17 @@ DensityGrid read_density_grid(const std::filesystem::path& path, const std::stri
 }
 
 std::vector<DensityGrid> decode_density_grids(const std::string& bytes, const std::string& source,
-                                              const std::vector<std::string>& grid_names) {
+                                              const std::vector<std::string>& grid_names, const std::string& if_present) {
     const vdb::GridPtrVecPtr grids = parse_grids(bytes, source);
+    std::vector<std::string> names = grid_names;
+    if (!if_present.empty())
+        for (const auto& g : *grids)
+            if (g->getName() == if_present && vdb::gridPtrCast<vdb::FloatGrid>(g)) {
+                names.push_back(if_present);
+                break;
+            }
     std::vector<DensityGrid> result;
-    for (const std::string& grid_name : grid_names) {
+    for (const std::string& grid_name : names) {
         const vdb::GridBase::Ptr base = find_grid(source, *grids, grid_name);
         const std::string what = "grid " + quote(grid_name);
         const vdb::FloatGrid::Ptr grid = vdb::gridPtrCast<vdb::FloatGrid>(base);

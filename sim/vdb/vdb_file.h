@@ -46,9 +46,11 @@ DensityGrid read_density_grid(const std::filesystem::path& path, const std::stri
 std::string read_vdb_bytes(const std::filesystem::path& path);
 
 // As read_density_grid, for several grids of one file's bytes parsed once; `source` names the bytes in
-// messages (a path, or "builtin:cloud"). The result is in the order of grid_names.
+// messages (a path, or "builtin:cloud"). The result is in the order of grid_names, followed by the float
+// grid `if_present` when the file holds one of that name (checked like the others once it is there).
 std::vector<DensityGrid> decode_density_grids(const std::string& bytes, const std::string& source,
-                                              const std::vector<std::string>& grid_names);
+                                              const std::vector<std::string>& grid_names,
+                                              const std::string& if_present = "");
 
 // The bytes of a .vdb file holding `grid` as a float fog volume named grid.name: non-zero voxels
 // active, the rest background 0. Callers write them (atomically where it matters).

@@ -51,13 +51,13 @@ VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions&
 }
 
 VdbImport import_vdb(const std::filesystem::path& path, const std::string& grid_name, const SphereCloudOptions& options,
-                     const std::string& albedo_grid) {
+                     const std::optional<std::string>& albedo_grid) {
     DensitySource source;
     source.file = path.string();
     source.grid = grid_name;
     std::vector<std::string> names{grid_name};
-    if (!albedo_grid.empty()) names.push_back(albedo_grid);
-    const std::vector<DensityGrid> grids = read_density_source(source, names);
+    if (albedo_grid && !albedo_grid->empty()) names.push_back(*albedo_grid);
+    const std::vector<DensityGrid> grids = read_density_source(source, names, albedo_grid ? "" : kDefaultAlbedoGrid);
     SphereCloudOptions with_albedo = options;
     if (grids.size() > 1) with_albedo.albedo_grid = &grids[1];
     VdbImport out;
@@ -69,6 +69,7 @@ VdbImport import_vdb(const std::filesystem::path& path, const std::string& grid_
         throw VdbError(path.string() + ": " + e.what());
     }
     out.scene.source = path.string();
+    if (grids.size() > 1) out.albedo_grid = grids[1].name;
     return out;
 }
 

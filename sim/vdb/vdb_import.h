@@ -8,11 +8,13 @@
 #include "sim/vdb/sphere_cloud.h"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace brume {
 
 struct VdbImport {
+    std::string albedo_grid;  // the albedo grid used, or empty
     Scene scene;
     double split_threshold = 0.0;  // how grid_to_spheres made the cells (sim/vdb/sphere_cloud.h SphereCloud)
     int max_cell_voxels = 0;
@@ -37,10 +39,11 @@ Camera frame_grid_camera(const DensityGrid& grid);
 // std::runtime_error when the grid has no density at all (nothing to render).
 VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions& options);
 
-// Reads the grid (and, when albedo_grid is not empty, that grid of the same file for options.albedo_grid)
-// from a file or a "builtin:NAME[:RES]" sample (sim/vdb/density_source.h), then import_density_grid;
-// scene.source is the file. Throws VdbError naming the file for every problem with it.
+// Reads the grid from a file or a "builtin:NAME[:RES]" sample (sim/vdb/density_source.h), and an albedo
+// grid as VdbVolume::albedo_grid says (unset: the file's "albedo" grid if any; "": none; a name: that
+// grid), then import_density_grid; scene.source is the file. Throws VdbError naming the file for every
+// problem with it.
 VdbImport import_vdb(const std::filesystem::path& path, const std::string& grid_name, const SphereCloudOptions& options,
-                     const std::string& albedo_grid = "");
+                     const std::optional<std::string>& albedo_grid = std::nullopt);
 
 }  // namespace brume

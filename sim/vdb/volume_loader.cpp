@@ -55,9 +55,9 @@ std::vector<VolumeReport> convert_scene_volumes(Scene& scene, const std::vector<
         Loaded l;
         l.start = std::chrono::steady_clock::now();
         std::vector<std::string> names{v.source.grid};
-        if (!v.albedo_grid.empty()) names.push_back(v.albedo_grid);
+        if (v.albedo_grid && !v.albedo_grid->empty()) names.push_back(*v.albedo_grid);
         try {
-            l.grids = read_density_source(v.source, names);
+            l.grids = read_density_source(v.source, names, v.albedo_grid ? "" : kDefaultAlbedoGrid);
         } catch (const VdbError& e) {
             throw VdbError("vdb[" + std::to_string(i) + "]: " + e.what());
         }

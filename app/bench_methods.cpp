@@ -120,14 +120,6 @@ std::vector<BenchScene> make_scenes(const std::vector<std::string>& names, int f
     return scenes;
 }
 
-std::vector<std::string> split(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream in(text);
-    for (std::string item; std::getline(in, item, ',');)
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
 // Every catalogued method with its default setting, plus settings that show a trade-off.
 std::vector<std::string> default_method_specs() {
     std::vector<std::string> specs;
@@ -193,8 +185,8 @@ int run_bench_methods(const BenchArgs& args) {
     if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
     check_writable_path(dir / "results.csv");
 
-    const std::vector<std::string> specs = args.methods.empty() ? default_method_specs() : split(args.methods);
-    const std::vector<BenchScene> scenes = make_scenes(split(args.scenes), args.anim_frames, w, h);
+    const std::vector<std::string> specs = args.methods.empty() ? default_method_specs() : split_commas(args.methods);
+    const std::vector<BenchScene> scenes = make_scenes(split_commas(args.scenes), args.anim_frames, w, h);
     vk::DeviceOptions device_options;
     device_options.device_name = args.device;
     device_options.validate = args.validate;

@@ -28,8 +28,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 std::vector<double> parse_tolerances(const std::string& text) {
     std::vector<double> out;
-    std::stringstream in(text);
-    for (std::string item; std::getline(in, item, ',');) {
+    for (const std::string& item : split_commas(text)) {
         std::size_t used = 0;
         double t = 0.0;
         try {
@@ -49,12 +48,8 @@ std::vector<double> parse_tolerances(const std::string& text) {
 
 int run_bench_vdb(const BenchArgs& args) {
     const std::vector<int> sizes = parse_int_list(args.vdb_sizes);
-    std::vector<std::string> samples;
-    {
-        std::stringstream in(args.vdb_sample);
-        for (std::string item; std::getline(in, item, ',');) samples.push_back(item);
-        if (samples.empty()) throw std::invalid_argument("--vdb-sample: none given");
-    }
+    const std::vector<std::string> samples = split_commas(args.vdb_sample);
+    if (samples.empty()) throw std::invalid_argument("--vdb-sample: none given");
     const std::vector<double> tolerances = parse_tolerances(args.tolerances);
     if (!args.output_dir.empty()) {
         fs::create_directories(args.output_dir);

@@ -19,6 +19,9 @@ void parse_size(const std::string& text, int& width, int& height);
 // "2,4,8" or "2-16:2" -> numbers. Throws std::invalid_argument.
 std::vector<int> parse_int_list(const std::string& text);
 
+// "a,b,,c" -> {"a", "b", "c"}: the comma-separated items, empty ones dropped.
+std::vector<std::string> split_commas(const std::string& text);
+
 double median(std::vector<double> values);
 
 // One line on what converting a [[vdb]] volume did: spheres, voxels, measured error, time.

@@ -7,19 +7,17 @@
 #include "render/reference.h"
 
 #include "sim/camera_rays.h"
+#include "sim/parallel_for.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <exception>
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace brume {
@@ -293,35 +291,11 @@ void gather_candidates(const std::vector<SphereCone>* cones, std::size_t sphere_
         if (!cones || cone_overlaps((*cones)[k], tile)) out.push_back(std::uint32_t(k));
 }
 
-int worker_count(int requested, std::size_t work_items) {
-    unsigned n = requested > 0 ? unsigned(requested) : std::thread::hardware_concurrency();
-    if (n == 0) n = 1;
-    return int(std::min<std::size_t>(n, std::max<std::size_t>(work_items, 1)));
-}
-
-// Hands tiles out through an atomic counter; each worker owns its scratch. Exceptions reach the caller.
+// Tiles over parallel_for (sim/parallel_for.h), each worker with its own scratch.
 template <class Work>
 void parallel_tiles(std::size_t tile_count, int threads, const Work& work) {
-    std::atomic<std::size_t> next{0};
-    const int n = worker_count(threads, tile_count);
-    std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
-    auto worker = [&](int w) {
-        try {
-            Scratch scratch;
-            for (std::size_t tile; (tile = next.fetch_add(1, std::memory_order_relaxed)) < tile_count;)
-                work(tile, scratch);
-        } catch (...) {
-            errors[std::size_t(w)] = std::current_exception();
-            next.store(tile_count);  // the others stop at their next tile
-        }
-    };
-    std::vector<std::thread> pool;
-    pool.reserve(std::size_t(n - 1));
-    for (int w = 1; w < n; ++w) pool.emplace_back(worker, w);
-    worker(0);
-    for (std::thread& t : pool) t.join();
-    for (const std::exception_ptr& e : errors)
-        if (e) std::rethrow_exception(e);
+    std::vector<Scratch> scratch(std::size_t(worker_count(threads, tile_count)));
+    parallel_for(tile_count, threads, [&](std::size_t tile, int worker) { work(tile, scratch[std::size_t(worker)]); });
 }
 
 void store(Image& image, int i, int j, const dvec3& v) {

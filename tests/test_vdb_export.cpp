@@ -3,6 +3,7 @@
 // trip, import (sim/vdb/vdb_import.h) of an export gives the spheres' mass and optical depth back, and bad
 // input is refused with a message naming it.
 #include "sim/vdb/particle_splat.h"
+#include "sim/vdb/sphere_cloud.h"
 #include "sim/vdb/vdb_file.h"
 #include "sim/vdb/vdb_import.h"
 

@@ -22,12 +22,6 @@ namespace {
 
 using namespace vdb_test;
 
-double sphere_mass(const std::vector<Sphere>& spheres) {
-    double m = 0.0;
-    for (const Sphere& s : spheres) m += s.extinction * 4.0 / 3.0 * M_PI * s.radius * s.radius * s.radius;
-    return m;
-}
-
 class VdbSpheres : public ScratchDir {};
 
 // A wide-angle camera inside the lumpy cloud, looking across it.
@@ -84,7 +78,7 @@ TEST(VdbSphereCloud, AUniformCellIsOneSphereOfItsMass) {
         EXPECT_NEAR(s.radius, scale * std::cbrt(3.0 * cell_volume / (4.0 * M_PI)), 1e-12);
         EXPECT_NEAR(s.extinction, 0.5 * 4.0 / (scale * scale * scale), 1e-12);  // the mass spread thinner
         EXPECT_EQ(s.albedo, o.albedo);
-        EXPECT_NEAR(sphere_mass(spheres), 4.0 * box.mass(), 1e-12 * box.mass());
+        EXPECT_NEAR(spheres_extinction_mass(spheres), 4.0 * box.mass(), 1e-12 * box.mass());
     }
 }
 
@@ -96,7 +90,7 @@ TEST(VdbSphereCloud, CellCapSplitsUniformRegions) {
     // Halving keeps cells near-cubic: (12, 8, 20) halves x and z into 4 cells of (6, 8, 10); those halve
     // every axis into 8 of (3, 4, 5); 5 > 4, so those halve every axis again into 8 of at most (2, 2, 3).
     EXPECT_EQ(spheres.size(), 4u * 8u * 8u);
-    EXPECT_NEAR(sphere_mass(spheres), box.mass(), 1e-12 * box.mass());
+    EXPECT_NEAR(spheres_extinction_mass(spheres), box.mass(), 1e-12 * box.mass());
     o.max_cell_voxels = 1;
     EXPECT_EQ(grid_to_spheres_at(box, o, 1.0).size(), box.values.size());
 }
@@ -122,7 +116,7 @@ TEST(VdbSphereCloudTolerance, MeasuredErrorIsWithinTheTolerance) {
             EXPECT_LE(c.error.relative_rms, tol) << tol;
             EXPECT_GT(c.error.rays, 4000);
             EXPECT_GE(c.clouds_tried, 1);
-            EXPECT_NEAR(sphere_mass(c.spheres), 3.0 * grid.mass(), 1e-9 * grid.mass()) << tol;
+            EXPECT_NEAR(spheres_extinction_mass(c.spheres), 3.0 * grid.mass(), 1e-9 * grid.mass()) << tol;
             // The reported error is the cloud's: measured again independently it is the same.
             const OpticalDepthViews views(grid, 3.0, grid_axis_views(grid, 96));
             EXPECT_DOUBLE_EQ(views.measure(c.spheres).relative_rms, c.error.relative_rms) << tol;
@@ -174,7 +168,7 @@ TEST(VdbSphereCloudTolerance, UniformBallNeedsFarFewerSpheresThanVoxels) {
     const SphereCloud c = grid_to_spheres(ball, o);
     EXPECT_LT(c.spheres.size() * 10, ball.active_voxels) << c.spheres.size() << " spheres";
     EXPECT_LE(c.error.relative_rms, 0.1);
-    EXPECT_NEAR(sphere_mass(c.spheres), ball.mass(), 1e-9 * ball.mass());
+    EXPECT_NEAR(spheres_extinction_mass(c.spheres), ball.mass(), 1e-9 * ball.mass());
 }
 
 TEST(VdbSphereCloudTolerance, LooserToleranceNeverMakesMoreSpheres) {
@@ -233,7 +227,7 @@ TEST(VdbSphereCloud, MaxSpheresGivesTheMostAccurateCloudThatFits) {
         EXPECT_LE(c.spheres.size(), limit);
         EXPECT_GE(c.spheres.size(), 1u);
         EXPECT_LE(c.error.relative_rms, previous_error) << limit;  // more spheres allowed, never worse
-        EXPECT_NEAR(sphere_mass(c.spheres), cloud.mass(), 1e-9 * cloud.mass());
+        EXPECT_NEAR(spheres_extinction_mass(c.spheres), cloud.mass(), 1e-9 * cloud.mass());
         previous_error = c.error.relative_rms;
         if (limit == 1000000) {
             EXPECT_EQ(c.spheres.size(), std::size_t(std::count_if(cloud.values.begin(), cloud.values.end(),

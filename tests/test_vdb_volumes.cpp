@@ -6,6 +6,7 @@
 #include "sim/volume_transform.h"
 #include "sim/vdb/density_source.h"
 #include "sim/vdb/optical_depth_error.h"
+#include "sim/vdb/sphere_cloud.h"
 #include "sim/vdb/vdb_file.h"
 #include "sim/vdb/volume_loader.h"
 
@@ -25,12 +26,6 @@ namespace {
 
 using namespace vdb_test;
 
-double mass(const std::vector<Sphere>& spheres) {
-    double m = 0.0;
-    for (const Sphere& s : spheres) m += s.extinction * 4.0 / 3.0 * M_PI * s.radius * s.radius * s.radius;
-    return m;
-}
-
 class VdbVolumeFiles : public ScratchDir {};
 
 TEST(VdbVolumes, FourLinesOfTomlFrameAndConvertTheCloud) {
@@ -47,7 +42,7 @@ TEST(VdbVolumes, FourLinesOfTomlFrameAndConvertTheCloud) {
     DensitySource source;
     source.file = "builtin:cloud:32";
     const DensityGrid grid = read_density_source(source);
-    EXPECT_NEAR(mass(scene.spheres), 4.0 * grid.mass(), 1e-9 * grid.mass());
+    EXPECT_NEAR(spheres_extinction_mass(scene.spheres), 4.0 * grid.mass(), 1e-9 * grid.mass());
     // Framed: every sphere in front of the camera and inside its vertical field of view.
     const glm::dvec3 forward = glm::normalize(scene.camera.look_at - scene.camera.position);
     for (const Sphere& s : scene.spheres) {

@@ -1,15 +1,14 @@
 #include "sim/vdb/optical_depth_error.h"
 
 #include "sim/camera_rays.h"
+#include "sim/parallel_for.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <atomic>
 #include <limits>
-#include <thread>
 
 namespace brume {
 
@@ -116,28 +115,11 @@ std::vector<double> sphere_optical_depths(const std::vector<Sphere>& spheres, co
 
 namespace {
 
-// Runs body(index) for index in [0, count) on `threads` threads (0: all), interleaved so uneven rows share out.
-template <class Body>
-void parallel_for(int count, int threads, const Body& body) {
-    unsigned n = threads > 0 ? unsigned(threads) : std::max(1u, std::thread::hardware_concurrency());
-    n = std::min<unsigned>(n, unsigned(std::max(count, 1)));
-    if (n <= 1) {
-        for (int i = 0; i < count; ++i) body(i);
-        return;
-    }
-    std::atomic<int> next{0};
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < n; ++t)
-        pool.emplace_back([&] {
-            for (int i = next++; i < count; i = next++) body(i);
-        });
-    for (std::thread& t : pool) t.join();
-}
-
 std::vector<double> grid_depths(const DensityGrid& grid, double extinction_scale, const Camera& camera, int threads) {
     const CameraRays rays = make_camera_rays(camera);
     std::vector<double> depth(std::size_t(rays.width) * std::size_t(rays.height), 0.0);
-    parallel_for(rays.height, threads, [&](int j) {
+    parallel_for(std::size_t(rays.height), threads, [&](std::size_t row, int) {
+        const int j = int(row);
         for (int i = 0; i < rays.width; ++i)
             depth[std::size_t(j) * std::size_t(rays.width) + std::size_t(i)] =
                 grid_optical_depth(grid, extinction_scale, rays.eye, rays.pixel_direction(i, j));
@@ -201,7 +183,7 @@ OpticalDepthViews::OpticalDepthViews(const DensityGrid& grid, double extinction_
 
 OpticalDepthError OpticalDepthViews::measure(const std::vector<Sphere>& spheres) const {
     std::vector<std::vector<double>> sphere_depths(views_.size());
-    parallel_for(int(views_.size()), threads_, [&](int v) { sphere_depths[v] = sphere_optical_depths(spheres, views_[v]); });
+    parallel_for(views_.size(), threads_, [&](std::size_t v, int) { sphere_depths[v] = sphere_optical_depths(spheres, views_[v]); });
     ErrorSums sums;
     for (std::size_t v = 0; v < views_.size(); ++v)
         for (std::size_t p = 0; p < grid_depths_[v].size(); ++p) sums.add(grid_depths_[v][p], sphere_depths[v][p]);

@@ -1,5 +1,7 @@
 #include "sim/vdb/particle_splat.h"
 
+#include "sim/vdb/sphere_cloud.h"
+
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vector_relational.hpp>
@@ -173,12 +175,6 @@ std::string too_many_voxels(const glm::dvec3& size, double voxel) {
 }
 
 }  // namespace
-
-double spheres_extinction_mass(const std::vector<Sphere>& spheres) {
-    double m = 0.0;
-    for (const Sphere& s : spheres) m += s.extinction * 4.0 / 3.0 * std::numbers::pi * s.radius * s.radius * s.radius;
-    return m;
-}
 
 SplatGrids splat_spheres(const std::vector<Sphere>& spheres, const SplatOptions& options) {
     validate(spheres, options);

@@ -56,7 +56,4 @@ SplatGrids splat_spheres(const std::vector<Sphere>& spheres, const SplatOptions&
 // splat_spheres' density grid alone (options.albedo_grid is ignored).
 DensityGrid spheres_to_density_grid(const std::vector<Sphere>& spheres, const SplatOptions& options);
 
-// Sum of extinction * 4/3 pi r^3: the integral of extinction over the spheres (overlaps add).
-double spheres_extinction_mass(const std::vector<Sphere>& spheres);
-
 }  // namespace brume

@@ -169,7 +169,7 @@ struct Candidate {
 };
 
 // Clouds at octree thresholds under one cell-size cap, each measured once. A cloud of at least `bound`
-// spheres cannot beat the best found so far, so it is counted but not measured (measuring is the expensive
+// spheres cannot beat the best found so far, so it is built but not measured (measuring is the expensive
 // part); for the search it counts as passing, which steers toward coarser thresholds and fewer spheres.
 class ThresholdSearch {
 public:
@@ -182,9 +182,11 @@ public:
     const Candidate& at(double threshold) {
         auto it = trials_.find(threshold);
         if (it == trials_.end()) {
-            Candidate c{options_.max_cell_voxels, threshold, 0.0, count_spheres(grid_, options_, threshold), {}};
+            // Building the cloud costs about what counting it does; measuring it is what the bound saves.
+            const std::vector<Sphere> spheres = grid_to_spheres_at(grid_, options_, threshold);
+            Candidate c{options_.max_cell_voxels, threshold, 0.0, spheres.size(), {}, false};
             if (c.spheres < bound_) {
-                c.error = views_.measure(grid_to_spheres_at(grid_, options_, threshold));
+                c.error = views_.measure(spheres);
                 c.measured = true;
                 ++measured_;
             }
@@ -334,6 +336,12 @@ ToleranceUnreachable::ToleranceUnreachable(double tolerance, std::size_t finest_
                          std::to_string(finest_spheres) + " spheres) measures " + percent(finest_error) +
                          " RMS optical-depth error (features a few voxels thin blur); raise the tolerance"),
       finest_error_(finest_error) {}
+
+double spheres_extinction_mass(const std::vector<Sphere>& spheres) {
+    double m = 0.0;
+    for (const Sphere& s : spheres) m += s.extinction * 4.0 / 3.0 * kPi * s.radius * s.radius * s.radius;
+    return m;
+}
 
 std::vector<Sphere> grid_to_spheres_at(const DensityGrid& grid, const SphereCloudOptions& options, double threshold) {
     check(options);

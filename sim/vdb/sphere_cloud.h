@@ -43,8 +43,8 @@ struct SphereCloudOptions {
     std::size_t max_spheres = 0;
     double extinction_scale = 1.0;  // extinction = density * extinction_scale, per grid unit
     glm::dvec3 albedo{1.0};
-    // Optional, in the grid's space: each sphere's albedo is `albedo` times this grid's density-weighted
-    // mean over the sphere's cell, clamped to [0, 1].
+    // Optional, in the grid's space: each sphere's albedo is `albedo` times this grid's value, clamped to
+    // [0, 1]: its density-weighted mean over an octree cell's voxels, its value at a lattice cell's centre.
     const DensityGrid* albedo_grid = nullptr;
     double sphere_scale = kDefaultSphereScale;  // sphere radius / the radius of its cell's volume
     // For grid_to_spheres_at: cells at most this many voxels on a side; 0: no limit. grid_to_spheres
@@ -79,6 +79,10 @@ private:
 // Throws std::invalid_argument for options out of range, ToleranceUnreachable as above. An all-zero
 // grid gives no spheres.
 SphereCloud grid_to_spheres(const DensityGrid& grid, const SphereCloudOptions& options);
+
+// Sum of extinction * 4/3 pi r^3: the integral of extinction over the spheres (overlaps add). Every
+// conversion keeps it equal to the grid's mass times the extinction scale.
+double spheres_extinction_mass(const std::vector<Sphere>& spheres);
 
 // The cloud at a given octree threshold, unmeasured (benchmarks chart count against threshold).
 std::vector<Sphere> grid_to_spheres_at(const DensityGrid& grid, const SphereCloudOptions& options, double split_threshold);

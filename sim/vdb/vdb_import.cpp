@@ -42,8 +42,7 @@ VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions&
     out.error = cloud.error;
     out.active_voxels = grid.active_voxels;
     out.grid_mass = grid.mass() * options.extinction_scale;
-    for (const Sphere& s : cloud.spheres)
-        out.sphere_mass += s.extinction * 4.0 / 3.0 * 3.14159265358979323846 * s.radius * s.radius * s.radius;
+    out.sphere_mass = spheres_extinction_mass(cloud.spheres);
     out.scene.camera = camera;
     out.scene.spheres = std::move(cloud.spheres);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,0 +1,48 @@
+// Work shared over threads through an atomic counter: one definition for the CPU reference's tiles and the
+// optical-depth measurement's rows and views. Header-only (a template); brume_sim and everything above it
+// may use it.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <thread>
+#include <vector>
+
+namespace brume {
+
+// How many workers parallel_for runs: `requested` (0: every hardware thread), at most one per item.
+inline int worker_count(int requested, std::size_t items) {
+    unsigned n = requested > 0 ? unsigned(requested) : std::thread::hardware_concurrency();
+    if (n == 0) n = 1;
+    return int(std::min<std::size_t>(n, std::max<std::size_t>(items, 1)));
+}
+
+// Calls body(item, worker) for every item in [0, count), worker in [0, worker_count(threads, count)) so
+// callers can keep per-worker scratch. Items are handed out one at a time, so uneven items share out.
+// The calling thread is worker 0. The first exception stops the others at their next item and is
+// rethrown here.
+template <class Body>
+void parallel_for(std::size_t count, int threads, const Body& body) {
+    std::atomic<std::size_t> next{0};
+    const int n = worker_count(threads, count);
+    std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
+    auto worker = [&](int w) {
+        try {
+            for (std::size_t item; (item = next.fetch_add(1, std::memory_order_relaxed)) < count;) body(item, w);
+        } catch (...) {
+            errors[std::size_t(w)] = std::current_exception();
+            next.store(count);
+        }
+    };
+    std::vector<std::thread> pool;
+    pool.reserve(std::size_t(n - 1));
+    for (int w = 1; w < n; ++w) pool.emplace_back(worker, w);
+    worker(0);
+    for (std::thread& t : pool) t.join();
+    for (const std::exception_ptr& e : errors)
+        if (e) std::rethrow_exception(e);
+}
+
+}  // namespace brume

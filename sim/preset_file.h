@@ -1,6 +1,7 @@
 // Preset files: the scene file format (sim/scene_file.h) plus the sections that make a scene move,
-// read into a validated Preset and written back exactly. One reader serves both: a static scene file
-// is a preset document without the preset sections, and parse_scene_toml is this reader told so.
+// read into a validated Preset and written back exactly. The preset reader builds on the scene reader:
+// it reads the scene sections with the scene's own code (sim/scene_sections.h) and its own sections
+// with sim/preset_sections.h, so the scene format does not depend on this one.
 //
 // Schema (every section optional; [[...]] may repeat; a range is [min, max] or one number):
 //   [preset]          name (default: the file's stem; letters, digits, - _ .), description (one line)
@@ -57,16 +58,6 @@ inline constexpr double kMaxExposureStops = 64.0;
 inline constexpr std::size_t kMaxEmitters = 10'000;
 inline constexpr std::size_t kMaxForces = 10'000;
 inline constexpr std::size_t kMaxListEntries = 1'000'000;  // bursts, ramp keys, camera keys
-
-// Which sections a document may hold.
-enum class DocumentKind {
-    Scene,   // [camera], [lighting], [render], [[box]], [[sphere]], [[vdb]]: parse_scene_toml
-    Preset,  // those and the preset sections
-};
-
-// The one reader behind parse_scene_toml and parse_preset_toml. For DocumentKind::Scene a preset
-// section is an error and the result holds the scene alone (and defaults elsewhere).
-Preset parse_toml_document(std::string_view text, const std::string& source_name, DocumentKind kind);
 
 // Parses and validates a preset; source_name stands for the file in messages, becomes scene.source,
 // and its stem is the name unless [preset] sets one. Grid files are not opened (base_dir stays empty and

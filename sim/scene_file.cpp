@@ -1,6 +1,10 @@
+// Scene files' entry points (sim/scene_file.h), their error type, the text helpers the scene and preset
+// readers and writers share (toml_text) and the scene writer. Reading is the scene sections' reader
+// (sim/scene_sections.h) on a document that holds nothing else.
 #include "sim/scene_file.h"
 
-#include "sim/preset_file.h"
+#include "sim/scene_sections.h"
+#include "sim/toml_reader.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -206,7 +210,12 @@ void append_scene_sections(std::string& out, const Scene& scene) {
 }  // namespace toml_text
 
 Scene parse_scene_toml(std::string_view text, const std::string& source_name) {
-    return parse_toml_document(text, source_name, DocumentKind::Scene).scene;
+    const toml_read::Reader in(text, source_name);
+    check_scene_root_keys(in);
+    Scene scene;
+    read_scene_sections(in, scene);
+    scene.source = source_name;
+    return scene;
 }
 
 Scene load_scene_file(const std::filesystem::path& path) {

@@ -1,7 +1,7 @@
-// Scene files (GUIDE section 2): TOML in, validated Scene out, and Scene back to TOML.
+// Scene files (the format README.md describes): TOML in, validated Scene out, and Scene back to TOML.
 // Everything a renderer could choke on (unknown keys, wrong types, NaN/Inf, negative or absurd sizes)
-// is rejected with the file, line and key, so no renderer has to re-check its input. A scene file is a
-// preset file without the preset sections: one reader serves both (sim/preset_file.cpp).
+// is rejected with the file, line and key, so no renderer has to re-check its input. The sections are
+// read by sim/scene_sections.h, which the preset reader (sim/preset_file.h) reuses for a preset's scene.
 #pragma once
 
 #include "sim/scene.h"

@@ -4,7 +4,7 @@
 #include "app/cli_util.h"
 #include "render/atomic_file.h"
 #include "render/image_compare.h"
-#include "render/methods/method.h"
+#include "render/methods/registry.h"
 #include "render/reference.h"
 #include "render/vk/device.h"
 #include "sim/builtin_presets.h"
@@ -120,19 +120,6 @@ std::vector<BenchScene> make_scenes(const std::vector<std::string>& names, int f
     return scenes;
 }
 
-// Every catalogued method with its default setting, plus settings that show a trade-off.
-std::vector<std::string> default_method_specs() {
-    std::vector<std::string> specs;
-    for (const MethodInfo& m : method_catalogue()) {
-        if (m.name == "reference") continue;
-        specs.push_back(m.name);
-        if (m.name == "kbuf") specs.insert(specs.end(), {"kbuf:4", "kbuf:16"});
-        if (m.name == "peel") specs.insert(specs.end(), {"peel:4", "peel:16", "peel:dual:8"});
-        if (m.name == "stochastic") specs.insert(specs.end(), {"stochastic:4", "stochastic:16", "stochastic:8,depth"});
-        if (m.name == "screendoor") specs.insert(specs.end(), {"screendoor:2"});
-    }
-    return specs;
-}
 
 struct Row {
     std::string method, scene;
@@ -185,7 +172,7 @@ int run_bench_methods(const BenchArgs& args) {
     if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
     check_writable_path(dir / "results.csv");
 
-    const std::vector<std::string> specs = args.methods.empty() ? default_method_specs() : split_commas(args.methods);
+    const std::vector<std::string> specs = args.methods.empty() ? bench_method_specs() : split_commas(args.methods);
     const std::vector<BenchScene> scenes = make_scenes(split_commas(args.scenes), args.anim_frames, w, h);
     vk::DeviceOptions device_options;
     device_options.device_name = args.device;

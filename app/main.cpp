@@ -6,7 +6,7 @@
 #include "app/vdb_command.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
-#include "render/methods/method.h"
+#include "render/methods/registry.h"
 #include "render/methods/ppll.h"
 #include "render/vk/device.h"
 #include "render/vk/vk_check.h"
@@ -29,10 +29,14 @@ int list_devices() {
 }
 
 int list_methods() {
-    for (const brume::MethodInfo& m : brume::method_catalogue()) {
+    for (const brume::MethodEntry& m : brume::method_catalogue()) {
         std::string name = m.name + (m.setting.empty() ? "" : ":" + m.setting);
-        std::printf("%-22s %s%s\n", name.c_str(), m.summary.c_str(),
-                    m.default_setting.empty() ? "" : (" (default " + m.default_setting + ")").c_str());
+        std::string notes;
+        if (!m.default_setting.empty()) notes += " (default " + m.default_setting + ")";
+        if (m.exact) notes += " [exact]";
+        if (m.options & brume::kHonoursMaxMemory) notes += " [--max-memory]";
+        if (m.options & brume::kHonoursThreads) notes += " [--threads]";
+        std::printf("%-22s %s%s\n", name.c_str(), m.summary.c_str(), notes.c_str());
     }
     return 0;
 }

@@ -5,7 +5,7 @@
 #include "app/video.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
-#include "render/methods/ppll.h"
+#include "render/methods/registry.h"
 #include "render/reference.h"
 #include "render/vk/device.h"
 #include "sim/builtin_presets.h"
@@ -120,23 +120,22 @@ int run_play(const PlayArgs& args) {
                                      "(Debian: apt-get install ffmpeg, or run .ci/install-deps)");
     }
 
+    // Options reach every method that honours them (the registry says which).
+    MethodOptions options;
+    unsigned given = 0;
+    if (!args.max_memory.empty()) {
+        options.max_pool_bytes = parse_bytes(args.max_memory);
+        given |= kHonoursMaxMemory;
+    }
+    check_method_options(method, given);
     std::unique_ptr<vk::Device> device;
-    std::unique_ptr<Method> renderer;
-    if (method == "reference") {
-        renderer = make_method(nullptr, method);
-    } else {
+    if (find_method(method).needs_device) {
         vk::DeviceOptions device_options;
         device_options.device_name = args.device;
         device_options.validate = args.validate;
         device = std::make_unique<vk::Device>(device_options);
-        if (method == "ppll") {  // the ppll options apply to ppll alone
-            PpllOptions options;
-            if (!args.max_memory.empty()) options.max_pool_bytes = parse_bytes(args.max_memory);
-            renderer = std::make_unique<PpllMethod>(*device, options);
-        } else {
-            renderer = make_method(device.get(), method);
-        }
     }
+    std::unique_ptr<Method> renderer = make_method(device.get(), method, options);
 
     g_stop_requested = false;
     auto previous_int = std::signal(SIGINT, request_stop);

@@ -3,8 +3,7 @@
 #include "app/cli_util.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
-#include "render/methods/ppll.h"
-#include "render/reference.h"
+#include "render/methods/registry.h"
 #include "render/vk/device.h"
 #include "sim/builtin_scenes.h"
 #include "sim/scene_file.h"
@@ -47,7 +46,7 @@ struct Timing {
 };
 
 std::string stats_json(const RenderArgs& args, const Scene& scene, const std::string& device, const Timing& timing,
-                       const FrameStats* last) {
+                       const FrameStats& last, bool on_gpu) {
     std::ostringstream j;
     j.precision(10);
     j << "{\n";
@@ -57,21 +56,21 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
     j << "  \"width\": " << scene.camera.width << ",\n  \"height\": " << scene.camera.height << ",\n";
     j << "  \"spheres\": " << scene.spheres.size() << ",\n  \"boxes\": " << scene.boxes.size() << ",\n";
     j << "  \"frames\": " << timing.total_ms.size() << ",\n";
-    const char* clock = args.method == "reference" ? "cpu_ms" : "gpu_ms";
+    const char* clock = on_gpu ? "gpu_ms" : "cpu_ms";
     j << "  \"" << clock << "\": {";
     for (std::size_t p = 0; p < timing.pass_names.size(); ++p)
         j << json_string(timing.pass_names[p]) << ": " << median(timing.pass_ms[p]) << ", ";
     j << "\"total\": " << median(timing.total_ms) << "}";
-    if (last) j << ",\n  \"memory_bytes\": " << last->memory_bytes;
-    if (last && args.method == "ppll") {  // the list figures exist for ppll alone
-        j << ",\n  \"fragments\": " << last->fragments;
-        j << ",\n  \"pool_capacity\": " << last->pool_capacity;
-        j << ",\n  \"pool_bytes\": " << last->pool_bytes;
-        j << ",\n  \"regrows\": " << last->regrows;
-        j << ",\n  \"max_list_length\": " << last->max_list_length;
-        j << ",\n  \"mean_list_length\": " << last->mean_list_length;
-        j << ",\n  \"nonempty_pixels\": " << last->nonempty_pixels;
-        j << ",\n  \"long_list_pixels\": " << last->long_list_pixels;
+    if (on_gpu) j << ",\n  \"memory_bytes\": " << last.memory_bytes;
+    if (last.list_stats) {  // the list figures exist for methods that keep per-pixel lists
+        j << ",\n  \"fragments\": " << last.fragments;
+        j << ",\n  \"pool_capacity\": " << last.pool_capacity;
+        j << ",\n  \"pool_bytes\": " << last.pool_bytes;
+        j << ",\n  \"regrows\": " << last.regrows;
+        j << ",\n  \"max_list_length\": " << last.max_list_length;
+        j << ",\n  \"mean_list_length\": " << last.mean_list_length;
+        j << ",\n  \"nonempty_pixels\": " << last.nonempty_pixels;
+        j << ",\n  \"long_list_pixels\": " << last.long_list_pixels;
     }
     j << "\n}\n";
     return j.str();
@@ -93,66 +92,66 @@ int run_render(const RenderArgs& args) {
     for (const std::string& out : {exr, png, args.stats})
         if (!out.empty()) check_writable_path(out);
 
+    // Options reach every method that honours them (the registry says which); one given to a
+    // method that would ignore it is refused rather than silently dropped.
+    unsigned given = 0;
+    MethodOptions options;
+    if (!args.max_memory.empty()) {
+        options.max_pool_bytes = parse_bytes(args.max_memory);
+        given |= kHonoursMaxMemory;
+    }
+    if (args.pool_nodes) {
+        options.initial_pool_nodes = args.pool_nodes;
+        given |= kHonoursMaxMemory;
+    }
+    if (args.threads) {
+        options.threads = args.threads;
+        given |= kHonoursThreads;
+    }
+    check_method_options(args.method, given);
+    const bool on_gpu = find_method(args.method).needs_device;
+
     Timing timing;
     FrameStats last{};
     Image image;
     std::string device_name = "cpu";
     std::unique_ptr<vk::Device> device;
-    if (args.method == "reference") {
-        timing.pass_names = {"reference"};
-        timing.pass_ms.resize(1);
-        ReferenceOptions options;
-        options.threads = args.threads;
-        for (int f = 0; f < args.repeat; ++f) {
-            const auto t0 = std::chrono::steady_clock::now();
-            image = render_reference(scene, options);
-            const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-            timing.pass_ms[0].push_back(ms);
-            timing.total_ms.push_back(ms);
-        }
-    } else {
+    if (on_gpu) {
         vk::DeviceOptions device_options;
         device_options.device_name = args.device;
         device_options.validate = args.validate;
         device = std::make_unique<vk::Device>(device_options);
         device_name = device->name();
-        std::unique_ptr<Method> method;
-        if (args.method == "ppll") {  // the ppll options apply to ppll alone
-            PpllOptions options;
-            if (!args.max_memory.empty()) options.max_pool_bytes = parse_bytes(args.max_memory);
-            options.initial_nodes = args.pool_nodes;
-            method = std::make_unique<PpllMethod>(*device, options);
-        } else {
-            method = make_method(device.get(), args.method);
+    }
+    std::unique_ptr<Method> method = make_method(device.get(), args.method, options);
+    // Timed GPU frames follow one untimed frame: lavapipe compiles shaders and the first frame
+    // touches fresh memory, which would otherwise dominate a short run's figures.
+    if (on_gpu && (!args.stats.empty() || args.repeat > 1)) method->render(scene, nullptr);
+    for (int f = 0; f < args.repeat; ++f) {
+        image = method->render(scene, &last);
+        if (timing.pass_names.empty()) {
+            for (const PassTime& p : last.passes) timing.pass_names.push_back(p.name);
+            timing.pass_ms.resize(last.passes.size());
         }
-        // Timed frames follow one untimed frame: lavapipe compiles shaders and the first frame
-        // touches fresh memory, which would otherwise dominate a short run's figures.
-        if (!args.stats.empty() || args.repeat > 1) method->render(scene, nullptr);
-        for (int f = 0; f < args.repeat; ++f) {
-            image = method->render(scene, &last);
-            if (timing.pass_names.empty()) {
-                for (const PassTime& p : last.passes) timing.pass_names.push_back(p.name);
-                timing.pass_ms.resize(last.passes.size());
-            }
-            for (std::size_t p = 0; p < last.passes.size(); ++p) timing.pass_ms[p].push_back(last.passes[p].ms);
-            timing.total_ms.push_back(last.total_ms);
-        }
-        if (device->validation_message_count() > 0) {
-            for (const std::string& m : device->take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
-            std::fprintf(stderr, "brume: error: the Vulkan validation layer reported problems (above)\n");
-            return 3;
-        }
+        for (std::size_t p = 0; p < last.passes.size() && p < timing.pass_ms.size(); ++p)
+            timing.pass_ms[p].push_back(last.passes[p].ms);
+        timing.total_ms.push_back(last.total_ms);
+    }
+    if (device && device->validation_message_count() > 0) {
+        for (const std::string& m : device->take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
+        std::fprintf(stderr, "brume: error: the Vulkan validation layer reported problems (above)\n");
+        return 3;
     }
 
     if (!exr.empty()) write_exr(image, exr);
     if (!png.empty()) write_png(image, png, args.exposure);
     if (!args.stats.empty())
-        write_file_atomically(args.stats, stats_json(args, scene, device_name, timing, device ? &last : nullptr));
+        write_file_atomically(args.stats, stats_json(args, scene, device_name, timing, last, on_gpu));
 
     std::printf("%s: %dx%d, %zu spheres, %zu boxes, method %s on %s: %.2f ms (median of %d)", scene.source.c_str(),
                 scene.camera.width, scene.camera.height, scene.spheres.size(), scene.boxes.size(), args.method.c_str(),
                 device_name.c_str(), median(timing.total_ms), args.repeat);
-    if (args.method == "ppll")  // the list figures exist for ppll alone
+    if (last.list_stats)
         std::printf(", %llu fragments, longest list %u", (unsigned long long)last.fragments, last.max_list_length);
     std::printf("\n");
     for (const std::string& out : {exr, png})

@@ -78,21 +78,12 @@ double srgb_encode_exact(double linear) {
     return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
 }
 
-// Exposure, then the sRGB curve, then clamp; written so that NaN lands on 0 and +Inf on 255.
-unsigned char to_srgb8(float linear, double scale) {
-    const double v = double(linear) * scale;
-    if (!(v > 0.0)) return 0;
-    if (!(v < 1.0)) return 255;
-    const long code = std::lround(srgb_encode_exact(v) * 255.0);
-    return static_cast<unsigned char>(code < 255 ? code : 255);
-}
-
 std::string encode_png(const Image& image, double exposure_stops, const fs::path& path) {
     if (!std::isfinite(exposure_stops)) fail_write(path, "exposure must be finite");
     if (image.width > std::numeric_limits<int>::max() / 3) fail_write(path, "the image is too wide for PNG");
     const double scale = std::exp2(exposure_stops);
     std::vector<unsigned char> pixels(image.rgb.size());
-    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = to_srgb8(image.rgb[i], scale);
+    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = png_code(image.rgb[i], scale);
     std::string bytes;
     const auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
@@ -105,6 +96,15 @@ std::string encode_png(const Image& image, double exposure_stops, const fs::path
 }  // namespace
 
 float srgb_encode(float linear) { return static_cast<float>(srgb_encode_exact(linear)); }
+
+// Written so that NaN lands on 0 and +Inf on 255.
+unsigned char png_code(float linear, double exposure_scale) {
+    const double v = double(linear) * exposure_scale;
+    if (!(v > 0.0)) return 0;
+    if (!(v < 1.0)) return 255;
+    const long code = std::lround(srgb_encode_exact(v) * 255.0);
+    return static_cast<unsigned char>(code < 255 ? code : 255);
+}
 
 void write_exr(const Image& image, const fs::path& path) {
     check_image(image, path);

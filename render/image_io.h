@@ -30,4 +30,8 @@ void write_png(const Image& image, const std::filesystem::path& path, double exp
 // The exact piecewise sRGB transfer function (IEC 61966-2-1), linear to encoded, for values in [0, 1].
 float srgb_encode(float linear);
 
+// The 8-bit code write_png writes for one channel: times exposure_scale (2^stops), the sRGB transfer,
+// clamped, rounded; NaN is 0. Presenters' tone-map pass matches it (tests/test_gpu_frame_path.cpp).
+unsigned char png_code(float linear, double exposure_scale);
+
 }  // namespace brume

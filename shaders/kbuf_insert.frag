@@ -15,9 +15,9 @@ const uint EMPTY = 0xffffffffu;
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
 // Slot s of pixel p is element p * K + s; keys are sorted ascending within a pixel, EMPTY last.
-layout(set = 0, binding = BINDING_AUX_BUFFER0, std430) coherent buffer KeyBlock { uint keys[]; };
-layout(set = 0, binding = BINDING_AUX_BUFFER0 + 1, std430) coherent buffer IdBlock { uint ids[]; };
-layout(set = 0, binding = BINDING_AUX_BUFFER0 + 2, std430) writeonly buffer ExitBlock { float exits[]; };
+layout(set = 0, binding = BINDING_KBUF_KEYS, std430) coherent buffer KeyBlock { uint keys[]; };
+layout(set = 0, binding = BINDING_KBUF_IDS, std430) coherent buffer IdBlock { uint ids[]; };
+layout(set = 0, binding = BINDING_KBUF_EXITS, std430) writeonly buffer ExitBlock { float exits[]; };
 
 layout(location = 0) flat in uint v_sphere;
 layout(location = 1) noperspective in vec3 v_ray;

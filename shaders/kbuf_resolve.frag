@@ -10,11 +10,11 @@ layout(constant_id = 0) const uint K = 8;
 const uint EMPTY = 0xffffffffu;
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(set = 0, binding = BINDING_AUX_BUFFER0, std430) readonly buffer KeyBlock { uint keys[]; };
-layout(set = 0, binding = BINDING_AUX_BUFFER0 + 1, std430) readonly buffer IdBlock { uint ids[]; };
-layout(set = 0, binding = BINDING_AUX_BUFFER0 + 2, std430) readonly buffer ExitBlock { float exits[]; };
-layout(set = 0, binding = BINDING_AUX_IMAGE0, rgba32f) uniform readonly image2D tail_accum_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 1, r32f) uniform readonly image2D tail_optical_depth_image;
+layout(set = 0, binding = BINDING_KBUF_KEYS, std430) readonly buffer KeyBlock { uint keys[]; };
+layout(set = 0, binding = BINDING_KBUF_IDS, std430) readonly buffer IdBlock { uint ids[]; };
+layout(set = 0, binding = BINDING_KBUF_EXITS, std430) readonly buffer ExitBlock { float exits[]; };
+layout(set = 0, binding = BINDING_KBUF_TAIL_ACCUM, rgba32f) uniform readonly image2D tail_accum_image;
+layout(set = 0, binding = BINDING_KBUF_TAIL_OPTICAL_DEPTH, r32f) uniform readonly image2D tail_optical_depth_image;
 
 layout(location = 0) noperspective in vec3 v_ray;
 layout(location = 0) out vec4 out_radiance;

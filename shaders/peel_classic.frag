@@ -18,8 +18,8 @@
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
 // x: floatBitsToUint(d), y: sphere; all ones where a pass peeled nothing (no key is greater).
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 0, rgba32ui) uniform readonly uimage2D keys0;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 1, rgba32ui) uniform readonly uimage2D keys1;
+layout(set = 0, binding = BINDING_PEEL_KEYS0, rgba32ui) uniform readonly uimage2D keys0;
+layout(set = 0, binding = BINDING_PEEL_KEYS1, rgba32ui) uniform readonly uimage2D keys1;
 
 layout(location = 0) flat in uint v_sphere;
 layout(location = 1) noperspective in vec3 v_ray;

@@ -18,15 +18,11 @@
 layout(constant_id = 0) const uint PASSES = 8;  // peel passes; the tail is geometry pass PASSES
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 0, rgba32ui) uniform uimage2D keys0;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 1, rgba32ui) uniform uimage2D keys1;
+layout(set = 0, binding = BINDING_PEEL_KEYS0, rgba32ui) uniform uimage2D keys0;
+layout(set = 0, binding = BINDING_PEEL_KEYS1, rgba32ui) uniform uimage2D keys1;
 // Two per pixel: [2 i] = (L, T) front to back, [2 i + 1] = (sum of x * colour, sum of x) peeled.
-layout(set = 0, binding = BINDING_AUX_BUFFER0 + 0, std430) buffer AccumBlock { vec4 accum[]; };
-layout(set = 0, binding = BINDING_AUX_BUFFER0 + 1, std430) buffer ControlBlock {
-    uvec4 peel_args[66];       // VkDrawIndirectCommand of geometry pass p (the tail at PASSES)
-    uvec4 composite_args[66];  // VkDrawIndirectCommand of composite p
-    uint going_on[66];         // pixels that peeled a layer in pass p and did not stop
-} ctrl;
+layout(set = 0, binding = BINDING_PEEL_ACCUM, std430) buffer AccumBlock { vec4 accum[]; };
+layout(set = 0, binding = BINDING_PEEL_CONTROL, std430) buffer ControlBlock { PeelControl ctrl; };
 
 layout(location = 0) flat in uint v_pass;
 

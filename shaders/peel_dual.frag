@@ -21,7 +21,7 @@
 #include "sphere_sample.glsl"
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 0, rgba32f) uniform readonly image2D state_image;  // (-near, far, fcur, bcur)
+layout(set = 0, binding = BINDING_PEEL_STATE, rgba32f) uniform readonly image2D state_image;  // (-near, far, fcur, bcur)
 
 layout(location = 0) flat in uint v_sphere;
 layout(location = 1) noperspective in vec3 v_ray;

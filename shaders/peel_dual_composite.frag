@@ -18,16 +18,12 @@
 layout(constant_id = 0) const uint PASSES = 9;  // peel passes including pass 0; the tail is PASSES
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 0, rgba32f) uniform image2D state_image;  // (-near, far, fcur, bcur)
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 1, rgba32f) uniform readonly image2D window_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 3, rgba32f) uniform readonly image2D ids_image;
+layout(set = 0, binding = BINDING_PEEL_STATE, rgba32f) uniform image2D state_image;  // (-near, far, fcur, bcur)
+layout(set = 0, binding = BINDING_PEEL_WINDOW, rgba32f) uniform readonly image2D window_image;
+layout(set = 0, binding = BINDING_PEEL_IDS, rgba32f) uniform readonly image2D ids_image;
 // Three per pixel: (L_f, T_f), (C_b, T_b), (sum of x * colour, sum of x) peeled.
-layout(set = 0, binding = BINDING_AUX_BUFFER0 + 0, std430) buffer AccumBlock { vec4 accum[]; };
-layout(set = 0, binding = BINDING_AUX_BUFFER0 + 1, std430) buffer ControlBlock {
-    uvec4 peel_args[66];
-    uvec4 composite_args[66];
-    uint going_on[66];  // pixels whose state is not empty after pass p
-} ctrl;
+layout(set = 0, binding = BINDING_PEEL_ACCUM, std430) buffer AccumBlock { vec4 accum[]; };
+layout(set = 0, binding = BINDING_PEEL_CONTROL, std430) buffer ControlBlock { PeelControl ctrl; };
 
 layout(location = 0) flat in uint v_pass;
 

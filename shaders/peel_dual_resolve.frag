@@ -11,9 +11,9 @@
 #include "medium.glsl"
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 0, rgba32f) uniform readonly image2D state_image;  // (-near, far, fcur, bcur)
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 2, rgba32f) uniform readonly image2D tail_image;   // sum (x c, x) of all
-layout(set = 0, binding = BINDING_AUX_BUFFER0 + 0, std430) readonly buffer AccumBlock { vec4 accum[]; };
+layout(set = 0, binding = BINDING_PEEL_STATE, rgba32f) uniform readonly image2D state_image;  // (-near, far, fcur, bcur)
+layout(set = 0, binding = BINDING_PEEL_TAIL, rgba32f) uniform readonly image2D tail_image;   // sum (x c, x) of all
+layout(set = 0, binding = BINDING_PEEL_ACCUM, std430) readonly buffer AccumBlock { vec4 accum[]; };
 
 layout(location = 0) flat in uint v_pass;  // unused
 layout(location = 0) out vec4 out_radiance;

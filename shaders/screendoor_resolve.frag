@@ -6,7 +6,7 @@
 
 layout(constant_id = 0) const uint S = 4;
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0, rgba32f) uniform readonly image2D subsamples;
+layout(set = 0, binding = BINDING_SCREENDOOR_SUBSAMPLES, rgba32f) uniform readonly image2D subsamples;
 layout(location = 0) noperspective in vec3 v_ray;  // fullscreen_ray.vert's output, unused here
 layout(location = 0) out vec4 out_radiance;
 

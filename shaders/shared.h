@@ -1,7 +1,7 @@
-// Structs and bindings shared by C++ and GLSL, written once (GUIDE section 4).
-// Every member is a vec4/uvec4 so std140, std430 and scalar layouts agree with C++; the C++ side
-// static_asserts sizes and offsets (render/vk/shared_layout.cpp), so a change here that breaks the
-// match fails to compile instead of silently shifting fields.
+// Structs and bindings shared by C++ and GLSL, written once. Members are vec4/uvec4 (or arrays of
+// uint in std430 blocks) so std140, std430 and C++ agree; the C++ side static_asserts sizes and
+// offsets (render/vk/gpu_types.h), so a change here that breaks the match fails to compile instead
+// of silently shifting fields.
 #ifndef BRUME_SHADERS_SHARED_H
 #define BRUME_SHADERS_SHARED_H
 
@@ -17,11 +17,13 @@ using uint = std::uint32_t;
 #define BRUME_CONST const uint
 #endif
 
-// Descriptor set 0, shared by every pass of every method.
+// Descriptor set 0, the one layout every pass of every method uses (render/vk/descriptors.cpp).
+// Bindings 0..3 are the frame's, written by the frame path into every method's set.
 BRUME_CONST BINDING_FRAME = 0;     // uniform FrameUniforms
 BRUME_CONST BINDING_SPHERES = 1;   // buffer GpuSphere[]
 BRUME_CONST BINDING_BOXES = 2;     // buffer GpuBox[]
 BRUME_CONST BINDING_OPAQUE = 3;    // storage image rgba32f: rgb = opaque radiance, a = distance along the ray
+// ppll's lists.
 BRUME_CONST BINDING_HEADS = 4;     // buffer uint[]: head node of each pixel's list, LIST_END if empty
 BRUME_CONST BINDING_COUNTERS = 5;  // buffer ListCounters
 BRUME_CONST BINDING_POOL = 6;      // buffer uvec4[] x MAX_POOL_PARTS: the node pool, in parts
@@ -29,13 +31,43 @@ BRUME_CONST BINDING_POOL = 6;      // buffer uvec4[] x MAX_POOL_PARTS: the node 
 // Shaders pick a part with a switch over constant indices, which needs no descriptor-indexing
 // feature (lavapipe 22.3 has none).
 BRUME_CONST MAX_POOL_PARTS = 8;
-// Bindings a method may use for its own data (e.g. a sort order, per-pixel k-buffers, peeling
-// depths). Formats and meanings are each method's own; a binding no pipeline uses stays unwritten.
-BRUME_CONST BINDING_AUX_BUFFER0 = 7;  // storage buffers 7..10
-BRUME_CONST AUX_BUFFERS = 4;
-BRUME_CONST BINDING_AUX_IMAGE0 = 11;  // storage images 11..14 (layout GENERAL)
-BRUME_CONST AUX_IMAGES = 4;
-BRUME_CONST BINDING_COUNT = BINDING_AUX_IMAGE0 + AUX_IMAGES;
+
+// Bindings 7..14 belong to one method at a time: four storage buffers (7..10) and four storage
+// images in GENERAL layout (11..14). Each method names the ones it uses below; a binding no
+// pipeline of the method uses stays unwritten.
+BRUME_CONST BINDING_METHOD_BUFFER_FIRST = 7;
+BRUME_CONST METHOD_BUFFERS = 4;
+BRUME_CONST BINDING_METHOD_IMAGE_FIRST = 11;
+BRUME_CONST METHOD_IMAGES = 4;
+BRUME_CONST BINDING_COUNT = BINDING_METHOD_IMAGE_FIRST + METHOD_IMAGES;
+
+// sorted, soft, auto's power-sorted frames
+BRUME_CONST BINDING_SORT_ORDER = 7;      // buffer uint[]: draw i shows sphere order[i]
+// wsum, wavg, wboit
+BRUME_CONST BINDING_WEIGHT_PARAMS = 7;   // buffer WeightParams
+BRUME_CONST BINDING_WEIGHT_ACCUM = 11;   // rgba32f: sum(w alpha c), sum(w alpha)
+BRUME_CONST BINDING_WEIGHT_EXTRA = 12;   // r32f: the mode's second sum (product of (1 - alpha), or count)
+// kbuf
+BRUME_CONST BINDING_KBUF_KEYS = 7;       // buffer uint[pixel * k + slot]: entry keys, 0xffffffff empty
+BRUME_CONST BINDING_KBUF_IDS = 8;        // buffer uint[]: sphere per slot
+BRUME_CONST BINDING_KBUF_EXITS = 9;      // buffer float[]: clipped exit distance per slot
+BRUME_CONST BINDING_KBUF_TAIL_ACCUM = 11;          // rgba32f: sum(alpha c), sum(alpha) of the tail
+BRUME_CONST BINDING_KBUF_TAIL_OPTICAL_DEPTH = 12;  // r32f: sum(tau * chord) of the tail
+// peel (classic and dual)
+BRUME_CONST BINDING_PEEL_ACCUM = 7;      // buffer vec4[]: the composited result so far, per pixel
+BRUME_CONST BINDING_PEEL_CONTROL = 8;    // buffer PeelControl
+BRUME_CONST BINDING_PEEL_KEYS0 = 11;     // classic: rgba32ui keys, ping-pong pair
+BRUME_CONST BINDING_PEEL_KEYS1 = 12;
+BRUME_CONST BINDING_PEEL_STATE = 11;     // dual: rgba32f (-near, far, fcur, bcur)
+BRUME_CONST BINDING_PEEL_WINDOW = 12;    // dual: rgba32f
+BRUME_CONST BINDING_PEEL_TAIL = 13;      // rgba32f: sum (x c, x) of every sphere
+BRUME_CONST BINDING_PEEL_IDS = 14;       // dual: rgba32f
+// stochastic
+BRUME_CONST BINDING_STOCHASTIC_LAYERS = 11;         // rgba32f array (r32f for ',depth'): one layer per pass
+BRUME_CONST BINDING_STOCHASTIC_ACCUM = 12;          // rgba32f: sum(alpha c), sum(alpha)
+BRUME_CONST BINDING_STOCHASTIC_OPTICAL_DEPTH = 13;  // r32f
+// screendoor
+BRUME_CONST BINDING_SCREENDOOR_SUBSAMPLES = 11;     // rgba32f, S x S subsamples per pixel
 
 BRUME_CONST LIST_END = 0xFFFFFFFFu;
 // The resolve gathers list statistics (max length, non-empty pixels) only when asked: their atomics
@@ -58,7 +90,7 @@ struct FrameUniforms {
     vec4 background;  // rgb: radiance where a ray meets no opaque surface
     uvec4 counts;     // x: width, y: height, z: sphere count, w: box count
     uvec4 pool;       // x: node capacity, y: log2(nodes per pool part), z: pool parts, w: FRAME_* flags
-    vec4 params;      // x: min transmittance, yzw: unused
+    vec4 params;      // x: min transmittance; y: peel's depth scale 2^-k (peel only); zw: unused
 };
 
 struct GpuSphere {
@@ -78,6 +110,29 @@ struct ListCounters {
     uint max_length;       // longest list, in nodes
     uint nonempty_pixels;  // pixels with at least one node
     uint long_lists;       // pixels whose list needed more than one resolve window
+};
+
+// The tone-map pass (render/frame/tone_map.h) has a set layout of its own: the HDR target, sampled.
+BRUME_CONST BINDING_TONE_MAP_HDR = 0;  // combined image sampler, rgba32f, SHADER_READ_ONLY_OPTIMAL
+// Its push constants.
+struct ToneMapParams {
+    vec4 scale;      // x: exposure scale 2^stops; yzw: unused
+    vec4 source;     // xy: HDR texels per target pixel (1 when the sizes match); zw: HDR extent
+};
+
+// peel's control block (shaders/peel_*composite.frag): indirect draws of every geometry pass and
+// composite, which the composites switch on, and per-pass counts read back by the CPU.
+BRUME_CONST PEEL_MAX_PASSES = 64;
+BRUME_CONST PEEL_SLOTS = PEEL_MAX_PASSES + 2;  // geometry passes (dual: + its window pass) and the tail
+struct PeelControl {
+    uvec4 peel_args[PEEL_SLOTS];       // VkDrawIndirectCommand: 6 vertices, spheres or 0, firstVertex 6 p, 0
+    uvec4 composite_args[PEEL_SLOTS];  // 3 vertices, 1 or 0 instances, firstVertex 3 p, 0
+    uint going_on[PEEL_SLOTS];         // pixels that may have more to peel after pass p (std430: stride 4)
+};
+
+// The weighted methods' parameters (shaders/weighted_accumulate.frag).
+struct WeightParams {
+    vec4 depth;  // x: the depth scale D of McGuire & Bavoil's weight; yzw: unused
 };
 
 #ifdef __cplusplus

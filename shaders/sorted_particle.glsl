@@ -7,7 +7,7 @@
 #ifndef BRUME_SORTED_PARTICLE_GLSL
 #define BRUME_SORTED_PARTICLE_GLSL
 
-layout(set = 0, binding = BINDING_AUX_BUFFER0, std430) readonly buffer OrderBlock { uint order[]; };
+layout(set = 0, binding = BINDING_SORT_ORDER, std430) readonly buffer OrderBlock { uint order[]; };
 
 layout(location = 0) flat out uint v_sphere;
 layout(location = 1) noperspective out vec3 v_ray;  // unnormalised direction of the pixel ray

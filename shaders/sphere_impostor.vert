@@ -4,6 +4,11 @@
 // Per-sphere constants travel as flat varyings and the pixel ray as a noperspective one (it is
 // linear in screen space), so the fragment shader reads no buffer and divides nothing to set up
 // its intersection: on a CPU device those gathers and divisions were most of the append cost.
+//
+// Methods that draw the spheres several times a frame (peel's passes, stochastic's coverage passes)
+// pass the pass number in firstVertex: pass p draws vertices 6p .. 6p + 5, and v_pass = p (the
+// pipeline layout has no push constants). Every pass runs this same compiled code, so an entry
+// distance found in one pass compares bit for bit with the same sphere's in the next.
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
 #include "rays.glsl"
@@ -12,13 +17,16 @@
 layout(location = 0) flat out uint v_sphere;
 layout(location = 1) noperspective out vec3 v_ray;  // unnormalised direction of the pixel ray
 layout(location = 2) flat out vec4 v_offset_r2;     // xyz: eye - centre, w: radius^2
+layout(location = 3) flat out uint v_pass;          // firstVertex / 6; 0 for single-pass methods
 
 void main() {
+    const uint vertex = uint(gl_VertexIndex);
+    v_pass = vertex / 6u;
     v_sphere = gl_InstanceIndex;
     GpuSphere s = spheres[gl_InstanceIndex];
     vec4 rect;
     bool visible = s.albedo_extinction.w > 0.0 && sphere_screen_rect(s.center_radius.xyz, s.center_radius.w, rect);
-    gl_Position = visible ? rect_corner(rect, gl_VertexIndex) : vec4(2.0, 2.0, 0.0, 1.0);
+    gl_Position = visible ? rect_corner(rect, int(vertex % 6u)) : vec4(2.0, 2.0, 0.0, 1.0);
     v_ray = ndc_ray(gl_Position.xy);
     v_offset_r2 = vec4(frame.eye.xyz - s.center_radius.xyz, s.center_radius.w * s.center_radius.w);
 }

@@ -7,8 +7,8 @@
 #include "medium.glsl"
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 1, rgba32f) uniform readonly image2D accum_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 2, r32f) uniform readonly image2D optical_depth_image;
+layout(set = 0, binding = BINDING_STOCHASTIC_ACCUM, rgba32f) uniform readonly image2D accum_image;
+layout(set = 0, binding = BINDING_STOCHASTIC_OPTICAL_DEPTH, r32f) uniform readonly image2D optical_depth_image;
 
 layout(location = 0) noperspective in vec3 v_ray;
 layout(location = 0) out vec4 out_radiance;

@@ -9,9 +9,9 @@ layout(constant_id = 0) const uint LAYERS = 2;      // coverage passes
 layout(constant_id = 1) const uint CORRECTED = 1u;  // 1: alpha correction, 0: plain average
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0, rgba32f) uniform readonly image2DArray layers_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 1, rgba32f) uniform readonly image2D accum_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 2, r32f) uniform readonly image2D optical_depth_image;
+layout(set = 0, binding = BINDING_STOCHASTIC_LAYERS, rgba32f) uniform readonly image2DArray layers_image;
+layout(set = 0, binding = BINDING_STOCHASTIC_ACCUM, rgba32f) uniform readonly image2D accum_image;
+layout(set = 0, binding = BINDING_STOCHASTIC_OPTICAL_DEPTH, r32f) uniform readonly image2D optical_depth_image;
 
 layout(location = 0) noperspective in vec3 v_ray;
 layout(location = 0) out vec4 out_radiance;

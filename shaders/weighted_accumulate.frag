@@ -14,7 +14,7 @@ layout(constant_id = 0) const uint MODE = 0;  // 0 wsum, 1 wavg, 2 wboit (Weight
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
 // x: depth scale D of McGuire & Bavoil's weight (eq. 9), adapted to scene units on the CPU.
-layout(set = 0, binding = BINDING_AUX_BUFFER0, std430) readonly buffer WeightParams { vec4 weight_params; };
+layout(set = 0, binding = BINDING_WEIGHT_PARAMS, std430) readonly buffer WeightBlock { WeightParams weight_params; };
 
 layout(location = 0) flat in uint v_sphere;
 layout(location = 1) noperspective in vec3 v_ray;
@@ -32,7 +32,7 @@ void main() {
     if (MODE == 2u) {
         // McGuire & Bavoil 2013, eq. 9: w(z, alpha) = alpha * clamp(0.03 / (1e-5 + (z/200)^4), 1e-2, 3e3),
         // with 200 replaced by the scene's D.
-        float z = s.t0 / weight_params.x;
+        float z = s.t0 / weight_params.depth.x;
         float z2 = z * z;
         float w = s.alpha * clamp(0.03 / (1e-5 + z2 * z2), 1e-2, 3e3);
         out_accum = premultiplied * w;

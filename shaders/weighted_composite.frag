@@ -8,8 +8,8 @@
 layout(constant_id = 0) const uint MODE = 0;  // 0 wsum, 1 wavg, 2 wboit (WeightedMode)
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0, rgba32f) uniform readonly image2D accum_image;
-layout(set = 0, binding = BINDING_AUX_IMAGE0 + 1, r32f) uniform readonly image2D extra_image;
+layout(set = 0, binding = BINDING_WEIGHT_ACCUM, rgba32f) uniform readonly image2D accum_image;
+layout(set = 0, binding = BINDING_WEIGHT_EXTRA, r32f) uniform readonly image2D extra_image;
 
 layout(location = 0) noperspective in vec3 v_ray;
 layout(location = 0) out vec4 out_radiance;

@@ -1,7 +1,7 @@
 // `auto`: power-distance sorting where no spheres intersect (exact there), ppll where they do.
 #include "gpu_test_env.h"
 #include "render/methods/auto_method.h"
-#include "render/methods/method.h"
+#include "render/methods/registry.h"
 #include "sim/sphere_overlap.h"
 
 #include <random>

@@ -2,7 +2,7 @@
 // temporal error (GUIDE section 3) stays at the reference's floor; the sorted baseline, on the
 // very same frames, exceeds a threshold many times larger, which shows the metric can fail.
 #include "gpu_test_env.h"
-#include "render/methods/method.h"
+#include "render/methods/registry.h"
 #include "sim/builtin_presets.h"
 #include "sim/camera_path.h"
 #include "sim/simulator.h"

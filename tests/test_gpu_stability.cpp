@@ -3,7 +3,7 @@
 // validation layer quiet, and its error against the reference is recorded (printed and stored as a
 // test property), not asserted: how a baseline degrades is what `brume bench` charts.
 #include "gpu_test_env.h"
-#include "render/methods/method.h"
+#include "render/methods/registry.h"
 #include "render/methods/ppll.h"
 #include "sim/layers_scene.h"
 

@@ -6,21 +6,24 @@
 
 namespace brume {
 
-AutoMethod::AutoMethod(vk::Device& device)
-    : ppll_(device), power_sorted_(device, SortedCompositor::Billboard::Spherical, SortedCompositor::SortKey::PowerDistance) {}
+AutoMethod::AutoMethod(vk::Device& device, PpllOptions ppll)
+    : GpuMethod(device),
+      ppll_(device, ppll),
+      power_sorted_(device, SortedCompositor::Billboard::Spherical, SortedCompositor::SortKey::PowerDistance),
+      chosen_(&ppll_) {}
 
-Image AutoMethod::render(const Scene& scene, FrameStats* stats) {
+void AutoMethod::prepare(FrameContext& ctx) {
     const auto start = std::chrono::steady_clock::now();
-    const bool intersecting = find_intersecting_spheres(scene.spheres).has_value();
-    const double decide_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    last_choice_ = intersecting ? "ppll" : "power-sorted";
-    Image image = intersecting ? ppll_.render(scene, stats, false) : power_sorted_.render(scene, stats);
-    if (stats) {
-        // The decision is CPU work the frame cannot skip: it counts in the frame's time.
-        stats->passes.insert(stats->passes.begin(), {"decide (cpu): " + last_choice_, decide_ms});
-        stats->total_ms += decide_ms;
-    }
-    return image;
+    const bool intersecting = find_intersecting_spheres(ctx.scene().spheres).has_value();
+    decide_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    chosen_ = intersecting ? static_cast<GpuMethod*>(&ppll_) : &power_sorted_;
+    chosen_->prepare(ctx);
+}
+
+void AutoMethod::report(FrameStats& stats, const FrameContext& ctx) {
+    chosen_->report(stats, ctx);
+    // The decision is CPU work the frame cannot skip: it counts in the frame's time.
+    stats.passes.insert(stats.passes.begin(), {"decide (cpu): " + last_choice(), decide_ms_});
 }
 
 }  // namespace brume

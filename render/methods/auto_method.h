@@ -16,19 +16,29 @@
 
 namespace brume {
 
-class AutoMethod : public Method {
+class AutoMethod : public GpuMethod {
 public:
-    explicit AutoMethod(vk::Device& device);
+    // `ppll` configures the lists for the frames that need them (--max-memory reaches them here).
+    explicit AutoMethod(vk::Device& device, PpllOptions ppll = {});
     std::string name() const override { return "auto"; }
     bool exact() const override { return true; }
-    Image render(const Scene& scene, FrameStats* stats) override;
     // Which method rendered the last frame: "ppll" or "power-sorted".
-    const std::string& last_choice() const { return last_choice_; }
+    std::string last_choice() const { return chosen_->name(); }
+    const PpllMethod& ppll() const { return ppll_; }
+
+    // The frame path's side: prepare() decides, then every call goes to the method chosen.
+    const vk::SharedDescriptors& descriptors() const override { return chosen_->descriptors(); }
+    bool has_list_stats() const override { return false; }  // the lists exist only on some frames
+    void prepare(FrameContext& ctx) override;
+    bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override { return chosen_->record(cmd, ctx, step); }
+    After after_step(FrameContext& ctx, int step) override { return chosen_->after_step(ctx, step); }
+    void report(FrameStats& stats, const FrameContext& ctx) override;
 
 private:
     PpllMethod ppll_;
     SortedCompositor power_sorted_;
-    std::string last_choice_;
+    GpuMethod* chosen_;
+    double decide_ms_ = 0.0;
 };
 
 }  // namespace brume

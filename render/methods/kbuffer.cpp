@@ -33,7 +33,7 @@ std::uint32_t parse_kbuf_setting(const std::string& setting) {
 }
 
 KBufferMethod::KBufferMethod(Device& device, std::uint32_t k)
-    : device_(device), k_(k), descriptors_(device), frame_(device, descriptors_), timer_(device, 5, "kbuf.timestamps") {
+    : GpuMethod(device), k_(k) {
     if (k < 1 || k > kKbufMaxK) throw std::invalid_argument("kbuf: k must be from 1 to " + std::to_string(kKbufMaxK));
 
     // Both insertion passes run the same shader (specialization constant 0: pass), so the two
@@ -82,25 +82,21 @@ void KBufferMethod::ensure_targets(VkExtent2D extent) {
     tail_accum_ = DeviceImage(device_, kTailAccumFormat, extent, target, VK_IMAGE_ASPECT_COLOR_BIT, "kbuf.tail_accum");
     tail_optical_depth_ = DeviceImage(device_, kTailDepthFormat, extent, target, VK_IMAGE_ASPECT_COLOR_BIT,
                                       "kbuf.tail_optical_depth");
-    descriptors_.write_storage(gpu::BINDING_AUX_BUFFER0, keys_.get());
-    descriptors_.write_storage(gpu::BINDING_AUX_BUFFER0 + 1, ids_.get());
-    descriptors_.write_storage(gpu::BINDING_AUX_BUFFER0 + 2, exits_.get());
-    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0, tail_accum_.view());
-    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0 + 1, tail_optical_depth_.view());
+    descriptors_.write_storage(gpu::BINDING_KBUF_KEYS, keys_.get());
+    descriptors_.write_storage(gpu::BINDING_KBUF_IDS, ids_.get());
+    descriptors_.write_storage(gpu::BINDING_KBUF_EXITS, exits_.get());
+    descriptors_.write_storage_image(gpu::BINDING_KBUF_TAIL_ACCUM, tail_accum_.view());
+    descriptors_.write_storage_image(gpu::BINDING_KBUF_TAIL_OPTICAL_DEPTH, tail_optical_depth_.view());
     extent_ = extent;
 }
 
-void KBufferMethod::record_frame(VkCommandBuffer cmd) {
-    timer_.reset(cmd);
-    timer_.stamp(cmd, 0);
+bool KBufferMethod::record(VkCommandBuffer cmd, FrameContext& ctx, int) {
     // Empty slots, ordered before the key pass's atomics.
     vkCmdFillBuffer(cmd, keys_.get(), 0, VK_WHOLE_SIZE, kEmpty);
     vkCmdFillBuffer(cmd, ids_.get(), 0, VK_WHOLE_SIZE, kEmpty);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    frame_.record_opaque_pass(cmd);
-    timer_.stamp(cmd, 1);
 
     for (VkImage image : {tail_accum_.get(), tail_optical_depth_.get()})
         image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
@@ -108,40 +104,32 @@ void KBufferMethod::record_frame(VkCommandBuffer cmd) {
                       VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     auto insertion_pass = [&](VkPipeline pipeline, VkAttachmentLoadOp load) {
         begin_color_rendering(cmd, extent_, {tail_accum_.view(), tail_optical_depth_.view()}, load);
-        frame_.draw_spheres(cmd, pipeline);
+        ctx.draw_spheres(cmd, pipeline);
         vkCmdEndRendering(cmd);
     };
     insertion_pass(keys_pipeline_, VK_ATTACHMENT_LOAD_OP_CLEAR);  // also clears the tail targets
-    timer_.stamp(cmd, 2);
+    ctx.mark(cmd, "keys");
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                    VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
                        VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     insertion_pass(payload_pipeline_, VK_ATTACHMENT_LOAD_OP_LOAD);
-    timer_.stamp(cmd, 3);
+    ctx.mark(cmd, "payload+tail");
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                    VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 
-    frame_.resolve_to_hdr(cmd, resolve_pipeline_);
-    timer_.stamp(cmd, 4);
-    frame_.record_hdr_readback(cmd);
+    ctx.resolve_to_hdr(cmd, resolve_pipeline_);
+    ctx.mark(cmd, "resolve");
+    return true;
 }
 
-Image KBufferMethod::render(const Scene& scene, FrameStats* stats) {
-    frame_.upload(scene);
-    ensure_targets(frame_.extent());
-    device_.submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd); });
-    if (stats) {
-        const std::vector<double> ms = timer_.intervals_ms(5);
-        *stats = FrameStats{};
-        stats->passes = {{"clear+opaque", ms[0]}, {"keys", ms[1]}, {"payload+tail", ms[2]}, {"resolve", ms[3]}};
-        stats->total_ms = ms[0] + ms[1] + ms[2] + ms[3];
-        const std::uint64_t pixels = std::uint64_t(extent_.width) * extent_.height;
-        stats->memory_bytes = keys_.size() + ids_.size() + exits_.size() + pixels * (16 + 4);
-    }
-    return frame_.read_hdr();
+void KBufferMethod::prepare(FrameContext& ctx) { ensure_targets(ctx.extent()); }
+
+void KBufferMethod::report(FrameStats& stats, const FrameContext&) {
+    const std::uint64_t pixels = std::uint64_t(extent_.width) * extent_.height;
+    stats.memory_bytes = keys_.size() + ids_.size() + exits_.size() + pixels * (16 + 4);
 }
 
 std::unique_ptr<Method> make_kbuf_method(Device& device, const std::string& setting) {

@@ -39,12 +39,9 @@
 #pragma once
 
 #include "render/image.h"
-#include "render/methods/frame_resources.h"
-#include "render/methods/frame_stats.h"
-#include "render/methods/method.h"
-#include "render/vk/descriptors.h"
+#include "render/frame/frame_resources.h"
+#include "render/frame/gpu_method.h"
 #include "render/vk/device.h"
-#include "render/vk/gpu_timer.h"
 #include "render/vk/resources.h"
 #include "sim/scene.h"
 
@@ -60,26 +57,25 @@ inline constexpr std::uint32_t kKbufDefaultK = 8;
 // Parses the setting ("" -> 8, "1".."32"); throws std::invalid_argument naming the problem.
 std::uint32_t parse_kbuf_setting(const std::string& setting);
 
-class KBufferMethod : public Method {
+class KBufferMethod : public GpuMethod {
 public:
     KBufferMethod(vk::Device& device, std::uint32_t k = kKbufDefaultK);
 
     std::string name() const override { return "kbuf:" + std::to_string(k_); }
     bool exact() const override { return false; }
-    // Throws std::runtime_error when the slot buffers exceed the device's storage-buffer range.
-    Image render(const Scene& scene, FrameStats* stats) override;
+
+    // The frame path's side (render/frame/gpu_method.h). prepare() throws std::runtime_error when
+    // the slot buffers exceed the device's storage-buffer range.
+    void prepare(FrameContext& ctx) override;
+    bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override;
+    void report(FrameStats& stats, const FrameContext& ctx) override;
 
     std::uint32_t k() const { return k_; }
 
 private:
     void ensure_targets(VkExtent2D extent);
-    void record_frame(VkCommandBuffer cmd);
 
-    vk::Device& device_;
     std::uint32_t k_;
-    vk::SharedDescriptors descriptors_;
-    FrameResources frame_;
-    vk::GpuTimer timer_;
     vk::UniquePipeline keys_pipeline_;
     vk::UniquePipeline payload_pipeline_;
     vk::UniquePipeline resolve_pipeline_;

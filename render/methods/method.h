@@ -1,21 +1,17 @@
-// One scene representation, many ways to resolve it (GUIDE section 3): every method takes a Scene
-// and returns a linear-radiance Image with the same statistics, so one command can chart them.
+// One scene representation, many ways to resolve it (docs/methods.md): every method takes a Scene
+// and returns a linear-radiance Image with the same statistics, so one command can chart them. GPU
+// methods implement render/frame/gpu_method.h and run through the frame path.
 #pragma once
 
 #include "render/image.h"
-#include "render/methods/frame_stats.h"
+#include "render/frame/frame_stats.h"
 #include "sim/scene.h"
 
-#include <cstdint>
-#include <memory>
 #include <string>
-#include <vector>
 
 namespace brume {
 
-namespace vk {
-class Device;
-}
+class GpuMethod;
 
 class Method {
 public:
@@ -27,20 +23,9 @@ public:
     // Renders one frame. A method that keeps state between frames (the sorted method's previous
     // order) assumes consecutive calls are consecutive frames of one animation.
     virtual Image render(const Scene& scene, FrameStats* stats) = 0;
+    Image render(const Scene& scene) { return render(scene, nullptr); }
+    // The method's frame-path interface, null for methods that do not run on the GPU.
+    virtual GpuMethod* gpu() { return nullptr; }
 };
-
-struct MethodInfo {
-    std::string name;        // "kbuf"
-    std::string setting;     // what the part after ':' means, empty if none
-    std::string default_setting;
-    std::string summary;     // one line
-};
-
-// Every method `make_method` knows, in charting order.
-const std::vector<MethodInfo>& method_catalogue();
-
-// "ppll", "reference", "kbuf:8", ... Throws std::invalid_argument naming the method or setting
-// and listing the known ones. `device` may be null only for methods that need no GPU.
-std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec);
 
 }  // namespace brume

@@ -6,7 +6,7 @@
 #include "peel_dual_composite.frag.h"
 #include "peel_dual_resolve.frag.h"
 #include "peel_fullscreen.vert.h"
-#include "peel_impostor.vert.h"
+#include "sphere_impostor.vert.h"
 #include "peel_resolve.frag.h"
 #include "peel_tail.frag.h"
 #include "render/vk/pipelines.h"
@@ -26,21 +26,10 @@ using namespace vk;
 
 namespace {
 
-constexpr int kMaxPasses = 64;
-constexpr std::uint32_t kSlots = 66;  // geometry passes + the tail: at most 64 + 1 (dual's window pass) + 1
-
-// The control block of shaders/peel_*composite.frag: indirect draws of every geometry pass and
-// composite, which the composites switch on, and per-pass counts read back by the CPU.
-struct PeelControl {
-    glm::uvec4 peel_args[kSlots];       // VkDrawIndirectCommand: 6 vertices, spheres or 0, firstVertex 6 p, 0
-    glm::uvec4 composite_args[kSlots];  // 3 vertices, 1 or 0 instances, firstVertex 3 p, 0
-    std::uint32_t going_on[kSlots];     // pixels that may have more to peel after pass p
-};
-static_assert(sizeof(VkDrawIndirectCommand) == sizeof(glm::uvec4));
-static_assert(offsetof(PeelControl, composite_args) == kSlots * 16);
-static_assert(offsetof(PeelControl, going_on) == 2 * kSlots * 16);
-static_assert(sizeof(PeelControl) == 2 * kSlots * 16 + kSlots * 4);
-static_assert(sizeof(PeelControl) <= 65536, "vkCmdUpdateBuffer limit");
+using gpu::PeelControl;
+constexpr int kMaxPasses = int(gpu::PEEL_MAX_PASSES);
+constexpr std::uint32_t kSlots = gpu::PEEL_SLOTS;
+static_assert(sizeof(VkDrawIndirectCommand) == sizeof(glm::uvec4), "PeelControl's draw arguments");
 
 constexpr std::uint32_t kNoKey = 0xffffffffu;
 
@@ -123,16 +112,13 @@ const PeelOptions& checked(const PeelOptions& options) {
 }  // namespace
 
 PeelMethod::PeelMethod(Device& device, PeelOptions options)
-    : device_(device),
+    : GpuMethod(device),
       options_(checked(options)),
-      geometry_passes_(options.dual ? options.passes + 1 : options.passes),
-      descriptors_(device),
-      frame_(device, descriptors_),
-      timer_(device, std::uint32_t(geometry_passes_ + 4), "peel.timestamps") {  // start, opaque, passes, tail, resolve
+      geometry_passes_(options.dual ? options.passes + 1 : options.passes) {
     const std::vector<std::uint32_t> constants = {std::uint32_t(geometry_passes_)};
 
     GraphicsPipelineDesc peel;
-    peel.vertex = BRUME_SPIRV(spv_peel_impostor_vert);
+    peel.vertex = BRUME_SPIRV(spv_sphere_impostor_vert);
     if (options.dual) {
         peel.name = "peel_dual";
         peel.fragment = BRUME_SPIRV(spv_peel_dual_frag);
@@ -151,7 +137,7 @@ PeelMethod::PeelMethod(Device& device, PeelOptions options)
 
     GraphicsPipelineDesc tail;
     tail.name = "peel_tail";
-    tail.vertex = BRUME_SPIRV(spv_peel_impostor_vert);
+    tail.vertex = BRUME_SPIRV(spv_sphere_impostor_vert);
     tail.fragment = BRUME_SPIRV(spv_peel_tail_frag);
     tail.color_formats = {VK_FORMAT_R32G32B32A32_SFLOAT};
     tail.blends = {blend_additive()};
@@ -178,7 +164,7 @@ PeelMethod::PeelMethod(Device& device, PeelOptions options)
                       MemoryUse::Device, "peel.control");
     control_readback_ = Buffer(device, sizeof(PeelControl), VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback,
                                "peel.control_readback");
-    descriptors_.write_storage(gpu::BINDING_AUX_BUFFER0 + 1, control_.get());
+    descriptors_.write_storage(gpu::BINDING_PEEL_CONTROL, control_.get());
 }
 
 std::string PeelMethod::name() const {
@@ -189,42 +175,38 @@ void PeelMethod::ensure_targets(VkExtent2D extent) {
     if (extent.width == extent_.width && extent.height == extent_.height) return;
     images_.clear();
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
-    auto add = [&](VkFormat format, VkImageUsageFlags u, const char* name) {
+    auto add = [&](VkFormat format, VkImageUsageFlags u, const char* name, std::uint32_t binding) {
         images_.emplace_back(device_, format, extent, u, VK_IMAGE_ASPECT_COLOR_BIT, name);
+        descriptors_.write_storage_image(binding, images_.back().view());
     };
     if (options_.dual) {
-        add(VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, "peel.state");
-        add(VK_FORMAT_R32G32B32A32_SFLOAT, usage, "peel.window");
-        add(VK_FORMAT_R32G32B32A32_SFLOAT, usage, "peel.tail");
-        add(VK_FORMAT_R32G32B32A32_SFLOAT, usage, "peel.ids");
+        add(VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, "peel.state", gpu::BINDING_PEEL_STATE);
+        add(VK_FORMAT_R32G32B32A32_SFLOAT, usage, "peel.window", gpu::BINDING_PEEL_WINDOW);
+        add(VK_FORMAT_R32G32B32A32_SFLOAT, usage, "peel.tail", gpu::BINDING_PEEL_TAIL);
+        add(VK_FORMAT_R32G32B32A32_SFLOAT, usage, "peel.ids", gpu::BINDING_PEEL_IDS);
         depth_ = DeviceImage();
     } else {
-        add(VK_FORMAT_R32G32B32A32_UINT, usage, "peel.keys0");
-        add(VK_FORMAT_R32G32B32A32_UINT, usage, "peel.keys1");
-        add(VK_FORMAT_R32G32B32A32_SFLOAT, usage, "peel.tail");
+        add(VK_FORMAT_R32G32B32A32_UINT, usage, "peel.keys0", gpu::BINDING_PEEL_KEYS0);
+        add(VK_FORMAT_R32G32B32A32_UINT, usage, "peel.keys1", gpu::BINDING_PEEL_KEYS1);
+        add(VK_FORMAT_R32G32B32A32_SFLOAT, usage, "peel.tail", gpu::BINDING_PEEL_TAIL);
         depth_ = DeviceImage(device_, VK_FORMAT_D32_SFLOAT, extent, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                              VK_IMAGE_ASPECT_DEPTH_BIT, "peel.depth");
     }
-    for (std::uint32_t i = 0; i < images_.size(); ++i)
-        descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0 + i, images_[i].view());
     const VkDeviceSize pixels = VkDeviceSize(extent.width) * extent.height;
     accum_ = Buffer(device_, pixels * 16 * (options_.dual ? 3 : 2), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                     MemoryUse::Device, "peel.accum");
-    descriptors_.write_storage(gpu::BINDING_AUX_BUFFER0, accum_.get());
+    descriptors_.write_storage(gpu::BINDING_PEEL_ACCUM, accum_.get());
     extent_ = extent;
 }
 
-void PeelMethod::record_start(VkCommandBuffer cmd) {
-    timer_.reset(cmd);
-    timer_.stamp(cmd, 0);
-    stamps_ = 1;
+void PeelMethod::record_start(VkCommandBuffer cmd, const FrameContext& ctx) {
     // Pass 0 and its composite always run; the composites switch the later ones on.
     PeelControl control{};
     for (std::uint32_t p = 0; p < kSlots; ++p) {
         control.peel_args[p] = glm::uvec4(6, 0, 6 * p, 0);
         control.composite_args[p] = glm::uvec4(3, 0, 3 * p, 0);
     }
-    control.peel_args[0].y = frame_.sphere_count();
+    control.peel_args[0].y = ctx.sphere_count();
     control.composite_args[0].y = 1;
     vkCmdUpdateBuffer(cmd, control_.get(), 0, sizeof control, &control);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -243,12 +225,10 @@ void PeelMethod::record_start(VkCommandBuffer cmd) {
                       VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0,
                       VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
-    frame_.record_opaque_pass(cmd);
-    timer_.stamp(cmd, std::uint32_t(stamps_++));
 }
 
 // Peel pass `pass` and its composite, or (pass == geometry_passes_) the tail pass.
-void PeelMethod::record_pass(VkCommandBuffer cmd, int pass) {
+void PeelMethod::record_pass(VkCommandBuffer cmd, const FrameContext& ctx, int pass) {
     const bool tail = pass == geometry_passes_;
     const std::uint32_t p = std::uint32_t(pass);
     VkRenderingAttachmentInfo colors[2];
@@ -279,7 +259,7 @@ void PeelMethod::record_pass(VkCommandBuffer cmd, int pass) {
     info.pDepthAttachment = (options_.dual || tail) ? nullptr : &depth;
     vkCmdBeginRendering(cmd, &info);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, tail ? tail_pipeline_ : peel_pipeline_);
-    descriptors_.bind(cmd);
+    ctx.bind(cmd);
     set_viewport(cmd, extent_);
     if (!tail || options_.tail)  // without the tail option the layers beyond the passes are dropped
         vkCmdDrawIndirect(cmd, control_.get(), offsetof(PeelControl, peel_args) + p * sizeof(glm::uvec4), 1,
@@ -293,7 +273,7 @@ void PeelMethod::record_pass(VkCommandBuffer cmd, int pass) {
     composite.layerCount = 1;
     vkCmdBeginRendering(cmd, &composite);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, composite_pipeline_);
-    descriptors_.bind(cmd);
+    ctx.bind(cmd);
     set_viewport(cmd, extent_);
     vkCmdDrawIndirect(cmd, control_.get(), offsetof(PeelControl, composite_args) + p * sizeof(glm::uvec4), 1,
                       sizeof(glm::uvec4));
@@ -310,20 +290,19 @@ void PeelMethod::record_control_readback(VkCommandBuffer cmd) {
                    VK_ACCESS_2_HOST_READ_BIT);
 }
 
-void PeelMethod::record_finish(VkCommandBuffer cmd) {
-    record_pass(cmd, geometry_passes_);  // the tail (draws nothing unless layers remain somewhere)
-    timer_.stamp(cmd, std::uint32_t(stamps_++));
-    frame_.resolve_to_hdr(cmd, resolve_pipeline_);
-    timer_.stamp(cmd, std::uint32_t(stamps_++));
-    frame_.record_hdr_readback(cmd);
+void PeelMethod::record_finish(VkCommandBuffer cmd, const FrameContext& ctx) {
+    record_pass(cmd, ctx, geometry_passes_);  // the tail (draws nothing unless layers remain somewhere)
+    ctx.mark(cmd, "tail");
+    ctx.resolve_to_hdr(cmd, resolve_pipeline_);
+    ctx.mark(cmd, "resolve");
     record_control_readback(cmd);
 }
 
-Image PeelMethod::render(const Scene& scene, FrameStats* stats) {
+void PeelMethod::prepare(FrameContext& ctx) {
+    const Scene& scene = ctx.scene();
     if (options_.dual && scene.spheres.size() >= (1u << 24))
         throw std::invalid_argument("peel:dual handles fewer than 2^24 spheres (sphere indices travel as floats)");
-    frame_.upload(scene);
-    ensure_targets(frame_.extent());
+    ensure_targets(ctx.extent());
 
     // Depth scale 2^-k with 2^k >= twice the farthest point of any sphere: every entry distance maps
     // into [0, 1/2] (the depth range), exactly.
@@ -333,75 +312,73 @@ Image PeelMethod::render(const Scene& scene, FrameStats* stats) {
     int exponent = 0;
     if (reach > 0.0 && std::isfinite(reach)) std::frexp(reach, &exponent);  // reach < 2^exponent
     exponent = std::clamp(exponent + 1, -100, 100);
-    gpu::FrameUniforms& u = frame_.uniforms();
-    u.params.y = float(std::ldexp(1.0, -exponent));
-    const int last_pass = geometry_passes_;  // the tail's index; it draws only if a composite switched it on
+    ctx.uniforms().params.y = float(std::ldexp(1.0, -exponent));
 
     info_ = PeelFrameInfo{};
-    PeelControl control{};
-    int first = 0;
-    for (;;) {
-        const int end = std::min(last_pass, first + options_.passes_per_submit);
-        const bool finish = end == last_pass;
-        device_.submit_and_wait([&](VkCommandBuffer cmd) {
-            if (first == 0)
-                record_start(cmd);
-            else
-                pass_barrier(cmd);  // orders this submission after the previous one's writes
-            for (int p = first; p < end; ++p) {
-                record_pass(cmd, p);
-                timer_.stamp(cmd, std::uint32_t(stamps_++));
-            }
-            if (finish)
-                record_finish(cmd);
-            else
-                record_control_readback(cmd);
-        });
-        info_.passes_recorded = end;
-        std::memcpy(&control, control_readback_.mapped(), sizeof control);
-        if (finish) break;
-        if (control.going_on[end - 1] == 0) {
-            // Early stop: the last pass recorded left nothing to peel anywhere.
-            device_.submit_and_wait([&](VkCommandBuffer cmd) {
-                pass_barrier(cmd);
-                record_finish(cmd);
-            });
-            std::memcpy(&control, control_readback_.mapped(), sizeof control);
-            break;
-        }
-        first = end;
-    }
+    control_seen_ = PeelControl{};
+    first_pass_ = 0;
+    stopping_ = false;
+}
 
-    for (int p = 0; p < info_.passes_recorded; ++p) {
-        info_.pixels_going_on.push_back(control.going_on[p]);
-        if (control.peel_args[p].y > 0) ++info_.passes_drawn;
+// A step records up to passes_per_submit peel passes (the first also starts the frame), then either
+// the tail and the resolve (the last pass, or the early stop) or a readback of the early-stop counts.
+bool PeelMethod::record(VkCommandBuffer cmd, FrameContext& ctx, int step) {
+    if (stopping_) {
+        record_finish(cmd, ctx);
+        return true;
     }
-    info_.tail_drawn = options_.tail && control.peel_args[last_pass].y > 0;
+    const int end = std::min(geometry_passes_, first_pass_ + options_.passes_per_submit);
+    if (step == 0) record_start(cmd, ctx);
+    for (int p = first_pass_; p < end; ++p) {
+        record_pass(cmd, ctx, p);
+        ctx.mark(cmd, options_.dual ? (p == 0 ? "window" : "dual[" + std::to_string(p) + "]")
+                                    : "peel[" + std::to_string(p) + "]");
+    }
+    info_.passes_recorded = end;
+    if (end == geometry_passes_) {
+        record_finish(cmd, ctx);
+        return true;
+    }
+    record_control_readback(cmd);
+    return false;
+}
 
-    if (stats) {
-        const std::vector<double> ms = timer_.intervals_ms(std::uint32_t(stamps_));
-        *stats = FrameStats{};
-        stats->passes.push_back({"clear+opaque", ms[0]});
-        double off = 0.0;
+GpuMethod::After PeelMethod::after_step(FrameContext&, int) {
+    std::memcpy(&control_seen_, control_readback_.mapped(), sizeof control_seen_);
+    if (stopping_ || info_.passes_recorded == geometry_passes_) {
+        const PeelControl& control = control_seen_;
         for (int p = 0; p < info_.passes_recorded; ++p) {
-            const double t = ms[std::size_t(1 + p)];
-            if (control.peel_args[p].y == 0) {
-                off += t;  // switched off on the GPU: only its clears ran
-                continue;
-            }
-            std::string name = options_.dual ? (p == 0 ? "window" : "dual[" + std::to_string(p) + "]")
-                                             : "peel[" + std::to_string(p) + "]";
-            stats->passes.push_back({name, t});
+            info_.pixels_going_on.push_back(control.going_on[p]);
+            if (control.peel_args[p].y > 0) ++info_.passes_drawn;
         }
-        if (info_.passes_recorded > info_.passes_drawn) stats->passes.push_back({"passes switched off", off});
-        stats->passes.push_back({"tail", ms[std::size_t(1 + info_.passes_recorded)]});
-        stats->passes.push_back({"resolve", ms[std::size_t(2 + info_.passes_recorded)]});
-        for (const PassTime& pt : stats->passes) stats->total_ms += pt.ms;
-        const std::uint64_t pixels = std::uint64_t(extent_.width) * extent_.height;
-        stats->memory_bytes = images_.size() * pixels * 16 + (options_.dual ? 0 : pixels * 4) + accum_.size() +
-                              control_.size() + control_readback_.size();
+        info_.tail_drawn = options_.tail && control.peel_args[geometry_passes_].y > 0;
+        return After::Done;
     }
-    return frame_.read_hdr();
+    // Early stop: the last pass recorded left nothing to peel anywhere.
+    if (control_seen_.going_on[info_.passes_recorded - 1] == 0) stopping_ = true;
+    first_pass_ = info_.passes_recorded;
+    return After::NextStep;
+}
+
+void PeelMethod::report(FrameStats& stats, const FrameContext& ctx) {
+    // The frame path marked "clear+opaque", one pass per peel pass recorded, "tail", "resolve".
+    const std::vector<PassTime> marked = std::move(stats.passes);
+    const PeelControl& control = control_seen_;
+    stats.passes = {marked[0]};
+    double off = 0.0;
+    for (int p = 0; p < info_.passes_recorded; ++p) {
+        const PassTime& pass = marked[std::size_t(1 + p)];
+        if (control.peel_args[p].y == 0)
+            off += pass.ms;  // switched off on the GPU: only its clears ran
+        else
+            stats.passes.push_back(pass);
+    }
+    if (info_.passes_recorded > info_.passes_drawn) stats.passes.push_back({"passes switched off", off});
+    stats.passes.push_back(marked[std::size_t(1 + info_.passes_recorded)]);
+    stats.passes.push_back(marked[std::size_t(2 + info_.passes_recorded)]);
+    const std::uint64_t pixels = std::uint64_t(ctx.extent().width) * ctx.extent().height;
+    stats.memory_bytes = images_.size() * pixels * 16 + (options_.dual ? 0 : pixels * 4) + accum_.size() +
+                         control_.size() + control_readback_.size();
 }
 
 }  // namespace brume

@@ -42,13 +42,9 @@
 // buffers. The list fields stay 0. last_frame() says how many passes were drawn.
 #pragma once
 
+#include "render/frame/gpu_method.h"
 #include "render/image.h"
-#include "render/methods/frame_resources.h"
-#include "render/methods/frame_stats.h"
-#include "render/methods/method.h"
-#include "render/vk/descriptors.h"
 #include "render/vk/device.h"
-#include "render/vk/gpu_timer.h"
 #include "render/vk/resources.h"
 #include "sim/scene.h"
 
@@ -81,31 +77,33 @@ struct PeelFrameInfo {
     std::vector<std::uint32_t> pixels_going_on;
 };
 
-class PeelMethod : public Method {
+class PeelMethod : public GpuMethod {
 public:
     PeelMethod(vk::Device& device, PeelOptions options);
 
     std::string name() const override;
     bool exact() const override { return false; }
-    Image render(const Scene& scene, FrameStats* stats) override;
-    Image render(const Scene& scene) { return render(scene, nullptr); }
 
     const PeelFrameInfo& last_frame() const { return info_; }
     const PeelOptions& options() const { return options_; }
 
+    // The frame path's side (render/frame/gpu_method.h). Each step records passes_per_submit peel
+    // passes; after_step reads the early-stop counts and asks for the next step, the last of which
+    // records the tail and the resolve.
+    void prepare(FrameContext& ctx) override;
+    bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override;
+    After after_step(FrameContext& ctx, int step) override;
+    void report(FrameStats& stats, const FrameContext& ctx) override;
+
 private:
     void ensure_targets(VkExtent2D extent);
-    void record_start(VkCommandBuffer cmd);
-    void record_pass(VkCommandBuffer cmd, int pass);
-    void record_finish(VkCommandBuffer cmd);
+    void record_start(VkCommandBuffer cmd, const FrameContext& ctx);
+    void record_pass(VkCommandBuffer cmd, const FrameContext& ctx, int pass);
+    void record_finish(VkCommandBuffer cmd, const FrameContext& ctx);
     void record_control_readback(VkCommandBuffer cmd);
 
-    vk::Device& device_;
     PeelOptions options_;
     int geometry_passes_;  // peel passes P (dual: N + 1); the tail is geometry pass P
-    vk::SharedDescriptors descriptors_;
-    FrameResources frame_;
-    vk::GpuTimer timer_;
     vk::UniquePipeline peel_pipeline_;
     vk::UniquePipeline tail_pipeline_;
     vk::UniquePipeline composite_pipeline_;
@@ -118,7 +116,11 @@ private:
     vk::Buffer control_;
     vk::Buffer control_readback_;
     VkExtent2D extent_{};
-    int stamps_ = 0;  // timestamps written so far this frame
+    // This frame's progress: the first pass of the next step, and whether the early stop was taken
+    // (the next step records only the tail and the resolve).
+    int first_pass_ = 0;
+    bool stopping_ = false;
+    gpu::PeelControl control_seen_{};  // what the last step's submission read back
     PeelFrameInfo info_;
 };
 

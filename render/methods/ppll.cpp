@@ -1,5 +1,7 @@
 #include "render/methods/ppll.h"
 
+#include "render/frame/frame_path.h"
+
 #include "fullscreen_ray.vert.h"
 #include "ppll_append.frag.h"
 #include "ppll_resolve.frag.h"
@@ -68,8 +70,7 @@ std::uint64_t estimate_fragments(const Scene& scene) {
     return std::uint64_t(total);
 }
 
-PpllMethod::PpllMethod(Device& device, PpllOptions options)
-    : device_(device), options_(options), descriptors_(device), frame_(device, descriptors_), timer_(device, 4, "ppll.timestamps") {
+PpllMethod::PpllMethod(Device& device, PpllOptions options) : GpuMethod(device), options_(options) {
     counters_ = Buffer(device, sizeof(gpu::ListCounters),
                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
@@ -144,89 +145,84 @@ void PpllMethod::allocate_pool(std::uint64_t nodes) {
     ensure_pipelines(std::uint32_t(pool_parts_.size()));
 }
 
-void PpllMethod::record_frame(VkCommandBuffer cmd) {
-    timer_.reset(cmd);
-    timer_.stamp(cmd, 0);
+void PpllMethod::write_pool_uniforms(FrameContext& ctx) const {
+    const std::uint32_t flags = ctx.list_stats_wanted() ? gpu::FRAME_COLLECT_LIST_STATS : 0u;
+    ctx.uniforms().pool = gpu::uvec4(std::uint32_t(capacity_), part_shift_, std::uint32_t(pool_parts_.size()), flags);
+}
+
+void PpllMethod::prepare(FrameContext& ctx) {
+    ensure_heads(ctx.extent());
+    if (capacity_ == 0) {
+        std::uint64_t want = options_.initial_nodes;
+        if (want == 0) {
+            const std::uint64_t estimate = estimate_fragments(ctx.scene());
+            want = estimate + estimate / 4;
+        }
+        allocate_pool(std::min(want, max_nodes_));
+    }
+    write_pool_uniforms(ctx);
+}
+
+bool PpllMethod::record(VkCommandBuffer cmd, FrameContext& ctx, int) {
     // Empty lists and zeroed counters, ordered before the fragment shaders' atomics.
     vkCmdFillBuffer(cmd, heads_.get(), 0, VK_WHOLE_SIZE, gpu::LIST_END);
     vkCmdFillBuffer(cmd, counters_.get(), 0, VK_WHOLE_SIZE, 0);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    frame_.record_opaque_pass(cmd);
-    timer_.stamp(cmd, 1);
 
     // Particle pass: no attachments, the fragment shader only appends to the lists.
     VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    info.renderArea = {{0, 0}, frame_.extent()};
+    info.renderArea = {{0, 0}, ctx.extent()};
     info.layerCount = 1;
     vkCmdBeginRendering(cmd, &info);
-    frame_.draw_spheres(cmd, append_pipeline_);
+    ctx.draw_spheres(cmd, append_pipeline_);
     vkCmdEndRendering(cmd);
-    timer_.stamp(cmd, 2);
+    ctx.mark(cmd, "particles");
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 
-    frame_.resolve_to_hdr(cmd, resolve_pipeline_);
-    timer_.stamp(cmd, 3);
+    ctx.resolve_to_hdr(cmd, resolve_pipeline_);
+    ctx.mark(cmd, "resolve");
 
-    frame_.record_hdr_readback(cmd);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferCopy copy{0, 0, sizeof(gpu::ListCounters)};
     vkCmdCopyBuffer(cmd, counters_.get(), counters_readback_.get(), 1, &copy);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                    VK_ACCESS_2_HOST_READ_BIT);
+    return true;
+}
+
+GpuMethod::After PpllMethod::after_step(FrameContext& ctx, int) {
+    std::memcpy(&counters_seen_, counters_readback_.mapped(), sizeof counters_seen_);
+    if (counters_seen_.allocated <= capacity_) return After::Done;
+    // Overflow: nothing past capacity was written and the frame is discarded. Grow to what this
+    // frame needed plus headroom for the next one, and render again.
+    const std::uint64_t needed = counters_seen_.allocated;
+    if (needed > max_nodes_)
+        throw PoolBudgetError(nodes_bytes(needed), nodes_bytes(max_nodes_), max_nodes_ < max_pool_bytes_ / gpu::NODE_BYTES);
+    allocate_pool(std::min(max_nodes_, needed + needed / 4));
+    write_pool_uniforms(ctx);
+    return After::Again;
+}
+
+void PpllMethod::report(FrameStats& stats, const FrameContext& ctx) {
+    const gpu::ListCounters& counters = counters_seen_;
+    stats.fragments = counters.allocated;
+    stats.pool_capacity = capacity_;
+    stats.pool_bytes = nodes_bytes(capacity_);
+    stats.memory_bytes = stats.pool_bytes + heads_.size() + counters_.size();
+    stats.list_stats = ctx.list_stats_wanted();
+    stats.max_list_length = counters.max_length;
+    stats.nonempty_pixels = counters.nonempty_pixels;
+    stats.mean_list_length = counters.nonempty_pixels ? double(counters.allocated) / counters.nonempty_pixels : 0.0;
+    stats.long_list_pixels = counters.long_lists;
 }
 
 Image PpllMethod::render(const Scene& scene, FrameStats* stats, bool list_stats) {
-    frame_.upload(scene);
-    ensure_heads(frame_.extent());
-    if (capacity_ == 0) {
-        std::uint64_t want = options_.initial_nodes;
-        if (want == 0) {
-            const std::uint64_t estimate = estimate_fragments(scene);
-            want = estimate + estimate / 4;
-        }
-        allocate_pool(std::min(want, max_nodes_));
-    }
-
-    int regrows = 0;
-    gpu::ListCounters counters{};
-    for (;;) {
-        gpu::FrameUniforms& u = frame_.uniforms();
-        const std::uint32_t flags = (stats && list_stats) ? gpu::FRAME_COLLECT_LIST_STATS : 0u;
-        u.pool = gpu::uvec4(std::uint32_t(capacity_), part_shift_, std::uint32_t(pool_parts_.size()), flags);
-        device_.submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd); });
-        std::memcpy(&counters, counters_readback_.mapped(), sizeof counters);
-        if (counters.allocated <= capacity_) break;
-        // Overflow: nothing past capacity was written and the frame is discarded. Grow to what this
-        // frame needed plus headroom for the next one, and render again.
-        const std::uint64_t needed = counters.allocated;
-        if (needed > max_nodes_)
-            throw PoolBudgetError(nodes_bytes(needed), nodes_bytes(max_nodes_),
-                                  max_nodes_ < max_pool_bytes_ / gpu::NODE_BYTES);
-        allocate_pool(std::min(max_nodes_, needed + needed / 4));
-        ++regrows;
-    }
-
-    if (stats) {
-        const std::vector<double> ms = timer_.intervals_ms(4);
-        stats->passes = {{"clear+opaque", ms[0]}, {"particles", ms[1]}, {"resolve", ms[2]}};
-        stats->total_ms = ms[0] + ms[1] + ms[2];
-        stats->fragments = counters.allocated;
-        stats->pool_capacity = capacity_;
-        stats->pool_bytes = nodes_bytes(capacity_);
-        stats->memory_bytes = stats->pool_bytes + heads_.size() + counters_.size();
-        stats->regrows = regrows;
-        stats->list_stats = list_stats;
-        stats->max_list_length = counters.max_length;
-        stats->nonempty_pixels = counters.nonempty_pixels;
-        stats->mean_list_length = counters.nonempty_pixels ? double(counters.allocated) / counters.nonempty_pixels : 0.0;
-        stats->long_list_pixels = counters.long_lists;
-    }
-    return frame_.read_hdr();
+    return own_path().render(*this, scene, stats, list_stats);
 }
 
 }  // namespace brume

@@ -3,13 +3,9 @@
 // scene, checked after every frame, and grown (frame rendered again) on overflow up to a budget.
 #pragma once
 
+#include "render/frame/gpu_method.h"
 #include "render/image.h"
-#include "render/methods/frame_resources.h"
-#include "render/methods/frame_stats.h"
-#include "render/methods/method.h"
-#include "render/vk/descriptors.h"
 #include "render/vk/device.h"
-#include "render/vk/gpu_timer.h"
 #include "render/vk/resources.h"
 #include "sim/scene.h"
 
@@ -43,34 +39,36 @@ private:
 // ignores occlusion by boxes and the eye's clipping), used only to size the first pool.
 std::uint64_t estimate_fragments(const Scene& scene);
 
-class PpllMethod : public Method {
+class PpllMethod : public GpuMethod {
 public:
     explicit PpllMethod(vk::Device& device, PpllOptions options = {});
 
     std::string name() const override { return "ppll"; }
     bool exact() const override { return true; }
+    using GpuMethod::render;
     // Renders one frame and reads it back. Throws PoolBudgetError when the lists cannot fit.
     // With `stats`, GPU times and pool figures are filled in; the list-length statistics
     // (max_list_length, nonempty_pixels, ...) cost extra atomics and are gathered only when
-    // `list_stats` is also set.
+    // `list_stats` is also set (render(scene, stats) sets it).
     Image render(const Scene& scene, FrameStats* stats, bool list_stats);
-    Image render(const Scene& scene, FrameStats* stats) override { return render(scene, stats, true); }
-    Image render(const Scene& scene) { return render(scene, nullptr, false); }
 
     std::uint64_t max_pool_nodes() const { return max_nodes_; }
     std::uint64_t pool_capacity() const { return capacity_; }
+
+    // The frame path's side (render/frame/gpu_method.h).
+    bool has_list_stats() const override { return true; }
+    void prepare(FrameContext& ctx) override;
+    bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override;
+    After after_step(FrameContext& ctx, int step) override;
+    void report(FrameStats& stats, const FrameContext& ctx) override;
 
 private:
     void ensure_pipelines(std::uint32_t pool_parts);
     void ensure_heads(VkExtent2D extent);
     void allocate_pool(std::uint64_t nodes);
-    void record_frame(VkCommandBuffer cmd);
+    void write_pool_uniforms(FrameContext& ctx) const;
 
-    vk::Device& device_;
     PpllOptions options_;
-    vk::SharedDescriptors descriptors_;
-    FrameResources frame_;
-    vk::GpuTimer timer_;
     vk::UniquePipeline append_pipeline_;
     vk::UniquePipeline resolve_pipeline_;
     vk::Buffer heads_;
@@ -82,6 +80,7 @@ private:
     std::uint64_t capacity_ = 0;    // nodes
     std::uint64_t max_nodes_ = 0;
     std::uint64_t max_pool_bytes_ = 0;
+    gpu::ListCounters counters_seen_{};  // what the last submission counted
 };
 
 }  // namespace brume

@@ -1,5 +1,5 @@
 // The method catalogue and `--method NAME[:SETTING]` parsing.
-#include "render/methods/method.h"
+#include "render/methods/registry.h"
 
 #include "render/methods/auto_method.h"
 #include "render/methods/kbuffer.h"
@@ -16,61 +16,119 @@
 
 namespace brume {
 
-const std::vector<MethodInfo>& method_catalogue() {
-    static const std::vector<MethodInfo> catalogue = {
-        {"ppll", "", "", "per-pixel linked lists, exact intersecting media (GPU)"},
-        {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)"},
+namespace {
+
+// Factories: the entry's name and setting syntax were checked before they are called.
+template <auto MakeFromSetting>
+std::unique_ptr<Method> gpu_method(vk::Device* device, const std::string& setting, const MethodOptions&) {
+    return MakeFromSetting(*device, setting);
+}
+
+PpllOptions ppll_options(const MethodOptions& options) {
+    PpllOptions ppll;
+    ppll.max_pool_bytes = options.max_pool_bytes;
+    ppll.initial_nodes = options.initial_pool_nodes;
+    return ppll;
+}
+
+std::unique_ptr<Method> make_ppll(vk::Device* device, const std::string&, const MethodOptions& options) {
+    return std::make_unique<PpllMethod>(*device, ppll_options(options));
+}
+
+std::unique_ptr<Method> make_auto(vk::Device* device, const std::string&, const MethodOptions& options) {
+    return std::make_unique<AutoMethod>(*device, ppll_options(options));
+}
+
+std::unique_ptr<Method> make_reference(vk::Device*, const std::string&, const MethodOptions& options) {
+    return std::make_unique<ReferenceMethod>(options.threads);
+}
+
+std::string option_names(unsigned bits) {
+    std::string out;
+    if (bits & kHonoursMaxMemory) out += "--max-memory/--pool-nodes";
+    if (bits & kHonoursThreads) out += std::string(out.empty() ? "" : ", ") + "--threads";
+    return out;
+}
+
+}  // namespace
+
+const std::vector<MethodEntry>& method_catalogue() {
+    static const std::vector<MethodEntry> catalogue = {
+        {"ppll", "", "", "per-pixel linked lists, exact intersecting media (GPU)", true, true, true,
+         kHonoursMaxMemory, {}, &make_ppll},
+        {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)", false, true, false,
+         kHonoursThreads, {}, &make_reference},
         {"auto", "", "",
-         "per frame the cheapest exact method: power-distance sorted spheres when none intersect, else ppll"},
+         "per frame the cheapest exact method: power-distance sorted spheres when none intersect, else ppll", true,
+         true, false, kHonoursMaxMemory, {}, &make_auto},
         {"sorted", "", "",
          "painter's algorithm: planar billboards sorted back to front by centre (insertion sort reusing last "
-         "frame's order); pops when order flips"},
+         "frame's order); pops when order flips",
+         true, false, false, 0, {}, &gpu_method<make_sorted_method>},
         {"soft", "", "",
          "sorted spherical billboards (soft particles): chord clipped by eye and geometry; wrong where spheres "
-         "intersect"},
-        {"wsum", "", "", "weighted sum (Meshkin): unsorted additive blend, one geometry pass"},
-        {"wavg", "", "", "weighted average (Bavoil & Myers): unsorted, one geometry pass"},
-        {"wboit", "", "", "weighted blended OIT (McGuire & Bavoil 2013, eq. 9 depth weight)"},
-        {"kbuf", "k", "8", "k nearest spheres per pixel (FreePipe / k-buffer, k = 1..32), tail as one averaged layer"},
+         "intersect",
+         true, false, false, 0, {}, &gpu_method<make_soft_method>},
+        {"wsum", "", "", "weighted sum (Meshkin): unsorted additive blend, one geometry pass", true, false, false, 0,
+         {}, &gpu_method<make_wsum_method>},
+        {"wavg", "", "", "weighted average (Bavoil & Myers): unsorted, one geometry pass", true, false, false, 0, {},
+         &gpu_method<make_wavg_method>},
+        {"wboit", "", "", "weighted blended OIT (McGuire & Bavoil 2013, eq. 9 depth weight)", true, false, false, 0,
+         {}, &gpu_method<make_wboit_method>},
+        {"kbuf", "k", "8", "k nearest spheres per pixel (FreePipe / k-buffer, k = 1..32), tail as one averaged layer",
+         true, false, false, 0, {"4", "16"}, &gpu_method<make_kbuf_method>},
         {"peel", "N|dual:N", "8",
          "depth peeling: N geometry passes front to back (1..64), or dual:N peeling a front and a back layer per "
-         "pass; layers beyond as one slab"},
+         "pass; layers beyond as one slab",
+         true, false, false, 0, {"4", "16", "dual:8"}, &gpu_method<make_peel_method>},
         {"stochastic", "S[,plain|,depth]", "8",
          "stochastic transparency with S samples per pixel (power of two, 1..64), alpha-corrected unless ',plain'; "
-         "',depth': depth-based visibility (Enderton et al.)"},
-        {"screendoor", "S", "4", "object-space screen-door transparency with S x S supersampling (S = 1..8)"},
+         "',depth': depth-based visibility (Enderton et al.)",
+         true, false, false, 0, {"4", "16", "8,depth"}, &gpu_method<make_stochastic_method>},
+        {"screendoor", "S", "4", "object-space screen-door transparency with S x S supersampling (S = 1..8)", true,
+         false, false, 0, {"2"}, &gpu_method<make_screendoor_method>},
     };
     return catalogue;
 }
 
-std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec) {
+const MethodEntry& find_method(const std::string& spec) {
+    const std::string name = spec.substr(0, spec.find(':'));
+    for (const MethodEntry& m : method_catalogue())
+        if (m.name == name) return m;
+    std::string known;
+    for (const MethodEntry& m : method_catalogue()) known += (known.empty() ? "" : ", ") + m.name;
+    throw std::invalid_argument("unknown method '" + name + "'; known: " + known);
+}
+
+std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec, const MethodOptions& options) {
+    const MethodEntry& entry = find_method(spec);
     const std::size_t colon = spec.find(':');
-    const std::string name = spec.substr(0, colon);
     const std::string setting = colon == std::string::npos ? "" : spec.substr(colon + 1);
-    const MethodInfo* info = nullptr;
-    for (const MethodInfo& m : method_catalogue())
-        if (m.name == name) info = &m;
-    if (!info) {
-        std::string known;
-        for (const MethodInfo& m : method_catalogue()) known += (known.empty() ? "" : ", ") + m.name;
-        throw std::invalid_argument("unknown method '" + name + "'; known: " + known);
+    if (!setting.empty() && entry.setting.empty())
+        throw std::invalid_argument("method '" + entry.name + "' takes no setting (got ':" + setting + "')");
+    if (entry.needs_device && !device) throw std::invalid_argument("method '" + entry.name + "' needs a Vulkan device");
+    return entry.make(device, setting, options);
+}
+
+void check_method_options(const std::string& spec, unsigned given) {
+    const MethodEntry& entry = find_method(spec);
+    const unsigned ignored = given & ~entry.options;
+    if (!ignored) return;
+    std::string honouring;
+    for (const MethodEntry& m : method_catalogue())
+        if (m.options & ignored) honouring += (honouring.empty() ? "" : ", ") + m.name;
+    throw std::invalid_argument(option_names(ignored) + " applies to " + honouring + ", not to method '" +
+                                entry.name + "'");
+}
+
+std::vector<std::string> bench_method_specs() {
+    std::vector<std::string> specs;
+    for (const MethodEntry& m : method_catalogue()) {
+        if (m.name == "reference") continue;  // every figure is measured against it
+        specs.push_back(m.name);
+        for (const std::string& s : m.bench_settings) specs.push_back(m.name + ":" + s);
     }
-    if (!setting.empty() && info->setting.empty())
-        throw std::invalid_argument("method '" + name + "' takes no setting (got ':" + setting + "')");
-    if (name == "reference") return std::make_unique<ReferenceMethod>();
-    if (!device) throw std::invalid_argument("method '" + name + "' needs a Vulkan device");
-    if (name == "ppll") return std::make_unique<PpllMethod>(*device);
-    if (name == "auto") return std::make_unique<AutoMethod>(*device);
-    if (name == "sorted") return make_sorted_method(*device, setting);
-    if (name == "soft") return make_soft_method(*device, setting);
-    if (name == "screendoor") return make_screendoor_method(*device, setting);
-    if (name == "wsum") return make_wsum_method(*device, setting);
-    if (name == "wavg") return make_wavg_method(*device, setting);
-    if (name == "wboit") return make_wboit_method(*device, setting);
-    if (name == "kbuf") return make_kbuf_method(*device, setting);
-    if (name == "stochastic") return make_stochastic_method(*device, setting);
-    if (name == "peel") return make_peel_method(*device, setting);
-    throw std::logic_error("method '" + name + "' is catalogued but not constructed");
+    return specs;
 }
 
 }  // namespace brume

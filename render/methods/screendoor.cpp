@@ -14,7 +14,7 @@ namespace brume {
 using namespace vk;
 
 ScreendoorMethod::ScreendoorMethod(Device& device, int samples)
-    : device_(device), samples_(samples), descriptors_(device), frame_(device, descriptors_), timer_(device, 4, "screendoor.timestamps") {
+    : GpuMethod(device), samples_(samples) {
     if (samples < 1 || samples > kMaxSamples)
         throw std::invalid_argument("screendoor: S must be 1.." + std::to_string(kMaxSamples) + " (got " +
                                     std::to_string(samples) + ")");
@@ -69,15 +69,11 @@ void ScreendoorMethod::ensure_targets(VkExtent2D extent) {
                          VK_IMAGE_ASPECT_COLOR_BIT, "screendoor.color");
     depth_ = DeviceImage(device_, FrameResources::kDepthFormat, big, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                          VK_IMAGE_ASPECT_DEPTH_BIT, "screendoor.depth");
-    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0, color_.view());
+    descriptors_.write_storage_image(gpu::BINDING_SCREENDOOR_SUBSAMPLES, color_.view());
     extent_ = extent;
 }
 
-void ScreendoorMethod::record_frame(VkCommandBuffer cmd) {
-    timer_.reset(cmd);
-    timer_.stamp(cmd, 0);
-    frame_.record_opaque_pass(cmd);
-    timer_.stamp(cmd, 1);
+bool ScreendoorMethod::record(VkCommandBuffer cmd, FrameContext& ctx, int) {
 
     // Supersampled sphere pass. The previous frame's resolve read the colour target: a write-after-read,
     // so an execution dependency on the fragment stage is enough before it is cleared.
@@ -107,35 +103,28 @@ void ScreendoorMethod::record_frame(VkCommandBuffer cmd) {
     info.pColorAttachments = &color;
     info.pDepthAttachment = &depth;
     vkCmdBeginRendering(cmd, &info);
-    if (frame_.sphere_count() > 0) {
+    if (ctx.sphere_count() > 0) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, sphere_pipeline_);
-        descriptors_.bind(cmd);
+        ctx.bind(cmd);
         set_viewport(cmd, color_.extent());
-        vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
+        vkCmdDraw(cmd, 6, ctx.sphere_count(), 0, 0);
     }
     vkCmdEndRendering(cmd);
-    timer_.stamp(cmd, 2);
+    ctx.mark(cmd, "spheres x" + std::to_string(samples_ * samples_));
     image_barrier(cmd, color_.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 
     // Box filter down into the HDR target.
-    frame_.resolve_to_hdr(cmd, resolve_pipeline_);
-    timer_.stamp(cmd, 3);
-    frame_.record_hdr_readback(cmd);
+    ctx.resolve_to_hdr(cmd, resolve_pipeline_);
+    ctx.mark(cmd, "box filter");
+    return true;
 }
 
-Image ScreendoorMethod::render(const Scene& scene, FrameStats* stats) {
-    ensure_targets({std::uint32_t(scene.camera.width), std::uint32_t(scene.camera.height)});
-    frame_.upload(scene);
-    device_.submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd); });
-    if (stats) {
-        const std::vector<double> ms = timer_.intervals_ms(4);
-        stats->passes = {{"opaque", ms[0]}, {"spheres x" + std::to_string(samples_ * samples_), ms[1]}, {"box filter", ms[2]}};
-        stats->total_ms = ms[0] + ms[1] + ms[2];
-        stats->memory_bytes = target_bytes(samples_, extent_.width, extent_.height);
-    }
-    return frame_.read_hdr();
+void ScreendoorMethod::prepare(FrameContext& ctx) { ensure_targets(ctx.extent()); }
+
+void ScreendoorMethod::report(FrameStats& stats, const FrameContext&) {
+    stats.memory_bytes = target_bytes(samples_, extent_.width, extent_.height);
 }
 
 std::unique_ptr<Method> make_screendoor_method(Device& device, const std::string& setting) {

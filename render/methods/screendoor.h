@@ -21,12 +21,9 @@
 #pragma once
 
 #include "render/image.h"
-#include "render/methods/frame_resources.h"
-#include "render/methods/frame_stats.h"
-#include "render/methods/method.h"
-#include "render/vk/descriptors.h"
+#include "render/frame/frame_resources.h"
+#include "render/frame/gpu_method.h"
 #include "render/vk/device.h"
-#include "render/vk/gpu_timer.h"
 #include "render/vk/resources.h"
 #include "sim/scene.h"
 
@@ -36,7 +33,7 @@
 
 namespace brume {
 
-class ScreendoorMethod : public Method {
+class ScreendoorMethod : public GpuMethod {
 public:
     static constexpr int kDefaultSamples = 4;
     static constexpr int kMaxSamples = 8;
@@ -49,8 +46,11 @@ public:
     bool exact() const override { return false; }
     // Throws std::runtime_error when the supersampled targets exceed the device's image size limit or
     // half its device-local memory.
-    Image render(const Scene& scene, FrameStats* stats) override;
-    Image render(const Scene& scene) { return render(scene, nullptr); }
+
+    // The frame path's side (render/frame/gpu_method.h).
+    void prepare(FrameContext& ctx) override;
+    bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override;
+    void report(FrameStats& stats, const FrameContext& ctx) override;
 
     int samples() const { return samples_; }
     // Bytes of the supersampled colour + depth targets for an image of width x height.
@@ -58,13 +58,8 @@ public:
 
 private:
     void ensure_targets(VkExtent2D extent);
-    void record_frame(VkCommandBuffer cmd);
 
-    vk::Device& device_;
     int samples_;
-    vk::SharedDescriptors descriptors_;
-    FrameResources frame_;
-    vk::GpuTimer timer_;
     vk::UniquePipeline sphere_pipeline_;
     vk::UniquePipeline resolve_pipeline_;
     vk::DeviceImage color_;  // S x extent: kept spheres' radiance, a = 1 where a sphere was kept

@@ -13,20 +13,9 @@
 
 namespace brume {
 
-class SoftMethod : public Method {
+class SoftMethod : public SortedCompositor {
 public:
-    explicit SoftMethod(vk::Device& device) : compositor_(device, SortedCompositor::Billboard::Spherical) {}
-
-    std::string name() const override { return "soft"; }
-    bool exact() const override { return false; }
-    Image render(const Scene& scene, FrameStats* stats) override { return compositor_.render(scene, stats); }
-    Image render(const Scene& scene) { return compositor_.render(scene, nullptr); }
-
-    const std::vector<std::uint32_t>& order() const { return compositor_.order(); }
-    const SortCounts& last_sort() const { return compositor_.last_sort(); }
-
-private:
-    SortedCompositor compositor_;
+    explicit SoftMethod(vk::Device& device) : SortedCompositor(device, Billboard::Spherical) {}
 };
 
 // `--method soft`; it takes no setting (throws std::invalid_argument on one).

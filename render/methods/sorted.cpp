@@ -70,12 +70,7 @@ SortCounts sort_back_to_front(std::vector<std::uint32_t>& order, const std::vect
 }
 
 SortedCompositor::SortedCompositor(Device& device, Billboard billboard, SortKey key)
-    : device_(device),
-      billboard_(billboard),
-      key_(key),
-      descriptors_(device),
-      frame_(device, descriptors_),
-      timer_(device, 3, billboard == Billboard::Planar ? "sorted.timestamps" : "soft.timestamps") {
+    : GpuMethod(device), billboard_(billboard), key_(key) {
     const bool planar = billboard == Billboard::Planar;
     GraphicsPipelineDesc copy;
     copy.name = planar ? "sorted_opaque_copy" : "soft_opaque_copy";
@@ -94,41 +89,22 @@ SortedCompositor::SortedCompositor(Device& device, Billboard billboard, SortKey 
     ensure_order_buffer(1);
 }
 
+std::string SortedCompositor::name() const {
+    if (billboard_ == Billboard::Planar) return "sorted";
+    return key_ == SortKey::PowerDistance ? "power-sorted" : "soft";
+}
+
 void SortedCompositor::ensure_order_buffer(std::size_t spheres) {
     // At least one element (Vulkan has no empty buffers); shrink only when far too large.
     const VkDeviceSize bytes = std::max<std::size_t>(spheres, 1) * sizeof(std::uint32_t);
     if (order_buffer_.size() >= bytes && order_buffer_.size() <= 4 * bytes) return;
     order_buffer_ = Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload,
                            billboard_ == Billboard::Planar ? "sorted.order" : "soft.order");
-    descriptors_.write_storage(gpu::BINDING_AUX_BUFFER0, order_buffer_.get());
+    descriptors_.write_storage(gpu::BINDING_SORT_ORDER, order_buffer_.get());
 }
 
-void SortedCompositor::record_frame(VkCommandBuffer cmd) {
-    timer_.reset(cmd);
-    timer_.stamp(cmd, 0);
-    frame_.record_opaque_pass(cmd);
-    timer_.stamp(cmd, 1);
-
-    // One rendering: the opaque radiance first, then every billboard blended over it in draw order,
-    // which the rasteriser keeps per pixel (primitive order), so the sort is the compositing order.
-    // (One pass in the statistics: a timestamp between the two draws reads wrong on lavapipe, which
-    // bins the whole rendering before it rasterises any of it.)
-    frame_.begin_hdr_rendering(cmd);
-    descriptors_.bind(cmd);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, copy_pipeline_);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-    if (frame_.sphere_count() > 0) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, billboard_pipeline_);
-        vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
-    }
-    frame_.end_hdr_rendering(cmd);
-    timer_.stamp(cmd, 2);
-    frame_.record_hdr_readback(cmd);
-}
-
-Image SortedCompositor::render(const Scene& scene, FrameStats* stats) {
-    frame_.upload(scene);
-
+void SortedCompositor::prepare(FrameContext& ctx) {
+    const Scene& scene = ctx.scene();
     const auto sort_start = std::chrono::steady_clock::now();
     if (key_ == SortKey::CentreDepth) {
         depth_ = view_depths(scene);
@@ -140,22 +116,34 @@ Image SortedCompositor::render(const Scene& scene, FrameStats* stats) {
         }
     }
     last_sort_ = sort_back_to_front(order_, depth_);
-    const double sort_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sort_start).count();
+    sort_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sort_start).count();
 
     ensure_order_buffer(order_.size());
     if (!order_.empty()) std::memcpy(order_buffer_.mapped(), order_.data(), order_.size() * sizeof(std::uint32_t));
+}
 
-    device_.submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd); });
-
-    if (stats) {
-        const std::vector<double> ms = timer_.intervals_ms(3);
-        // The sort runs on the CPU; it is listed with the GPU passes because every frame pays for it.
-        stats->passes = {{"sort (cpu)", sort_ms}, {"opaque", ms[0]}, {"composite", ms[1]}};
-        stats->total_ms = sort_ms + ms[0] + ms[1];
-        stats->memory_bytes = order_buffer_.size();
+bool SortedCompositor::record(VkCommandBuffer cmd, FrameContext& ctx, int) {
+    // One rendering: the opaque radiance first, then every billboard blended over it in draw order,
+    // which the rasteriser keeps per pixel (primitive order), so the sort is the compositing order.
+    // (One pass in the statistics: a timestamp between the two draws reads wrong on lavapipe, which
+    // bins the whole rendering before it rasterises any of it.)
+    ctx.begin_hdr_rendering(cmd);
+    ctx.bind(cmd);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, copy_pipeline_);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    if (ctx.sphere_count() > 0) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, billboard_pipeline_);
+        vkCmdDraw(cmd, 6, ctx.sphere_count(), 0, 0);
     }
-    return frame_.read_hdr();
+    ctx.end_hdr_rendering(cmd);
+    ctx.mark(cmd, "composite");
+    return true;
+}
+
+void SortedCompositor::report(FrameStats& stats, const FrameContext&) {
+    // The sort runs on the CPU; it is listed with the GPU passes because every frame pays for it.
+    stats.passes.insert(stats.passes.begin(), {"sort (cpu)", sort_ms_});
+    stats.memory_bytes = order_buffer_.size();
 }
 
 std::unique_ptr<Method> make_sorted_method(Device& device, const std::string& setting) {

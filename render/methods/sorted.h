@@ -14,13 +14,9 @@
 // whenever two particles' centre depths cross and their order flips.
 #pragma once
 
+#include "render/frame/gpu_method.h"
 #include "render/image.h"
-#include "render/methods/frame_resources.h"
-#include "render/methods/frame_stats.h"
-#include "render/methods/method.h"
-#include "render/vk/descriptors.h"
 #include "render/vk/device.h"
-#include "render/vk/gpu_timer.h"
 #include "render/vk/resources.h"
 #include "sim/scene.h"
 
@@ -51,9 +47,9 @@ struct SortCounts {
 // costs O(n^2).
 SortCounts sort_back_to_front(std::vector<std::uint32_t>& order, const std::vector<double>& depth);
 
-// What `sorted` and `soft` share: the scene, the CPU sort and its order buffer, the opaque copy and
-// the blended billboard pass. The two differ only in their billboard shaders.
-class SortedCompositor {
+// What `sorted`, `soft` and auto's power-sorted path share: the CPU sort and its order buffer, the
+// opaque copy and the blended billboard pass. They differ only in their billboard shaders and key.
+class SortedCompositor : public GpuMethod {
 public:
     enum class Billboard {
         Planar,     // sorted: camera-facing plane through the centre, whole chord, hard depth cut
@@ -65,46 +61,38 @@ public:
     };
     SortedCompositor(vk::Device& device, Billboard billboard, SortKey key = SortKey::CentreDepth);
 
-    // Sorts (reusing the previous order), composites and reads back one frame.
-    Image render(const Scene& scene, FrameStats* stats);
+    // "sorted" (planar), "soft" (spherical) or "power-sorted" (spherical, power distance).
+    std::string name() const override;
+    bool exact() const override { return false; }  // power-sorted is exact only without intersections
 
     // This frame's back-to-front order (sphere indices) and the work its sort took.
     const std::vector<std::uint32_t>& order() const { return order_; }
     const SortCounts& last_sort() const { return last_sort_; }
 
+    // The frame path's side (render/frame/gpu_method.h). prepare() sorts, reusing the previous
+    // order: consecutive frames are taken to be consecutive frames of one animation.
+    void prepare(FrameContext& ctx) override;
+    bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override;
+    void report(FrameStats& stats, const FrameContext& ctx) override;
+
 private:
     void ensure_order_buffer(std::size_t spheres);
-    void record_frame(VkCommandBuffer cmd);
 
-    vk::Device& device_;
     Billboard billboard_;
     SortKey key_;
-    vk::SharedDescriptors descriptors_;
-    FrameResources frame_;
-    vk::GpuTimer timer_;
     vk::UniquePipeline copy_pipeline_;
     vk::UniquePipeline billboard_pipeline_;
     vk::Buffer order_buffer_;  // uint[]: draw i shows sphere order_buffer_[i]
     std::vector<std::uint32_t> order_;
     std::vector<double> depth_;
     SortCounts last_sort_;
+    double sort_ms_ = 0.0;
 };
 
-class SortedMethod : public Method {
+// Consecutive render() calls are consecutive frames: each sort starts from the previous call's order.
+class SortedMethod : public SortedCompositor {
 public:
-    explicit SortedMethod(vk::Device& device) : compositor_(device, SortedCompositor::Billboard::Planar) {}
-
-    std::string name() const override { return "sorted"; }
-    bool exact() const override { return false; }
-    // Consecutive calls are consecutive frames: each sort starts from the previous call's order.
-    Image render(const Scene& scene, FrameStats* stats) override { return compositor_.render(scene, stats); }
-    Image render(const Scene& scene) { return compositor_.render(scene, nullptr); }
-
-    const std::vector<std::uint32_t>& order() const { return compositor_.order(); }
-    const SortCounts& last_sort() const { return compositor_.last_sort(); }
-
-private:
-    SortedCompositor compositor_;
+    explicit SortedMethod(vk::Device& device) : SortedCompositor(device, Billboard::Planar) {}
 };
 
 // `--method sorted`; it takes no setting (throws std::invalid_argument on one).

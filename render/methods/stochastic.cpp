@@ -3,12 +3,11 @@
 #include "fullscreen_ray.vert.h"
 #include "render/vk/pipelines.h"
 #include "render/vk/vk_check.h"
-#include "sphere_impostor.vert.h"
 #include "stochastic_alpha.frag.h"
 #include "stochastic_cover.frag.h"
 #include "stochastic_depth_accum.frag.h"
 #include "stochastic_depth_resolve.frag.h"
-#include "stochastic_impostor.vert.h"
+#include "sphere_impostor.vert.h"
 #include "stochastic_resolve.frag.h"
 
 #include <stdexcept>
@@ -72,13 +71,10 @@ struct StochasticMethod::Targets {
 };
 
 StochasticMethod::StochasticMethod(Device& device, StochasticOptions options)
-    : device_(device),
+    : GpuMethod(device),
       options_(options),
       pass_samples_(options.samples >= 4 && !options.depth_based ? 4u : 1u),
-      passes_(options.samples / pass_samples_),
-      descriptors_(device),
-      frame_(device, descriptors_),
-      timer_(device, 5, "stochastic.timestamps") {
+      passes_(options.samples / pass_samples_) {
     if (options.samples == 0 || options.samples > kMaxSamples || (options.samples & (options.samples - 1)))
         throw std::invalid_argument("stochastic: samples per pixel must be a power of two from 1 to 64");
     if (options.depth_based && !options.alpha_correction)
@@ -94,7 +90,7 @@ StochasticMethod::StochasticMethod(Device& device, StochasticOptions options)
 
     GraphicsPipelineDesc cover;
     cover.name = "stochastic_cover";
-    cover.vertex = BRUME_SPIRV(spv_stochastic_impostor_vert);
+    cover.vertex = BRUME_SPIRV(spv_sphere_impostor_vert);
     cover.fragment = BRUME_SPIRV(spv_stochastic_cover_frag);
     cover.color_formats = {options.depth_based ? kDepthLayerFormat : kColorFormat};
     cover.depth_format = kDepthFormat;
@@ -150,18 +146,14 @@ void StochasticMethod::ensure_targets(VkExtent2D extent) {
     t->optical_depth = DeviceImage(device_, kOpticalDepthFormat, extent, storage_target, VK_IMAGE_ASPECT_COLOR_BIT,
                                    "stochastic.optical_depth");
     t->extent = extent;
-    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0, t->layers.view());
-    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0 + 1, t->accum.view());
-    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0 + 2, t->optical_depth.view());
+    descriptors_.write_storage_image(gpu::BINDING_STOCHASTIC_LAYERS, t->layers.view());
+    descriptors_.write_storage_image(gpu::BINDING_STOCHASTIC_ACCUM, t->accum.view());
+    descriptors_.write_storage_image(gpu::BINDING_STOCHASTIC_OPTICAL_DEPTH, t->optical_depth.view());
     targets_ = std::move(t);
 }
 
-void StochasticMethod::record_frame(VkCommandBuffer cmd) {
+bool StochasticMethod::record(VkCommandBuffer cmd, FrameContext& ctx, int) {
     Targets& t = *targets_;
-    timer_.reset(cmd);
-    timer_.stamp(cmd, 0);
-    frame_.record_opaque_pass(cmd);
-    timer_.stamp(cmd, 1);
 
     // Total alpha (alpha correction): sum(alpha c), sum(alpha) and the optical depth, additively.
     // Without the correction the resolve does not read these targets, but they still need a layout.
@@ -178,30 +170,30 @@ void StochasticMethod::record_frame(VkCommandBuffer cmd) {
     if (options_.depth_based) {
         // Depth layers first, then one pass accumulates the visibility-weighted colour and the
         // optical depth into the same targets the total-alpha pass uses.
-        record_coverage(cmd);
-        timer_.stamp(cmd, 2);
-        record_accumulation(cmd, depth_accum_pipeline_);
+        record_coverage(cmd, ctx);
+        ctx.mark(cmd, "depth x" + std::to_string(passes_));
+        record_accumulation(cmd, ctx, depth_accum_pipeline_);
         accum_written();
-        timer_.stamp(cmd, 3);
+        ctx.mark(cmd, "accumulate");
     } else {
-        if (options_.alpha_correction) record_accumulation(cmd, alpha_pipeline_);
+        if (options_.alpha_correction) record_accumulation(cmd, ctx, alpha_pipeline_);
         accum_written();
-        timer_.stamp(cmd, 2);
-        record_coverage(cmd);
-        timer_.stamp(cmd, 3);
+        ctx.mark(cmd, "total alpha");
+        record_coverage(cmd, ctx);
+        ctx.mark(cmd, "coverage x" + std::to_string(passes_));
     }
 
-    frame_.resolve_to_hdr(cmd, resolve_pipeline_);
-    timer_.stamp(cmd, 4);
-    frame_.record_hdr_readback(cmd);
+    ctx.resolve_to_hdr(cmd, resolve_pipeline_);
+    ctx.mark(cmd, "resolve");
+    return true;
 }
 
 // Renders every sphere once with `pipeline` into accum (target 0) and optical_depth (target 1),
 // cleared first; the targets are in GENERAL. Either the total-alpha pass or the ",depth"
 // accumulation pass.
-void StochasticMethod::record_accumulation(VkCommandBuffer cmd, VkPipeline pipeline) {
+void StochasticMethod::record_accumulation(VkCommandBuffer cmd, const FrameContext& ctx, VkPipeline pipeline) {
     Targets& t = *targets_;
-    const bool draw = frame_.sphere_count() > 0;
+    const bool draw = ctx.sphere_count() > 0;
     VkRenderingAttachmentInfo targets[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
                                             {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
     targets[0].imageView = t.accum.view();
@@ -220,18 +212,18 @@ void StochasticMethod::record_accumulation(VkCommandBuffer cmd, VkPipeline pipel
     vkCmdBeginRendering(cmd, &info);
     if (draw) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-        descriptors_.bind(cmd);
+        ctx.bind(cmd);
         set_viewport(cmd, t.extent);
-        vkCmdDraw(cmd, 6, frame_.sphere_count(), 0, 0);
+        vkCmdDraw(cmd, 6, ctx.sphere_count(), 0, 0);
     }
     vkCmdEndRendering(cmd);
 }
 
 // The S samples: passes_ geometry passes into the layers (left in GENERAL, readable by fragment
 // shaders). ",depth": each layer holds one sample's nearest covering t_entry.
-void StochasticMethod::record_coverage(VkCommandBuffer cmd) {
+void StochasticMethod::record_coverage(VkCommandBuffer cmd, const FrameContext& ctx) {
     Targets& t = *targets_;
-    const bool draw = frame_.sphere_count() > 0;
+    const bool draw = ctx.sphere_count() > 0;
     // Coverage passes: pass p owns samples p * pass_samples_ .. (p + 1) * pass_samples_ - 1.
     // Single-sample passes render straight into layer p. 4-sample passes resolve (average) into a 2D
     // image that is copied into layer p: lavapipe 22.3 resolves into layer 0 whatever layer the
@@ -283,10 +275,10 @@ void StochasticMethod::record_coverage(VkCommandBuffer cmd) {
         vkCmdBeginRendering(cmd, &info);
         if (draw) {
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, cover_pipeline_);
-            descriptors_.bind(cmd);
+            ctx.bind(cmd);
             set_viewport(cmd, t.extent);
             // firstVertex tells the vertex shader the pass (gl_VertexIndex / 6): no push constants.
-            vkCmdDraw(cmd, 6, frame_.sphere_count(), 6 * p, 0);
+            vkCmdDraw(cmd, 6, ctx.sphere_count(), 6 * p, 0);
         }
         vkCmdEndRendering(cmd);
         if (msaa) {
@@ -302,29 +294,12 @@ void StochasticMethod::record_coverage(VkCommandBuffer cmd) {
     image_barrier(cmd, t.layers.get(), VK_IMAGE_ASPECT_COLOR_BIT, layers_layout, VK_IMAGE_LAYOUT_GENERAL, msaa ? VK_PIPELINE_STAGE_2_COPY_BIT : VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, msaa ? VK_ACCESS_2_TRANSFER_WRITE_BIT : VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT, passes_);
 }
 
-Image StochasticMethod::render(const Scene& scene, FrameStats* stats) {
-    frame_.upload(scene);
-    ensure_targets(frame_.extent());
-    device_.submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd); });
-    if (stats) {
-        const std::vector<double> ms = timer_.intervals_ms(5);
-        *stats = FrameStats{};
-        if (options_.depth_based)
-            stats->passes = {{"clear+opaque", ms[0]},
-                             {"depth x" + std::to_string(passes_), ms[1]},
-                             {"accumulate", ms[2]},
-                             {"resolve", ms[3]}};
-        else
-            stats->passes = {{"clear+opaque", ms[0]},
-                             {"total alpha", ms[1]},
-                             {"coverage x" + std::to_string(passes_), ms[2]},
-                             {"resolve", ms[3]}};
-        stats->total_ms = ms[0] + ms[1] + ms[2] + ms[3];
-        const Targets& t = *targets_;
-        const std::uint64_t pixels = std::uint64_t(t.extent.width) * t.extent.height;
-        stats->memory_bytes = t.msaa_color.bytes() + t.resolved.bytes() + t.depth.bytes() + t.layers.bytes() + pixels * (16 + 4);
-    }
-    return frame_.read_hdr();
+void StochasticMethod::prepare(FrameContext& ctx) { ensure_targets(ctx.extent()); }
+
+void StochasticMethod::report(FrameStats& stats, const FrameContext&) {
+    const Targets& t = *targets_;
+    const std::uint64_t pixels = std::uint64_t(t.extent.width) * t.extent.height;
+    stats.memory_bytes = t.msaa_color.bytes() + t.resolved.bytes() + t.depth.bytes() + t.layers.bytes() + pixels * (16 + 4);
 }
 
 std::unique_ptr<Method> make_stochastic_method(Device& device, const std::string& setting) {

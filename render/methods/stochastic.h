@@ -43,12 +43,9 @@
 #pragma once
 
 #include "render/image.h"
-#include "render/methods/frame_resources.h"
-#include "render/methods/frame_stats.h"
-#include "render/methods/method.h"
-#include "render/vk/descriptors.h"
+#include "render/frame/frame_resources.h"
+#include "render/frame/gpu_method.h"
 #include "render/vk/device.h"
-#include "render/vk/gpu_timer.h"
 #include "render/vk/resources.h"
 #include "sim/scene.h"
 
@@ -67,14 +64,18 @@ struct StochasticOptions {
 // Parses "S", "S,plain" or "S,depth" (empty: the defaults). Throws std::invalid_argument naming the problem.
 StochasticOptions parse_stochastic_setting(const std::string& setting);
 
-class StochasticMethod : public Method {
+class StochasticMethod : public GpuMethod {
 public:
     StochasticMethod(vk::Device& device, StochasticOptions options = {});
     ~StochasticMethod() override;
 
     std::string name() const override;
     bool exact() const override { return false; }
-    Image render(const Scene& scene, FrameStats* stats) override;
+
+    // The frame path's side (render/frame/gpu_method.h).
+    void prepare(FrameContext& ctx) override;
+    bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override;
+    void report(FrameStats& stats, const FrameContext& ctx) override;
 
     std::uint32_t samples() const { return options_.samples; }
     std::uint32_t passes() const { return passes_; }
@@ -82,17 +83,12 @@ public:
 private:
     struct Targets;
     void ensure_targets(VkExtent2D extent);
-    void record_frame(VkCommandBuffer cmd);
-    void record_accumulation(VkCommandBuffer cmd, VkPipeline pipeline);
-    void record_coverage(VkCommandBuffer cmd);
+    void record_accumulation(VkCommandBuffer cmd, const FrameContext& ctx, VkPipeline pipeline);
+    void record_coverage(VkCommandBuffer cmd, const FrameContext& ctx);
 
-    vk::Device& device_;
     StochasticOptions options_;
     std::uint32_t pass_samples_;  // 4 (MSAA) or 1
     std::uint32_t passes_;
-    vk::SharedDescriptors descriptors_;
-    FrameResources frame_;
-    vk::GpuTimer timer_;
     vk::UniquePipeline alpha_pipeline_;
     vk::UniquePipeline cover_pipeline_;
     vk::UniquePipeline resolve_pipeline_;

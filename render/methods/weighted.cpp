@@ -21,12 +21,7 @@ namespace {
 constexpr VkFormat kAccumFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kExtraFormat = VK_FORMAT_R32_SFLOAT;
 
-// Mirrors WeightParams in shaders/weighted_accumulate.frag.
-struct WeightParams {
-    float depth_scale;  // D
-    float unused[3];
-};
-static_assert(sizeof(WeightParams) == 16);
+using gpu::WeightParams;
 
 const char* mode_name(WeightedMode mode) {
     switch (mode) {
@@ -45,11 +40,7 @@ void require_no_setting(const char* name, const std::string& setting) {
 }  // namespace
 
 WeightedMethod::WeightedMethod(Device& device, WeightedMode mode)
-    : device_(device),
-      mode_(mode),
-      descriptors_(device),
-      frame_(device, descriptors_),
-      timer_(device, 4, (std::string(mode_name(mode)) + ".timestamps").c_str()) {
+    : GpuMethod(device), mode_(mode) {
     const std::vector<std::uint32_t> constants = {std::uint32_t(mode)};
 
     GraphicsPipelineDesc accumulate;
@@ -71,7 +62,7 @@ WeightedMethod::WeightedMethod(Device& device, WeightedMode mode)
 
     params_ = Buffer(device, sizeof(WeightParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload,
                      std::string(mode_name(mode)) + ".params");
-    descriptors_.write_storage(gpu::BINDING_AUX_BUFFER0, params_.get());
+    descriptors_.write_storage(gpu::BINDING_WEIGHT_PARAMS, params_.get());
 }
 
 std::string WeightedMethod::name() const { return mode_name(mode_); }
@@ -89,49 +80,39 @@ void WeightedMethod::ensure_targets(VkExtent2D extent) {
     const std::string prefix = mode_name(mode_);
     accum_ = DeviceImage(device_, kAccumFormat, extent, usage, VK_IMAGE_ASPECT_COLOR_BIT, prefix + ".accum");
     extra_ = DeviceImage(device_, kExtraFormat, extent, usage, VK_IMAGE_ASPECT_COLOR_BIT, prefix + ".extra");
-    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0, accum_.view());
-    descriptors_.write_storage_image(gpu::BINDING_AUX_IMAGE0 + 1, extra_.view());
+    descriptors_.write_storage_image(gpu::BINDING_WEIGHT_ACCUM, accum_.view());
+    descriptors_.write_storage_image(gpu::BINDING_WEIGHT_EXTRA, extra_.view());
 }
 
-void WeightedMethod::record_frame(VkCommandBuffer cmd) {
-    timer_.reset(cmd);
-    timer_.stamp(cmd, 0);
-    frame_.record_opaque_pass(cmd);
-    timer_.stamp(cmd, 1);
+bool WeightedMethod::record(VkCommandBuffer cmd, FrameContext& ctx, int) {
 
     // Accumulation: both targets cleared to zero, every sphere fragment added.
     for (VkImage image : {accum_.get(), extra_.get()})
         image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                       VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                       VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    begin_color_rendering(cmd, frame_.extent(), {accum_.view(), extra_.view()}, VK_ATTACHMENT_LOAD_OP_CLEAR);
-    frame_.draw_spheres(cmd, accumulate_pipeline_);
+    begin_color_rendering(cmd, ctx.extent(), {accum_.view(), extra_.view()}, VK_ATTACHMENT_LOAD_OP_CLEAR);
+    ctx.draw_spheres(cmd, accumulate_pipeline_);
     vkCmdEndRendering(cmd);
-    timer_.stamp(cmd, 2);
+    ctx.mark(cmd, "accumulate");
     for (VkImage image : {accum_.get(), extra_.get()})
         image_barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                       VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 
-    frame_.resolve_to_hdr(cmd, composite_pipeline_);
-    timer_.stamp(cmd, 3);
-    frame_.record_hdr_readback(cmd);
+    ctx.resolve_to_hdr(cmd, composite_pipeline_);
+    ctx.mark(cmd, "composite");
+    return true;
 }
 
-Image WeightedMethod::render(const Scene& scene, FrameStats* stats) {
-    frame_.upload(scene);
-    ensure_targets(frame_.extent());
-    params_.as<WeightParams>()->depth_scale = float(weight_depth_scale(scene));
-    device_.submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd); });
-    if (stats) {
-        const std::vector<double> ms = timer_.intervals_ms(4);
-        *stats = FrameStats{};
-        stats->passes = {{"clear+opaque", ms[0]}, {"accumulate", ms[1]}, {"composite", ms[2]}};
-        stats->total_ms = ms[0] + ms[1] + ms[2];
-        const std::uint64_t pixels = std::uint64_t(frame_.extent().width) * frame_.extent().height;
-        stats->memory_bytes = pixels * (16 + 4) + params_.size();
-    }
-    return frame_.read_hdr();
+void WeightedMethod::prepare(FrameContext& ctx) {
+    ensure_targets(ctx.extent());
+    params_.as<WeightParams>()->depth.x = float(weight_depth_scale(ctx.scene()));
+}
+
+void WeightedMethod::report(FrameStats& stats, const FrameContext& ctx) {
+    const std::uint64_t pixels = std::uint64_t(ctx.extent().width) * ctx.extent().height;
+    stats.memory_bytes = pixels * (16 + 4) + params_.size();
 }
 
 std::unique_ptr<Method> make_wsum_method(Device& device, const std::string& setting) {

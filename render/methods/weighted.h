@@ -29,12 +29,9 @@
 #pragma once
 
 #include "render/image.h"
-#include "render/methods/frame_resources.h"
-#include "render/methods/frame_stats.h"
-#include "render/methods/method.h"
-#include "render/vk/descriptors.h"
+#include "render/frame/frame_resources.h"
+#include "render/frame/gpu_method.h"
 #include "render/vk/device.h"
-#include "render/vk/gpu_timer.h"
 #include "render/vk/resources.h"
 #include "sim/scene.h"
 
@@ -49,26 +46,25 @@ enum class WeightedMode : unsigned {
     Blended = 2,  // wboit
 };
 
-class WeightedMethod : public Method {
+class WeightedMethod : public GpuMethod {
 public:
     WeightedMethod(vk::Device& device, WeightedMode mode);
 
     std::string name() const override;
     bool exact() const override { return false; }
-    Image render(const Scene& scene, FrameStats* stats) override;
+
+    // The frame path's side (render/frame/gpu_method.h).
+    void prepare(FrameContext& ctx) override;
+    bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override;
+    void report(FrameStats& stats, const FrameContext& ctx) override;
 
     // wboit's depth scale D (see above) for a scene.
     static double weight_depth_scale(const Scene& scene);
 
 private:
     void ensure_targets(VkExtent2D extent);
-    void record_frame(VkCommandBuffer cmd);
 
-    vk::Device& device_;
     WeightedMode mode_;
-    vk::SharedDescriptors descriptors_;
-    FrameResources frame_;
-    vk::GpuTimer timer_;
     vk::UniquePipeline accumulate_pipeline_;
     vk::UniquePipeline composite_pipeline_;
     vk::Buffer params_;      // wboit's weight parameters (vec4: x = D)

@@ -19,10 +19,10 @@ SharedDescriptors::SharedDescriptors(const Device& device) : device_(device) {
         {BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr},
         {BINDING_POOL, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, MAX_POOL_PARTS, stages, nullptr},
     };
-    for (uint i = 0; i < AUX_BUFFERS; ++i)
-        bindings.push_back({BINDING_AUX_BUFFER0 + i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr});
-    for (uint i = 0; i < AUX_IMAGES; ++i)
-        bindings.push_back({BINDING_AUX_IMAGE0 + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, stages, nullptr});
+    for (uint i = 0; i < METHOD_BUFFERS; ++i)
+        bindings.push_back({BINDING_METHOD_BUFFER_FIRST + i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr});
+    for (uint i = 0; i < METHOD_IMAGES; ++i)
+        bindings.push_back({BINDING_METHOD_IMAGE_FIRST + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, stages, nullptr});
     if (bindings.size() != BINDING_COUNT) throw std::logic_error("descriptor bindings out of step with shared.h");
     VkDescriptorSetLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     layout_info.bindingCount = std::uint32_t(bindings.size());
@@ -41,8 +41,8 @@ SharedDescriptors::SharedDescriptors(const Device& device) : device_(device) {
     device.set_name(VK_OBJECT_TYPE_PIPELINE_LAYOUT, pipeline_layout, "brume.pipeline_layout");
 
     const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 + MAX_POOL_PARTS + AUX_BUFFERS},
-                                          {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1 + AUX_IMAGES}};
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 + MAX_POOL_PARTS + METHOD_BUFFERS},
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1 + METHOD_IMAGES}};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = 1;
     pool_info.poolSizeCount = 3;

@@ -41,7 +41,7 @@ bool layer_available(const char* layer) {
                        [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, layer) == 0; });
 }
 
-VkInstance create_instance(bool validate) {
+VkInstance create_instance(bool validate, const std::vector<std::string>& wanted_extensions) {
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = "brume";
     app.pEngineName = "brume";
@@ -51,6 +51,7 @@ VkInstance create_instance(bool validate) {
         layers.push_back(kValidationLayer);
         extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     }
+    for (const std::string& e : wanted_extensions) extensions.push_back(e.c_str());
     VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     info.pApplicationInfo = &app;
     info.enabledLayerCount = std::uint32_t(layers.size());
@@ -61,6 +62,11 @@ VkInstance create_instance(bool validate) {
     VkResult r = vkCreateInstance(&info, nullptr, &instance);
     if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
         throw VulkanError(r, "no Vulkan 1.3 driver found: install mesa-vulkan-drivers (lavapipe) or a GPU driver");
+    if (r == VK_ERROR_EXTENSION_NOT_PRESENT) {
+        std::string names;
+        for (const std::string& e : wanted_extensions) names += " " + e;
+        throw VulkanError(r, "the Vulkan instance lacks an extension the window needs:" + names);
+    }
     VK_CHECK(r);
     return instance;
 }
@@ -88,12 +94,11 @@ VkPhysicalDevice choose_physical_device(VkInstance instance, const std::string& 
     if (devices.empty())
         throw VulkanError(VK_ERROR_INITIALIZATION_FAILED,
                           "no Vulkan device found: install mesa-vulkan-drivers (lavapipe) or a GPU driver");
-    // Default: lavapipe (reported as "llvmpipe"), the device every test and figure is made on.
-    const std::string needle = lower(wanted.empty() ? "llvmpipe" : wanted);
+    // Default: lavapipe, the device every test and figure is made on.
     for (VkPhysicalDevice d : devices) {
         VkPhysicalDeviceProperties p;
         vkGetPhysicalDeviceProperties(d, &p);
-        if (lower(p.deviceName).find(needle) != std::string::npos) return d;
+        if (device_name_matches(p.deviceName, wanted.empty() ? "lavapipe" : wanted)) return d;
     }
     if (wanted.empty()) return devices.front();  // no lavapipe here: take what there is
     throw VulkanError(VK_ERROR_INITIALIZATION_FAILED,
@@ -120,8 +125,15 @@ void require_capabilities(VkPhysicalDevice physical, const VkPhysicalDevicePrope
 
 }  // namespace
 
+bool device_name_matches(const std::string& device_name, const std::string& wanted) {
+    const std::string name = lower(device_name);
+    std::string needle = lower(wanted);
+    if (needle == "lavapipe") needle = "llvmpipe";  // Mesa's CPU driver reports itself as llvmpipe
+    return name.find(needle) != std::string::npos;
+}
+
 std::vector<PhysicalDeviceInfo> Device::enumerate() {
-    VkInstance instance = create_instance(false);
+    VkInstance instance = create_instance(false, {});
     std::vector<PhysicalDeviceInfo> out;
     for (VkPhysicalDevice d : physical_devices(instance)) {
         VkPhysicalDeviceProperties p;
@@ -138,7 +150,7 @@ Device::Device(const DeviceOptions& options) {
         throw VulkanError(VK_ERROR_LAYER_NOT_PRESENT,
                           "validation requested but VK_LAYER_KHRONOS_validation is not installed "
                           "(Debian package vulkan-validationlayers)");
-    instance_ = create_instance(validation_enabled_);
+    instance_ = create_instance(validation_enabled_, options.instance_extensions);
     try {
         if (validation_enabled_) {
             auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
@@ -156,6 +168,10 @@ Device::Device(const DeviceOptions& options) {
                 vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
         }
 
+        if (options.create_surface) {
+            surface_ = options.create_surface(instance_);
+            if (!surface_) throw VulkanError(VK_ERROR_INITIALIZATION_FAILED, "the window's Vulkan surface could not be created");
+        }
         physical_ = choose_physical_device(instance_, options.device_name);
         vkGetPhysicalDeviceProperties(physical_, &properties_);
         vkGetPhysicalDeviceMemoryProperties(physical_, &memory_properties_);
@@ -167,13 +183,17 @@ Device::Device(const DeviceOptions& options) {
         vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, families.data());
         bool found = false;
         for (std::uint32_t i = 0; i < family_count && !found; ++i) {
-            if ((families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) && families[i].timestampValidBits > 0) {
+            VkBool32 presents = VK_TRUE;
+            if (surface_) VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(physical_, i, surface_, &presents));
+            if ((families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) && families[i].timestampValidBits > 0 && presents) {
                 queue_family_ = i;
                 found = true;
             }
         }
         if (!found)
-            throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT, "device has no graphics queue with timestamps");
+            throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT,
+                              surface_ ? "device has no graphics queue with timestamps that can present to the window"
+                                       : "device has no graphics queue with timestamps");
 
         const float priority = 1.0f;
         VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -184,32 +204,27 @@ Device::Device(const DeviceOptions& options) {
         VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
         features13.dynamicRendering = VK_TRUE;
         features13.synchronization2 = VK_TRUE;
+        // Relaxed interface matching: one impostor vertex shader serves every sphere pass, and
+        // fragment shaders that ignore its pass number leave that output unread.
+        features13.maintenance4 = VK_TRUE;
         VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
         features.features.fragmentStoresAndAtomics = VK_TRUE;
 
+        std::vector<const char*> device_extensions;
+        for (const std::string& e : options.device_extensions) device_extensions.push_back(e.c_str());
         VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &features};
         info.queueCreateInfoCount = 1;
         info.pQueueCreateInfos = &queue_info;
-        VK_CHECK(vkCreateDevice(physical_, &info, nullptr, &device_));
+        info.enabledExtensionCount = std::uint32_t(device_extensions.size());
+        info.ppEnabledExtensionNames = device_extensions.data();
+        const VkResult created = vkCreateDevice(physical_, &info, nullptr, &device_);
+        if (created == VK_ERROR_EXTENSION_NOT_PRESENT) {
+            std::string names;
+            for (const std::string& e : options.device_extensions) names += " " + e;
+            throw VulkanError(created, std::string("device '") + properties_.deviceName + "' lacks an extension:" + names);
+        }
+        VK_CHECK(created);
         vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
-
-        VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-        pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-        pool_info.queueFamilyIndex = queue_family_;
-        VkCommandPool pool;
-        VK_CHECK(vkCreateCommandPool(device_, &pool_info, nullptr, &pool));
-        command_pool_ = UniqueCommandPool(device_, pool);
-        VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-        alloc.commandPool = pool;
-        alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-        alloc.commandBufferCount = 1;
-        VK_CHECK(vkAllocateCommandBuffers(device_, &alloc, &command_buffer_));
-        VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-        VkFence fence;
-        VK_CHECK(vkCreateFence(device_, &fence_info, nullptr, &fence));
-        fence_ = UniqueFence(device_, fence);
-        set_name(VK_OBJECT_TYPE_COMMAND_POOL, pool, "brume.commands");
-        set_name(VK_OBJECT_TYPE_FENCE, fence, "brume.frame_fence");
     } catch (...) {
         release();  // members are destroyed after this; release() leaves nothing for them to free twice
         throw;
@@ -220,10 +235,10 @@ Device::~Device() { release(); }
 
 void Device::release() {
     if (device_) vkDeviceWaitIdle(device_);
-    fence_.reset();
-    command_pool_.reset();
     if (device_) vkDestroyDevice(device_, nullptr);
     device_ = VK_NULL_HANDLE;
+    if (surface_) vkDestroySurfaceKHR(instance_, surface_, nullptr);
+    surface_ = VK_NULL_HANDLE;
     if (messenger_) {
         auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
@@ -284,24 +299,6 @@ std::uint32_t Device::find_memory_type(std::uint32_t type_bits, VkMemoryProperty
     throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT, "no suitable Vulkan memory type");
 }
 
-void Device::begin_commands() {
-    VK_CHECK(vkResetCommandBuffer(command_buffer_, 0));
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(command_buffer_, &begin));
-}
-
-void Device::end_submit_wait() {
-    VK_CHECK(vkEndCommandBuffer(command_buffer_));
-    VkCommandBufferSubmitInfo cmd{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
-    cmd.commandBuffer = command_buffer_;
-    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
-    submit.commandBufferInfoCount = 1;
-    submit.pCommandBufferInfos = &cmd;
-    VK_CHECK(vkQueueSubmit2(queue_, 1, &submit, fence_));
-    VkFence fence = fence_;
-    VK_CHECK(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX));
-    VK_CHECK(vkResetFences(device_, 1, &fence));
-}
+void Device::wait_idle() const { VK_CHECK(vkDeviceWaitIdle(device_)); }
 
 }  // namespace brume::vk

@@ -1,6 +1,8 @@
 // The Vulkan instance, physical device choice and logical device: headless by default, lavapipe
-// unless another device is named, validation layers on request. One Device per process is typical;
-// it owns everything it creates and holds no global state.
+// unless another device is named, validation layers on request. A window asks for more through the
+// options: instance and device extensions, and a surface whose presentation the chosen queue must
+// support. One Device per process is typical; it owns everything it creates (the surface too) and
+// holds no global state. Command buffers and submission live in the frame path (render/vk/frame_ring.h).
 #pragma once
 
 #include "render/vk/handle.h"
@@ -8,6 +10,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -15,9 +18,20 @@
 namespace brume::vk {
 
 struct DeviceOptions {
-    std::string device_name;  // case-insensitive substring of the device name; empty: lavapipe
+    // Case-insensitive substring of the device name, or "lavapipe" (its driver reports itself as
+    // "llvmpipe"); empty: lavapipe.
+    std::string device_name;
     bool validate = false;    // Khronos validation layer on; also switched on by BRUME_VALIDATE=1
+    std::vector<std::string> instance_extensions;  // beyond what Brume needs itself (a window's surface)
+    std::vector<std::string> device_extensions;    // e.g. VK_KHR_swapchain
+    // Called once the instance exists; the surface it returns is owned by the Device, and the queue
+    // chosen must be able to present to it.
+    std::function<VkSurfaceKHR(VkInstance)> create_surface;
 };
+
+// What `--device NAME` matches in a device name: "lavapipe" means Mesa's CPU driver, which names
+// itself "llvmpipe (LLVM ...)"; any other name is matched as it is, case-insensitively.
+bool device_name_matches(const std::string& device_name, const std::string& wanted);
 
 struct PhysicalDeviceInfo {
     std::string name;
@@ -35,9 +49,11 @@ public:
     // Every device this loader can see (for `brume devices` and for error messages).
     static std::vector<PhysicalDeviceInfo> enumerate();
 
+    VkInstance instance() const { return instance_; }
     VkDevice get() const { return device_; }
     VkPhysicalDevice physical() const { return physical_; }
-    VkQueue queue() const { return queue_; }
+    VkQueue queue() const { return queue_; }  // graphics, timestamps and (with a surface) present
+    VkSurfaceKHR surface() const { return surface_; }  // null when headless
     std::uint32_t queue_family() const { return queue_family_; }
     const VkPhysicalDeviceProperties& properties() const { return properties_; }
     const VkPhysicalDeviceMemoryProperties& memory_properties() const { return memory_properties_; }
@@ -60,13 +76,8 @@ public:
     std::uint32_t find_memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,
                                    VkMemoryPropertyFlags preferred = 0) const;
 
-    // Record with `record`, submit and wait: Brume's frames are synchronous (one frame in flight).
-    template <typename Record>
-    void submit_and_wait(Record&& record) {
-        begin_commands();
-        record(command_buffer_);
-        end_submit_wait();
-    }
+    // Waits until the device has finished everything submitted to it.
+    void wait_idle() const;
 
 private:
     static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
@@ -74,11 +85,10 @@ private:
                                                          const VkDebugUtilsMessengerCallbackDataEXT* data,
                                                          void* user);
     void release();
-    void begin_commands();
-    void end_submit_wait();
 
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkSurfaceKHR surface_ = VK_NULL_HANDLE;
     VkPhysicalDevice physical_ = VK_NULL_HANDLE;
     VkDevice device_ = VK_NULL_HANDLE;
     VkQueue queue_ = VK_NULL_HANDLE;
@@ -87,10 +97,6 @@ private:
     VkPhysicalDeviceMemoryProperties memory_properties_{};
     bool validation_enabled_ = false;
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name_ = nullptr;
-
-    UniqueCommandPool command_pool_;
-    VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
-    UniqueFence fence_;
 
     mutable std::mutex messages_mutex_;
     std::vector<std::string> messages_;

@@ -20,6 +20,18 @@ static_assert(sizeof(ListCounters) == 16 && offsetof(ListCounters, allocated) ==
               offsetof(ListCounters, max_length) == 4 && offsetof(ListCounters, nonempty_pixels) == 8 &&
               offsetof(ListCounters, long_lists) == 12);
 static_assert(NODE_BYTES == sizeof(uvec4), "a node is one uvec4 (std430 stride 16)");
+static_assert(sizeof(PeelControl) == 2 * PEEL_SLOTS * 16 + PEEL_SLOTS * 4 &&
+                  offsetof(PeelControl, composite_args) == PEEL_SLOTS * 16 &&
+                  offsetof(PeelControl, going_on) == 2 * PEEL_SLOTS * 16,
+              "PeelControl must match its std430 GLSL layout");
+static_assert(sizeof(PeelControl) <= 65536, "PeelControl is written with vkCmdUpdateBuffer (64 KiB at most)");
+static_assert(sizeof(WeightParams) == 16 && offsetof(WeightParams, depth) == 0);
+static_assert(sizeof(ToneMapParams) == 32 && offsetof(ToneMapParams, source) == 16, "push constants: 128 bytes at most");
+static_assert(BINDING_SORT_ORDER < BINDING_METHOD_BUFFER_FIRST + METHOD_BUFFERS &&
+                  BINDING_KBUF_EXITS < BINDING_METHOD_BUFFER_FIRST + METHOD_BUFFERS &&
+                  BINDING_PEEL_CONTROL < BINDING_METHOD_BUFFER_FIRST + METHOD_BUFFERS &&
+                  BINDING_PEEL_IDS < BINDING_COUNT && BINDING_STOCHASTIC_OPTICAL_DEPTH < BINDING_COUNT,
+              "a method binding outside the method slots of the layout");
 
 // Camera, lighting and counts of a scene; the method fills in `pool`.
 FrameUniforms make_frame_uniforms(const Scene& scene);

@@ -48,6 +48,11 @@ using UniqueDescriptorSetLayout = Unique<VkDescriptorSetLayout, vkDestroyDescrip
 using UniqueDescriptorPool = Unique<VkDescriptorPool, vkDestroyDescriptorPool>;
 using UniqueCommandPool = Unique<VkCommandPool, vkDestroyCommandPool>;
 using UniqueFence = Unique<VkFence, vkDestroyFence>;
+using UniqueSemaphore = Unique<VkSemaphore, vkDestroySemaphore>;
+using UniqueRenderPass = Unique<VkRenderPass, vkDestroyRenderPass>;
+using UniqueFramebuffer = Unique<VkFramebuffer, vkDestroyFramebuffer>;
+using UniqueSampler = Unique<VkSampler, vkDestroySampler>;
+using UniqueSwapchain = Unique<VkSwapchainKHR, vkDestroySwapchainKHR>;
 using UniqueQueryPool = Unique<VkQueryPool, vkDestroyQueryPool>;
 
 }  // namespace brume::vk

@@ -70,7 +70,10 @@ UniquePipeline create_graphics_pipeline(const Device& device, VkPipelineLayout l
     rendering.pColorAttachmentFormats = desc.color_formats.data();
     rendering.depthAttachmentFormat = desc.depth_format;
 
-    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
+                                      desc.render_pass ? nullptr : &rendering};
+    info.renderPass = desc.render_pass;
+    info.subpass = 0;
     info.stageCount = 2;
     info.pStages = stages;
     info.pVertexInputState = &vertex_input;

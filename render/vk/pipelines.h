@@ -32,6 +32,9 @@ struct GraphicsPipelineDesc {
     VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
     bool sample_shading = false;  // run the fragment shader per sample (with samples > 1)
     std::vector<std::uint32_t> fragment_constants;  // specialization constants 0, 1, ... (uint)
+    // Subpass 0 of this render pass instead of dynamic rendering into color_formats (the presenter's
+    // pass, which Dear ImGui 1.86's Vulkan backend also draws into).
+    VkRenderPass render_pass = VK_NULL_HANDLE;
 };
 
 // Blend states for the common cases.

@@ -1,7 +1,7 @@
 // What every method shares for one scene at one resolution: the uploaded scene (uniforms, spheres,
 // boxes), the opaque pass and its output (radiance + distance per pixel), and the linear HDR target
-// that a method resolves into. A headless frame reads the target back; a preview window would
-// tone-map the same target into its swapchain image instead.
+// that a method resolves into. Owned by the frame path (render/frame/frame_path.h): a headless frame
+// copies the target back into an Image, a presenter samples it to tone-map it into a window.
 #pragma once
 
 #include "render/image.h"
@@ -11,6 +11,8 @@
 #include "render/vk/resources.h"
 #include "sim/scene.h"
 
+#include <cstdint>
+
 namespace brume {
 
 class FrameResources {
@@ -19,10 +21,14 @@ public:
     static constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
     static constexpr VkFormat kHdrFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 
-    FrameResources(const vk::Device& device, const vk::SharedDescriptors& descriptors);
+    explicit FrameResources(const vk::Device& device);
 
-    // Uploads the scene, (re)creating buffers and images whose size changed; writes the descriptors.
+    // Uploads the scene, (re)creating buffers and images whose size changed (after waiting for the
+    // device, since a presenter's pass may still read the old HDR target). Every uniform is
+    // rewritten from the scene; a method sets its own (pool, params) afterwards.
     void upload(const Scene& scene);
+    // Writes the frame's bindings (uniforms, spheres, boxes, opaque image) into a method's set.
+    void write_frame_bindings(const vk::SharedDescriptors& descriptors) const;
 
     gpu::FrameUniforms& uniforms() { return *uniform_buffer_.as<gpu::FrameUniforms>(); }
     VkExtent2D extent() const { return extent_; }
@@ -30,21 +36,26 @@ public:
 
     // Clears the opaque image to (background, +inf) and draws the boxes into it.
     void record_opaque_pass(VkCommandBuffer cmd) const;
-    // Begins dynamic rendering into the HDR target (contents undefined: the resolve writes every pixel).
+    // Begins dynamic rendering into the HDR target (contents undefined: the resolve writes every
+    // pixel). Its barrier also orders the write after a presenter's reads of the previous frame.
     void begin_hdr_rendering(VkCommandBuffer cmd) const;
     void end_hdr_rendering(VkCommandBuffer cmd) const;
-    // Inside a rendering scope: one impostor (6 vertices) per sphere with `pipeline`; nothing when
-    // the scene has no spheres.
-    void draw_spheres(VkCommandBuffer cmd, VkPipeline pipeline) const;
+    // Inside a rendering scope: one impostor (6 vertices) per sphere with `pipeline` and the
+    // method's descriptor set; nothing when the scene has no spheres.
+    void draw_spheres(VkCommandBuffer cmd, VkPipeline pipeline, const vk::SharedDescriptors& descriptors) const;
     // The usual last pass of a method: one fullscreen triangle with `pipeline` into the HDR target.
-    void resolve_to_hdr(VkCommandBuffer cmd, VkPipeline pipeline) const;
-    // Copies the HDR target into host memory; read_hdr() after the frame completes.
+    void resolve_to_hdr(VkCommandBuffer cmd, VkPipeline pipeline, const vk::SharedDescriptors& descriptors) const;
+
+    // After the method's last pass: copies the HDR target into host memory (read_hdr() once the
+    // frame completed), or makes it readable by a presenter's sampler.
     void record_hdr_readback(VkCommandBuffer cmd) const;
     Image read_hdr() const;
+    void record_hdr_to_sampled(VkCommandBuffer cmd) const;
+    VkImageView hdr_view() const { return hdr_image_.view(); }
 
 private:
     const vk::Device& device_;
-    const vk::SharedDescriptors& descriptors_;
+    vk::SharedDescriptors descriptors_;  // the opaque pass's own set: the frame bindings only
     vk::UniquePipeline opaque_pipeline_;
     vk::Buffer uniform_buffer_;
     vk::Buffer sphere_buffer_;

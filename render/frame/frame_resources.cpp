@@ -1,4 +1,4 @@
-#include "render/methods/frame_resources.h"
+#include "render/frame/frame_resources.h"
 
 #include "opaque_boxes.frag.h"
 #include "opaque_boxes.vert.h"
@@ -13,8 +13,7 @@ namespace brume {
 
 using namespace vk;
 
-FrameResources::FrameResources(const Device& device, const SharedDescriptors& descriptors)
-    : device_(device), descriptors_(descriptors) {
+FrameResources::FrameResources(const Device& device) : device_(device), descriptors_(device) {
     GraphicsPipelineDesc desc;
     desc.name = "opaque_boxes";
     desc.vertex = BRUME_SPIRV(spv_opaque_boxes_vert);
@@ -22,10 +21,16 @@ FrameResources::FrameResources(const Device& device, const SharedDescriptors& de
     desc.color_formats = {kOpaqueFormat};
     desc.depth_format = kDepthFormat;
     desc.depth_compare = VK_COMPARE_OP_GREATER;  // depth = 1/(1+t): nearer is larger
-    opaque_pipeline_ = create_graphics_pipeline(device, descriptors.pipeline_layout(), desc);
+    opaque_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), desc);
     uniform_buffer_ = Buffer(device, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                              MemoryUse::Upload, "frame.uniforms");
+}
+
+void FrameResources::write_frame_bindings(const SharedDescriptors& descriptors) const {
     descriptors.write_uniform(gpu::BINDING_FRAME, uniform_buffer_.get());
+    descriptors.write_storage(gpu::BINDING_SPHERES, sphere_buffer_.get());
+    descriptors.write_storage(gpu::BINDING_BOXES, box_buffer_.get());
+    descriptors.write_storage_image(gpu::BINDING_OPAQUE, opaque_image_.view());
 }
 
 void FrameResources::upload(const Scene& scene) {
@@ -33,40 +38,44 @@ void FrameResources::upload(const Scene& scene) {
         throw std::logic_error("the scene's [[vdb]] volumes were not converted to spheres "
                                "(sim/vdb/volume_loader.h convert_scene_volumes)");
     const VkExtent2D extent{std::uint32_t(scene.camera.width), std::uint32_t(scene.camera.height)};
-    if (extent.width != extent_.width || extent.height != extent_.height) {
+    const VkDeviceSize sphere_bytes = std::max<std::size_t>(scene.spheres.size(), 1) * sizeof(gpu::GpuSphere);
+    const VkDeviceSize box_bytes = std::max<std::size_t>(scene.boxes.size(), 1) * sizeof(gpu::GpuBox);
+    const bool resize = extent.width != extent_.width || extent.height != extent_.height;
+    const bool new_spheres = sphere_buffer_.size() < sphere_bytes || sphere_buffer_.size() > 4 * sphere_bytes;
+    const bool new_boxes = box_buffer_.size() < box_bytes;
+    // Only a presenter's passes of the previous frame can still be running here (the frame path waits
+    // for every method pass before it returns), and they read the HDR target alone: host writes are
+    // safe, but objects about to be destroyed must wait for them.
+    if (resize || new_spheres || new_boxes) {
+        device_.wait_idle();
+    }
+    if (resize) {
         const VkImageUsageFlags storage_target = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
         opaque_image_ = DeviceImage(device_, kOpaqueFormat, extent, storage_target, VK_IMAGE_ASPECT_COLOR_BIT, "frame.opaque");
         depth_image_ = DeviceImage(device_, kDepthFormat, extent, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                              VK_IMAGE_ASPECT_DEPTH_BIT, "frame.depth");
         hdr_image_ = DeviceImage(device_, kHdrFormat, extent,
-                           VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                           VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                               VK_IMAGE_USAGE_SAMPLED_BIT,
                            VK_IMAGE_ASPECT_COLOR_BIT, "frame.hdr");
         hdr_readback_ = Buffer(device_, VkDeviceSize(extent.width) * extent.height * 16,
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, "frame.hdr_readback");
         extent_ = extent;
-        descriptors_.write_storage_image(gpu::BINDING_OPAQUE, opaque_image_.view());
     }
 
     // Storage buffers hold at least one element: Vulkan has no empty buffers.
-    const VkDeviceSize sphere_bytes = std::max<std::size_t>(scene.spheres.size(), 1) * sizeof(gpu::GpuSphere);
-    if (sphere_buffer_.size() < sphere_bytes || sphere_buffer_.size() > 4 * sphere_bytes) {
+    if (new_spheres)
         sphere_buffer_ = Buffer(device_, sphere_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.spheres");
-        descriptors_.write_storage(gpu::BINDING_SPHERES, sphere_buffer_.get());
-    }
     auto* spheres = sphere_buffer_.as<gpu::GpuSphere>();
     for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i]);
 
-    const VkDeviceSize box_bytes = std::max<std::size_t>(scene.boxes.size(), 1) * sizeof(gpu::GpuBox);
-    if (box_buffer_.size() < box_bytes) {
+    if (new_boxes)
         box_buffer_ = Buffer(device_, box_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.boxes");
-        descriptors_.write_storage(gpu::BINDING_BOXES, box_buffer_.get());
-    }
+    if (resize || new_spheres || new_boxes) write_frame_bindings(descriptors_);
     auto* boxes = box_buffer_.as<gpu::GpuBox>();
     for (std::size_t i = 0; i < scene.boxes.size(); ++i) boxes[i] = gpu::to_gpu(scene.boxes[i]);
 
-    const gpu::FrameUniforms pool = uniforms();  // keep what the method wrote into `pool`
     uniforms() = gpu::make_frame_uniforms(scene);
-    uniforms().pool = pool.pool;
     sphere_count_ = std::uint32_t(scene.spheres.size());
     box_count_ = std::uint32_t(scene.boxes.size());
     background_ = glm::vec3(scene.lighting.background);
@@ -115,8 +124,10 @@ void FrameResources::record_opaque_pass(VkCommandBuffer cmd) const {
 }
 
 void FrameResources::begin_hdr_rendering(VkCommandBuffer cmd) const {
+    // Source stages: the last frame's readback copy or a presenter's sampling of the target.
     image_barrier(cmd, hdr_image_.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT, 0,
+                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                  VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0,
                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
     color.imageView = hdr_image_.view();
@@ -134,18 +145,20 @@ void FrameResources::begin_hdr_rendering(VkCommandBuffer cmd) const {
 
 void FrameResources::end_hdr_rendering(VkCommandBuffer cmd) const { vkCmdEndRendering(cmd); }
 
-void FrameResources::draw_spheres(VkCommandBuffer cmd, VkPipeline pipeline) const {
+void FrameResources::draw_spheres(VkCommandBuffer cmd, VkPipeline pipeline,
+                                  const SharedDescriptors& descriptors) const {
     if (sphere_count_ == 0) return;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-    descriptors_.bind(cmd);
+    descriptors.bind(cmd);
     set_viewport(cmd, extent_);
     vkCmdDraw(cmd, 6, sphere_count_, 0, 0);
 }
 
-void FrameResources::resolve_to_hdr(VkCommandBuffer cmd, VkPipeline pipeline) const {
+void FrameResources::resolve_to_hdr(VkCommandBuffer cmd, VkPipeline pipeline,
+                                    const SharedDescriptors& descriptors) const {
     begin_hdr_rendering(cmd);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-    descriptors_.bind(cmd);
+    descriptors.bind(cmd);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     end_hdr_rendering(cmd);
 }
@@ -160,6 +173,13 @@ void FrameResources::record_hdr_readback(VkCommandBuffer cmd) const {
     vkCmdCopyImageToBuffer(cmd, hdr_image_.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, hdr_readback_.get(), 1, &region);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                    VK_ACCESS_2_HOST_READ_BIT);
+}
+
+void FrameResources::record_hdr_to_sampled(VkCommandBuffer cmd) const {
+    image_barrier(cmd, hdr_image_.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                  VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                  VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
 }
 
 Image FrameResources::read_hdr() const {

@@ -1,0 +1,88 @@
+#include "render/frame/frame_path.h"
+
+#include "render/vk/resources.h"
+
+#include <stdexcept>
+
+namespace brume {
+
+FramePath::FramePath(vk::Device& device, std::uint32_t frames_in_flight)
+    : device_(device), ring_(device, frames_in_flight), resources_(device), clock_(device) {}
+
+FramePath::~FramePath() { ring_.wait_all(); }
+
+Image FramePath::render(GpuMethod& method, const Scene& scene, FrameStats* stats, bool list_stats) {
+    run(method, scene, stats, list_stats, Output::Readback);
+    return resources_.read_hdr();
+}
+
+bool FramePath::render_to(Presenter& presenter, GpuMethod& method, const Scene& scene, FrameStats* stats) {
+    run(method, scene, stats, false, Output::Sampled);
+    ring_.begin_again();
+    return presenter.present(resources_, ring_);
+}
+
+void FramePath::record_shared_passes(VkCommandBuffer cmd, FrameContext& ctx) {
+    resources_.record_opaque_pass(cmd);
+    ctx.mark(cmd, "clear+opaque");
+    // The light pass slot: a pass that every method's shading reads (sun transmittance, a shadow
+    // map) is recorded here, after the opaque pass and before any method pass.
+}
+
+void FramePath::run(GpuMethod& method, const Scene& scene, FrameStats* stats, bool list_stats, Output output) {
+    // The previous frame's method passes completed before it returned; only a presenter's passes
+    // may still run, and recording a slot waits for that slot's last use.
+    resources_.upload(scene);
+    FrameContext ctx(scene, resources_, method, clock_, stats != nullptr, list_stats && method.has_list_stats());
+    method.prepare(ctx);
+    // Every frame: a few descriptor writes, and no method's set is in use by then (only a
+    // presenter's passes may still run, and they bind no method set).
+    resources_.write_frame_bindings(method.descriptors());
+
+    int regrows = 0;
+    for (bool first_attempt = true;; first_attempt = false) {
+        GpuMethod::After after = GpuMethod::After::Done;
+        bool complete = false;
+        for (int step = 0;; ++step) {
+            VkCommandBuffer cmd = (step == 0 && first_attempt ? ring_.begin_next() : ring_.begin_again()).cmd;
+            if (step == 0) {
+                clock_.start(cmd);
+                record_shared_passes(cmd, ctx);
+            } else {
+                // This submission reads and writes what the previous one wrote.
+                vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                                   VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                                   VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+            }
+            complete = method.record(cmd, ctx, step);
+            if (complete) {
+                if (output == Output::Readback)
+                    resources_.record_hdr_readback(cmd);
+                else
+                    resources_.record_hdr_to_sampled(cmd);
+            }
+            ring_.submit();
+            ring_.wait();
+            after = method.after_step(ctx, step);
+            if (after != GpuMethod::After::NextStep) break;
+            if (complete) throw std::logic_error(method.name() + ": asked for another step after completing the frame");
+        }
+        if (after == GpuMethod::After::Again) {
+            ++regrows;
+            continue;
+        }
+        if (!complete) throw std::logic_error(method.name() + ": finished a frame without completing the HDR target");
+        break;
+    }
+
+    if (stats) {
+        *stats = FrameStats{};
+        stats->passes = clock_.passes();
+        stats->regrows = regrows;
+        method.report(*stats, ctx);
+        stats->total_ms = 0.0;
+        for (const PassTime& p : stats->passes) stats->total_ms += p.ms;
+    }
+}
+
+}  // namespace brume

@@ -1,0 +1,48 @@
+// Presents frames into a window: acquires a swapchain image, tone-maps the frame's HDR target into
+// it (ToneMapPass, the PNG writer's transfer) with an optional overlay in the same render pass (the
+// preview's UI), and queues it for presentation. Out-of-date swapchains and window resizes recreate
+// the swapchain; a minimised window skips frames.
+#pragma once
+
+#include "render/frame/presenter.h"
+#include "render/frame/tone_map.h"
+#include "render/vk/swapchain.h"
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace brume {
+
+class SwapchainPresenter : public Presenter {
+public:
+    SwapchainPresenter(const vk::Device& device, VkExtent2D window_extent);
+    // Waits for the device: its last frames may still be on their way to the screen.
+    ~SwapchainPresenter() override;
+
+    // The window's framebuffer size now; a change recreates the swapchain before the next frame.
+    void set_window_extent(VkExtent2D extent);
+    void set_exposure(double stops) { exposure_stops_ = stops; }
+    // Draws recorded inside the tone-map render pass, after the image (a UI).
+    void set_overlay(std::function<void(VkCommandBuffer)> overlay) { overlay_ = std::move(overlay); }
+
+    bool present(const FrameResources& frame, vk::FrameRing& ring) override;
+
+    const vk::Swapchain& swapchain() const { return swapchain_; }
+    VkRenderPass render_pass() const { return tone_map_->render_pass(); }
+
+private:
+    void ensure_targets();
+
+    const vk::Device& device_;
+    vk::Swapchain swapchain_;
+    std::unique_ptr<ToneMapPass> tone_map_;
+    std::vector<vk::UniqueFramebuffer> framebuffers_;
+    std::uint64_t framebuffers_generation_ = ~0ull;
+    VkExtent2D window_extent_;
+    bool recreate_ = false;
+    double exposure_stops_ = 0.0;
+    std::function<void(VkCommandBuffer)> overlay_;
+};
+
+}  // namespace brume

@@ -1,0 +1,60 @@
+// The method catalogue: one entry per method, carrying its factory, the command-line options it
+// honours and the settings `brume bench` sweeps. Options, benchmarks, `brume methods` and the
+// parameterised tests all read this table, so a new method is added here once (docs/architecture.md).
+#pragma once
+
+#include "render/methods/method.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace brume {
+
+namespace vk {
+class Device;
+}
+
+// The command-line options that reach methods; each entry says which it honours.
+struct MethodOptions {
+    std::uint64_t max_pool_bytes = 0;      // --max-memory: budget of per-pixel lists; 0: half the device heap
+    std::uint64_t initial_pool_nodes = 0;  // --pool-nodes: first list-pool size; 0: estimated from the scene
+    int threads = 0;                       // --threads: CPU threads; 0: all
+};
+
+enum MethodOptionBits : unsigned {
+    kHonoursMaxMemory = 1u << 0,  // --max-memory and --pool-nodes
+    kHonoursThreads = 1u << 1,
+};
+
+struct MethodEntry {
+    using Factory = std::unique_ptr<Method> (*)(vk::Device* device, const std::string& setting,
+                                                const MethodOptions& options);
+    std::string name;             // "kbuf"
+    std::string setting;          // what the part after ':' means, empty if none
+    std::string default_setting;  // the setting an empty one means (for display)
+    std::string summary;          // one line
+    bool needs_device = true;     // false: runs on the CPU
+    bool exact = false;           // matches the reference to float precision on every scene it accepts
+    bool list_stats = false;      // fills FrameStats' per-pixel list figures
+    unsigned options = 0;         // MethodOptionBits
+    // Settings `brume bench` renders besides the default, to show a trade-off.
+    std::vector<std::string> bench_settings;
+    Factory make = nullptr;
+};
+
+// Every method, in charting order.
+const std::vector<MethodEntry>& method_catalogue();
+// The entry of "kbuf" or "kbuf:8"; throws std::invalid_argument listing the known names.
+const MethodEntry& find_method(const std::string& spec);
+// "ppll", "reference", "kbuf:8", ... Throws std::invalid_argument naming the method or setting and
+// listing the known ones. `device` may be null only for methods that need no GPU.
+std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec, const MethodOptions& options = {});
+// Throws std::invalid_argument when an option was given (`given`, MethodOptionBits) that the method
+// of `spec` does not honour, naming the option and the methods that do.
+void check_method_options(const std::string& spec, unsigned given);
+// What `brume bench` renders by default: every entry at its default setting, then its sweeps.
+std::vector<std::string> bench_method_specs();
+
+}  // namespace brume

@@ -1,0 +1,154 @@
+// The frame path (render/frame/frame_path.h): one path for every method, several methods through
+// one path, the overflow loop and steps, the tone-map pass a window shows against the PNG writer,
+// and the device names users type. Presentation to a window: tests/test_window_swapchain.cpp.
+#include "gpu_test_env.h"
+#include "test_scenes.h"
+
+#include "render/frame/frame_path.h"
+#include "render/frame/offscreen_presenter.h"
+#include "render/image_io.h"
+#include "render/methods/peel.h"
+#include "render/methods/ppll.h"
+#include "render/methods/registry.h"
+#include "render/vk/device.h"
+#include "sim/builtin_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+namespace brume {
+namespace {
+
+using testing::GpuTest;
+using testing::small_scene;
+using testing::sphere;
+
+Scene overlapping_scene() {
+    Scene s = small_scene(48, 36);
+    s.spheres.push_back(sphere({-0.3, 0.0, 0.0}, 0.8, 1.5));
+    s.spheres.push_back(sphere({0.3, 0.1, 0.2}, 0.7, 2.5, {0.3, 0.6, 0.9}));
+    s.spheres.push_back(sphere({0.0, -0.4, -0.5}, 1.0, 0.7));
+    s.lighting.background = {0.2, 0.1, 0.05};
+    return s;
+}
+
+bool same_bits(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height &&
+           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+class FramePathTest : public GpuTest {};
+
+// One frame path serves methods one after another (as a preview switching methods does): each
+// frame is bit for bit what the method renders through its own path.
+TEST_F(FramePathTest, SharedPathMatchesEachMethodsOwnPath) {
+    const Scene scene = overlapping_scene();
+    FramePath path(device());
+    for (const char* spec : {"ppll", "kbuf:4", "peel:dual:4", "stochastic:4", "wboit", "screendoor:2", "auto"}) {
+        auto own = make_method(&device(), spec);
+        auto shared = make_method(&device(), spec);
+        const Image expected = own->render(scene);
+        const Image via_shared = path.render(*shared->gpu(), scene);
+        EXPECT_TRUE(same_bits(expected, via_shared)) << spec;
+    }
+    // And back to the first, after the path held other methods' bindings.
+    auto ppll = make_method(&device(), "ppll");
+    EXPECT_TRUE(same_bits(make_method(&device(), "ppll")->render(scene), path.render(*ppll->gpu(), scene)));
+}
+
+// The overflow loop lives in the frame path: a pool too small regrows and the frame is rendered
+// again, counted in FrameStats, and the image is still exact.
+TEST_F(FramePathTest, OverflowRendersTheFrameAgainAndCountsIt) {
+    Scene scene = overlapping_scene();
+    scene.camera.width = 128;  // several thousand fragments: more than the smallest pool (1,024)
+    scene.camera.height = 96;
+    PpllOptions options;
+    options.initial_nodes = 16;
+    PpllMethod ppll(device(), options);
+    FrameStats stats;
+    const Image image = ppll.render(scene, &stats);
+    EXPECT_GE(stats.regrows, 1);
+    EXPECT_GT(stats.pool_capacity, 16u);
+    EXPECT_EQ(testing::compare_with_reference(image, scene).pixels_over, 0u);
+    // The frame path names its shared pass first; the total is the sum of the passes.
+    ASSERT_FALSE(stats.passes.empty());
+    EXPECT_EQ(stats.passes.front().name, "clear+opaque");
+    double sum = 0.0;
+    for (const PassTime& p : stats.passes) sum += p.ms;
+    EXPECT_DOUBLE_EQ(stats.total_ms, sum);
+}
+
+// Peel's early stop runs as frame steps: the frame path submits the next step when asked.
+TEST_F(FramePathTest, StepsStopEarlyWhenNothingIsLeftToPeel) {
+    Scene scene = small_scene(40, 30);
+    scene.spheres.push_back(sphere({0.0, 0.0, 0.0}, 0.5, 1.0));  // one layer
+    PeelOptions options;
+    options.passes = 16;
+    options.passes_per_submit = 2;
+    PeelMethod peel(device(), options);
+    peel.render(scene);
+    EXPECT_LT(peel.last_frame().passes_recorded, 16);
+    EXPECT_EQ(peel.last_frame().passes_drawn, 2);  // the layer, then a pass that found nothing
+}
+
+// What a window shows is what the PNG writer writes: the tone-map pass gives the same 8-bit codes
+// (to one code: the GPU's float pow against the writer's double one) at several exposures.
+TEST_F(FramePathTest, ToneMapMatchesThePngWriter) {
+    Scene scene = default_scene();
+    scene.camera.width = 64;
+    scene.camera.height = 48;
+    PpllMethod ppll(device());
+    FramePath path(device());
+    const Image hdr = path.render(ppll, scene);
+    for (double stops : {-1.0, 0.0, 1.5}) {
+        OffscreenPresenter screen(device(), {64, 48}, stops);
+        ASSERT_TRUE(path.render_to(screen, ppll, scene));
+        const std::vector<std::uint8_t>& px = screen.pixels();
+        int worst = 0, exact = 0, nonzero = 0;
+        for (int p = 0; p < 64 * 48; ++p)
+            for (int c = 0; c < 3; ++c) {
+                const int want = png_code(hdr.rgb[std::size_t(p) * 3 + c], std::exp2(stops));
+                const int got = px[std::size_t(p) * 4 + c];
+                worst = std::max(worst, std::abs(got - want));
+                exact += got == want;
+                nonzero += want > 0;
+            }
+        EXPECT_LE(worst, 1) << stops;
+        EXPECT_GT(exact, 64 * 48 * 3 * 95 / 100) << stops;
+        EXPECT_GT(nonzero, 64 * 48) << stops;  // the scene is not black: the comparison means something
+        for (int p = 0; p < 64 * 48; ++p) EXPECT_EQ(px[std::size_t(p) * 4 + 3], 255);
+    }
+}
+
+// NaN, infinity, negatives and overexposure land where the PNG writer puts them.
+TEST_F(FramePathTest, ToneMapClampsLikeThePngWriter) {
+    EXPECT_EQ(png_code(std::nanf(""), 1.0), 0);
+    EXPECT_EQ(png_code(-1.0f, 1.0), 0);
+    EXPECT_EQ(png_code(INFINITY, 1.0), 255);
+    EXPECT_EQ(png_code(0.5f, 4.0), 255);
+    EXPECT_EQ(png_code(0.21586f, 1.0), 128);  // sRGB 128/255 encodes 0.21586 linear
+    EXPECT_EQ(png_code(0.21223f, 1.0), 127);  // and 127/255 encodes 0.21223
+}
+
+// `--device lavapipe`, the default the README and --help name, finds Mesa's driver, which calls
+// itself llvmpipe; other names match as substrings, ignoring case.
+TEST(DeviceNames, LavapipeMeansLlvmpipe) {
+    EXPECT_TRUE(vk::device_name_matches("llvmpipe (LLVM 15.0.6, 256 bits)", "lavapipe"));
+    EXPECT_TRUE(vk::device_name_matches("llvmpipe (LLVM 15.0.6, 256 bits)", "LavaPipe"));
+    EXPECT_TRUE(vk::device_name_matches("llvmpipe (LLVM 15.0.6, 256 bits)", "llvmpipe"));
+    EXPECT_TRUE(vk::device_name_matches("NVIDIA H200", "h200"));
+    EXPECT_FALSE(vk::device_name_matches("NVIDIA H200", "lavapipe"));
+    EXPECT_FALSE(vk::device_name_matches("llvmpipe (LLVM 15.0.6, 256 bits)", "nvidia"));
+}
+
+TEST_F(FramePathTest, LavapipeByTheNameUsersType) {
+    vk::DeviceOptions options;
+    options.device_name = "lavapipe";
+    vk::Device named(options);
+    EXPECT_NE(named.name().find("llvmpipe"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace brume

@@ -142,6 +142,9 @@ expect_error scene.missing_file "$work/no-such-scene.toml" && ok scene.missing_f
 # --- 4. An unknown device is named and the available ones listed. ------------------------------------------
 run render "$data/small.toml" --device no-such-device -o never.exr
 expect_error device.unknown "no-such-device" "available" "llvmpipe" && ok device.unknown
+# The default the README and --help name: Mesa's driver calls itself llvmpipe, users type lavapipe.
+run render "$data/small.toml" --device lavapipe -o lavapipe.exr
+expect_success device.lavapipe && [ -s lavapipe.exr ] && ok device.lavapipe
 
 # --- 5. A node-pool budget too small for the scene says how many bytes it needs. ---------------------------
 run render "$data/many_spheres.toml" --max-memory 1K -o never.exr
@@ -152,6 +155,13 @@ if expect_error budget.too_small "--max-memory" "budget"; then
         fail budget.too_small "the message does not state the bytes needed: $(first_err)"
     fi
 fi
+# Options reach every method that honours them: auto keeps lists when spheres intersect, so the same
+# budget refuses it exactly as it refuses ppll.
+run render "$data/many_spheres.toml" --method auto --max-memory 1K -o never.exr
+expect_error budget.auto "--max-memory" "budget" && ok budget.auto
+# A method that would ignore the option refuses it rather than drop it silently.
+run render "$data/small.toml" --method sorted --max-memory 1M -o never.exr
+expect_error budget.ignored "--max-memory" "sorted" && ok budget.ignored
 
 # --- 6. A failed run loses nothing already written and leaves no temporary files. --------------------------
 keep=$work/keep

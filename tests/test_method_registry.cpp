@@ -1,0 +1,86 @@
+// The method catalogue (render/methods/registry.h): names and settings parse as `--method` takes
+// them, options reach the methods that honour them and are refused by the others, and `brume bench`
+// sweeps what the entries say.
+#include "render/methods/registry.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <stdexcept>
+
+namespace brume {
+namespace {
+
+TEST(MethodRegistry, NamesAreUniqueAndFindable) {
+    std::set<std::string> names;
+    for (const MethodEntry& m : method_catalogue()) {
+        EXPECT_TRUE(names.insert(m.name).second) << m.name;
+        EXPECT_EQ(&find_method(m.name), &m);
+        EXPECT_NE(m.make, nullptr) << m.name;
+        EXPECT_FALSE(m.summary.empty()) << m.name;
+        // A method with a setting says what an empty one means; one without takes none.
+        EXPECT_EQ(m.setting.empty(), m.default_setting.empty()) << m.name;
+        if (m.setting.empty()) EXPECT_TRUE(m.bench_settings.empty()) << m.name;
+    }
+    EXPECT_EQ(&find_method("kbuf:16"), &find_method("kbuf"));
+    try {
+        find_method("kbuff");
+        FAIL() << "an unknown name was accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("unknown method 'kbuff'"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("ppll"), std::string::npos) << e.what();  // the known ones listed
+    }
+}
+
+TEST(MethodRegistry, ExactMethodsAreTheOnesThatMatchTheReference) {
+    std::set<std::string> exact;
+    for (const MethodEntry& m : method_catalogue())
+        if (m.exact) exact.insert(m.name);
+    EXPECT_EQ(exact, (std::set<std::string>{"ppll", "reference", "auto"}));
+}
+
+TEST(MethodRegistry, OptionsReachEveryMethodThatHonoursThem) {
+    // --max-memory (and --pool-nodes) reach both methods that keep per-pixel lists.
+    EXPECT_NO_THROW(check_method_options("ppll", kHonoursMaxMemory));
+    EXPECT_NO_THROW(check_method_options("auto", kHonoursMaxMemory));
+    EXPECT_NO_THROW(check_method_options("reference", kHonoursThreads));
+    EXPECT_NO_THROW(check_method_options("sorted", 0));
+    // Given to a method that would ignore it, an option is refused, naming who honours it.
+    try {
+        check_method_options("kbuf:4", kHonoursMaxMemory);
+        FAIL() << "--max-memory was accepted for kbuf";
+    } catch (const std::invalid_argument& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("--max-memory"), std::string::npos) << what;
+        EXPECT_NE(what.find("ppll, auto"), std::string::npos) << what;
+        EXPECT_NE(what.find("'kbuf'"), std::string::npos) << what;
+    }
+    EXPECT_THROW(check_method_options("ppll", kHonoursThreads), std::invalid_argument);
+}
+
+TEST(MethodRegistry, SettingsAreCheckedBeforeAnyDeviceIsNeeded) {
+    EXPECT_THROW(make_method(nullptr, "ppll:4"), std::invalid_argument);       // takes no setting
+    EXPECT_THROW(make_method(nullptr, "ppll"), std::invalid_argument);         // needs a device
+    EXPECT_THROW(make_method(nullptr, "nonsense:1"), std::invalid_argument);
+    auto reference = make_method(nullptr, "reference");
+    ASSERT_NE(reference, nullptr);
+    EXPECT_EQ(reference->name(), "reference");
+    EXPECT_EQ(reference->gpu(), nullptr);  // runs on the CPU, not through the frame path
+}
+
+TEST(MethodRegistry, BenchSweepsEveryMethodButTheReference) {
+    const std::vector<std::string> specs = bench_method_specs();
+    std::size_t expected = 0;
+    for (const MethodEntry& m : method_catalogue())
+        if (m.name != "reference") expected += 1 + m.bench_settings.size();
+    EXPECT_EQ(specs.size(), expected);
+    EXPECT_EQ(specs.front(), "ppll");
+    const std::set<std::string> set(specs.begin(), specs.end());
+    EXPECT_EQ(set.size(), specs.size());
+    EXPECT_EQ(set.count("reference"), 0u);
+    for (const char* s : {"kbuf:4", "kbuf:16", "peel:dual:8", "stochastic:8,depth", "screendoor:2"})
+        EXPECT_EQ(set.count(s), 1u) << s;
+}
+
+}  // namespace
+}  // namespace brume

@@ -1,4 +1,4 @@
-// `brume bench layers`: the full-screen-layers benchmark of seed 000 (Tables 1-2) for ppll, with
+// `brume bench layers`: the full-screen-layers benchmark of Barta & Kovács' Tables 1-2 for ppll, with
 // the CPU reference timed on the same frames. `brume bench sim`: milliseconds per simulation step.
 // `brume bench vdb` (app/bench_vdb.h): OpenVDB import, spheres against error.
 #pragma once

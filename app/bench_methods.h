@@ -1,6 +1,7 @@
-// `brume bench [methods] -o DIR`: every method on every scene, charted (issue 4): median GPU ms,
-// memory, error against the CPU reference, the temporal popping error of GUIDE section 3, and the
-// error by depth complexity; results.csv, results.json and gnuplot charts in DIR.
+// `brume bench [methods] -o DIR`: every method on every scene, charted (README.md, "Methods
+// compared"): median GPU ms, memory, error against the CPU reference, the temporal popping error
+// (temporal_error, render/image_compare.h), and the error by depth complexity; results.csv,
+// results.json and gnuplot charts in DIR.
 #pragma once
 
 #include "app/bench_command.h"

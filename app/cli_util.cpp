@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -36,14 +37,32 @@ std::uint64_t parse_bytes(const std::string& text) {
     return std::uint64_t(value * scale);
 }
 
+std::optional<long long> parse_whole_number(std::string_view text) {
+    long long value = 0;
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+    if (ec != std::errc() || ptr != end || text.empty()) return std::nullopt;  // overflow, junk or nothing
+    return value;
+}
+
+void check_output_format(const std::string& option, const std::string& path, const std::string& extension) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext.empty() || ext == extension) return;
+    const char* format = extension == ".exr" ? "linear OpenEXR" : "PNG";
+    throw std::invalid_argument(option + " " + path + ": " + option + " writes " + format + ", but the name ends in " +
+                                ext + "; name it " + extension +
+                                (extension == ".exr" ? " (--png writes PNG)" : " (-o writes OpenEXR)"));
+}
+
 void parse_size(const std::string& text, int& width, int& height) {
-    int w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
-        w > 16384 || h > 16384)
+    const std::size_t x = text.find_first_of("xX");
+    const std::optional<long long> w = x == std::string::npos ? std::nullopt : parse_whole_number(std::string_view(text).substr(0, x));
+    const std::optional<long long> h = x == std::string::npos ? std::nullopt : parse_whole_number(std::string_view(text).substr(x + 1));
+    if (!w || !h || *w < 1 || *h < 1 || *w > 16384 || *h > 16384)
         throw std::invalid_argument("'" + text + "' is not a size WxH with 1 <= W, H <= 16384");
-    width = w;
-    height = h;
+    width = int(*w);
+    height = int(*h);
 }
 
 std::vector<int> parse_int_list(const std::string& text) {
@@ -58,15 +77,10 @@ std::vector<int> parse_int_list(const std::string& text) {
     while (start <= text.size()) {
         const std::size_t comma = text.find(',', start);
         const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        std::size_t used = 0;
-        int v = 0;
-        try {
-            v = std::stoi(item, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used == 0 || used != item.size()) throw std::invalid_argument("'" + text + "' is not a list like 2,4,8 or 2-16:2");
-        out.push_back(v);
+        const std::optional<long long> v = parse_whole_number(item);
+        if (!v || *v < INT32_MIN || *v > INT32_MAX)
+            throw std::invalid_argument("'" + text + "' is not a list like 2,4,8 or 2-16:2");
+        out.push_back(int(*v));
         if (comma == std::string::npos) break;
         start = comma + 1;
     }

@@ -3,7 +3,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace brume {
@@ -16,6 +18,13 @@ namespace brume::app {
 std::uint64_t parse_bytes(const std::string& text);
 // "800x600" -> {800, 600}. Throws std::invalid_argument.
 void parse_size(const std::string& text, int& width, int& height);
+// A whole decimal number of `text` (optional '-' then digits, nothing else), or nullopt when it is
+// not one or does not fit in 64 bits: "4294967328" stays 4294967328, never wraps to 32.
+std::optional<long long> parse_whole_number(std::string_view text);
+// Refuses an output path whose extension names another format than the one `option` writes
+// (`-o out.png` would otherwise be OpenEXR bytes in a .png file). `extension` is ".exr" or ".png";
+// a path without an extension is taken as it is.
+void check_output_format(const std::string& option, const std::string& path, const std::string& extension);
 // "2,4,8" or "2-16:2" -> numbers. Throws std::invalid_argument.
 std::vector<int> parse_int_list(const std::string& text);
 

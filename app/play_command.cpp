@@ -36,19 +36,21 @@ struct FrameRange {
 };
 
 FrameRange parse_frames(const std::string& text, int frame_count) {
-    FrameRange r{0, frame_count - 1};
+    long long first = 0, last = frame_count - 1;
     if (!text.empty()) {
-        int a = 0, b = 0;
-        char dash = 0, extra = 0;
-        const int n = std::sscanf(text.c_str(), "%d%c%d%c", &a, &dash, &b, &extra);
-        if (n == 1) r = {a, a};
-        else if (n == 3 && dash == '-') r = {a, b};
-        else throw std::invalid_argument("--frames '" + text + "' is not A-B or N (0-based, inclusive)");
+        // A dash after the first character separates A and B ("-3" alone is a negative N).
+        const std::size_t dash = text.find('-', 1);
+        const std::optional<long long> a = parse_whole_number(std::string_view(text).substr(0, dash));
+        const std::optional<long long> b =
+            dash == std::string::npos ? a : parse_whole_number(std::string_view(text).substr(dash + 1));
+        if (!a || !b) throw std::invalid_argument("--frames '" + text + "' is not A-B or N (0-based, inclusive)");
+        first = *a;
+        last = *b;
     }
-    if (r.first < 0 || r.last < r.first || r.last >= frame_count)
-        throw std::invalid_argument("--frames " + std::to_string(r.first) + "-" + std::to_string(r.last) +
-                                    " is outside the preset's frames 0-" + std::to_string(frame_count - 1));
-    return r;
+    if (first < 0 || last < first || last >= frame_count)
+        throw std::invalid_argument("--frames " + text + " is outside the preset's frames 0-" +
+                                    std::to_string(frame_count - 1));
+    return {int(first), int(last)};
 }
 
 std::string frame_path(const fs::path& dir, const std::string& name, int frame, const char* ext) {

@@ -89,6 +89,8 @@ int run_render(const RenderArgs& args) {
     }
     // Refuse before rendering rather than fail after writing some outputs and not others.
     if (!std::isfinite(args.exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");
+    if (!exr.empty()) check_output_format("-o", exr, ".exr");
+    if (!png.empty()) check_output_format("--png", png, ".png");
     for (const std::string& out : {exr, png, args.stats})
         if (!out.empty()) check_writable_path(out);
 

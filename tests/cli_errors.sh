@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# End-to-end checks of the `brume` command line (GUIDE section 2): every failure exits non-zero with a
-# message that names the problem (file, line and key for scene errors), a failed run loses nothing already
-# written, and the successful paths write what they promise.
+# End-to-end checks of the `brume` command line (the contracts in README.md, "Tour"): every failure exits
+# non-zero with a message that names the problem (file, line and key for scene errors), a failed run loses
+# nothing already written, and the successful paths write what they promise.
 #
 # Usage: tests/cli_errors.sh BRUME_BINARY SCRATCH_DIR
 # Registered with ctest as cli.errors (tests/CMakeLists.txt). Needs only bash, coreutils and grep.
@@ -142,6 +142,18 @@ expect_error scene.missing_file "$work/no-such-scene.toml" && ok scene.missing_f
 # --- 4. An unknown device is named and the available ones listed. ------------------------------------------
 run render "$data/small.toml" --device no-such-device -o never.exr
 expect_error device.unknown "no-such-device" "available" "llvmpipe" && ok device.unknown
+# Integers in options never wrap: 4294967328 is not 32, 2^32 is not frame 0.
+run render "$data/small.toml" --size 4294967328x24 -o never.exr
+expect_error size.wrap "4294967328x24" "16384" && ok size.wrap
+run play crossing --frames 4294967296-4294967297 -o frames_wrap
+expect_error frames.wrap "4294967296-4294967297" "outside" && ok frames.wrap
+run play crossing --frames 99999999999999999999 -o frames_huge
+expect_error frames.huge "99999999999999999999" "not A-B or N" && ok frames.huge
+# The format follows the option, and a name that says otherwise is refused before any work.
+run render "$data/small.toml" -o out.png
+expect_error format.exr_as_png "-o out.png" "OpenEXR" ".exr" && [ ! -e out.png ] && ok format.exr_as_png
+run render "$data/small.toml" --png out.exr
+expect_error format.png_as_exr "--png out.exr" "PNG" ".png" && [ ! -e out.exr ] && ok format.png_as_exr
 # The default the README and --help name: Mesa's driver calls itself llvmpipe, users type lavapipe.
 run render "$data/small.toml" --device lavapipe -o lavapipe.exr
 expect_success device.lavapipe && [ -s lavapipe.exr ] && ok device.lavapipe

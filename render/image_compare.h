@@ -31,9 +31,10 @@ std::string describe(const ImageDiff& diff);
 
 namespace brume {
 
-// GUIDE section 3's popping metric for one frame step: mean over pixels and channels of
-// |(I_t - I_{t-1}) - (R_t - R_{t-1})|, divided by the reference frame's peak. An exact method scores
-// the reference's own noise floor (about 0); a sorted method spikes where two particles swap order.
+// The popping metric `brume bench` charts (README.md, "Methods compared") for one frame step: mean
+// over pixels and channels of |(I_t - I_{t-1}) - (R_t - R_{t-1})|, divided by the reference frame's
+// peak. An exact method scores the reference's own noise floor (about 0); a sorted method spikes
+// where two particles swap order.
 double temporal_error(const Image& method_now, const Image& method_prev, const Image& ref_now, const Image& ref_prev);
 
 }  // namespace brume

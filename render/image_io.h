@@ -1,6 +1,7 @@
-// Image files (GUIDE section 2): linear float EXR for compositing and tests, exposed sRGB PNG for people.
-// Every write goes to a temporary file beside the target and is renamed over it only once complete, so an
-// interrupted or failed write never leaves a partial file and never damages an existing one.
+// Image files (README.md, "Tour", outputs): linear float EXR for compositing and tests, exposed sRGB
+// PNG for people. Every write goes to a temporary file beside the target and is renamed over it only
+// once complete, so an interrupted or failed write never leaves a partial file and never damages an
+// existing one.
 #pragma once
 
 #include "render/image.h"

@@ -1,4 +1,4 @@
-// The CPU reference renderer. The light model is GUIDE section 1, computed in double precision:
+// The CPU reference renderer: the light model of docs/methods.md, computed in double precision:
 // exact chords, running sums of extinction and scattering, -expm1 for the segment opacity.
 //
 // Speed comes from binning spheres into 16x16 screen tiles by angular cones seen from the eye. The bins are

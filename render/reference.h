@@ -1,5 +1,5 @@
 // The CPU reference renderer (`--method reference`): the ground truth every GPU method is measured against.
-// Double precision, analytic ray/sphere and ray/box intersection, the exact light model of GUIDE section 1.
+// Double precision, analytic ray/sphere and ray/box intersection, the exact light model (docs/methods.md).
 #pragma once
 
 #include "render/image.h"

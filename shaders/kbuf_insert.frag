@@ -1,5 +1,5 @@
 #version 460
-// kbuf, passes 1 and 2 (render/methods/kbuffer.h): one shader for both, so that both compute
+// kbuf, passes 1 and 2 (docs/methods.md, kbuf): one shader for both, so that both compute
 // bit-identical keys for the same fragment.
 //   PASS 0: push the fragment's key into the pixel's K sorted slots with an atomicMin chain.
 //   PASS 1: claim the slot holding this fragment's key (sphere id by atomicCompSwap, then the exit

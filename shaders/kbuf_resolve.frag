@@ -1,7 +1,7 @@
 #version 460
 // kbuf, pass 3: composite the pixel's slots front to back with "over" (they are sorted by key), stop
 // like the reference once transmittance falls below the scene's threshold, then the tail as one
-// layer behind them, then the opaque radiance (render/methods/kbuffer.h).
+// layer behind them, then the opaque radiance (docs/methods.md, kbuf).
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
 #include "medium.glsl"

@@ -1,4 +1,4 @@
-// The light model of GUIDE section 1 in float: Rayleigh source term and a cancellation-free
+// The light model (docs/methods.md) in float: Rayleigh source term and a cancellation-free
 // segment integral.
 #ifndef BRUME_MEDIUM_GLSL
 #define BRUME_MEDIUM_GLSL

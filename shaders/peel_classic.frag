@@ -1,5 +1,6 @@
 #version 460
-// peel (classic front-to-back depth peeling, Everitt 2001; seed 001 section 3.2), peel pass p.
+// peel (classic front-to-back depth peeling, Everitt 2001; Maule, "Survey on Order Independent
+// Transparency Techniques", section 3.2), peel pass p.
 //
 // Each pixel's spheres are ordered by the key (d, sphere) with d = t0 * 2^-k: the clipped entry
 // distance of sphere_sample.glsl scaled by a power of two into [0, 1/2] (exact: a power-of-two

@@ -1,5 +1,6 @@
 #version 460
-// peel dual (dual depth peeling, Bavoil & Myers 2008; seed 001 section 3.2), peel pass p.
+// peel dual (dual depth peeling, Bavoil & Myers 2008; Maule, "Survey on Order Independent
+// Transparency Techniques", section 3.2), peel pass p.
 //
 // Keys are (t0, sphere) as in classic peeling (t0: sphere_sample.glsl's clipped entry distance);
 // the front peels them in increasing order, the back in decreasing order. Every output is MAX-

@@ -2,7 +2,7 @@
 // peel dual, last: the front layers, then the tail (layers no pass reached), then the back layers,
 // then what lies behind. The tail is everything the tail pass summed minus what the composites peeled,
 // composited as one homogeneous slab: optical depth X = sum of x, colour the x-weighted mean of its
-// layers' colours (the extinction-weighted albedo of GUIDE section 1), so it adds
+// layers' colours (the extinction-weighted albedo of docs/methods.md's light model), so it adds
 // mean * (1 - exp(-X)) and passes exp(-X) of what lies behind. Its transmittance is exact; its
 // colour is exact when the tail's layers share one colour. (Subtracting costs at most float
 // rounding of the peeled sums, damped by the transmittance in front of them.)

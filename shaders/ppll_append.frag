@@ -2,7 +2,7 @@
 // ppll, pass 1: the exact entry and exit of the pixel ray through this fragment's sphere, clipped to
 // the eye (media containing the eye start at 0) and to the opaque surface, appended to the pixel's
 // list as one node. One atomicAdd per subgroup instead of per fragment: the global counter is the
-// hot spot of list building (GUIDE section 6).
+// hot spot of list building (docs/performance.md, "Append").
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #include "bindings.glsl"

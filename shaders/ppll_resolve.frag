@@ -1,6 +1,6 @@
 #version 460
 // ppll, pass 2: sort each pixel's events and integrate the intersecting homogeneous media exactly
-// (GUIDE section 1), front to back from the eye.
+// (the light model of docs/methods.md), front to back from the eye.
 //
 // Events are keyed by (distance, sphere * 2 + is_exit): unique per pixel, so the order is fixed
 // whatever order the fragments were appended in. The events are consumed in batches of WINDOW:

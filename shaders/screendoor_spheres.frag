@@ -3,12 +3,13 @@
 // sub-sample when its alpha (sphere_sample.glsl: the chord clipped by the eye and the opaque surface)
 // exceeds its mask's threshold here, and depth tested by its entry distance, nearest wins.
 //
-// The mask is fixed to the particle (object space, seed 002): a random binary texture on the
-// particle's camera-facing plane through its centre, with texels one sub-sample footprint wide at the
-// particle's distance (the scale rule of the paper's section 4.2.1), so the sub-sample rays cross
-// about one texel each. Texel thresholds are hashed from (particle index, texel): the pattern moves
-// with the particle, and different particles' masks are independent, so two layers of alpha 0.5
-// cover 0.75 of a pixel on average, not 0.5 or 1 as one shared screen-space mask would.
+// The mask is fixed to the particle (object space, as in Sen, Chemudugunta & Gopi, "Silhouette-Opaque
+// Transparency Rendering"): a random binary texture on the particle's camera-facing plane through its
+// centre, with texels one sub-sample footprint wide at the particle's distance (the scale rule of the
+// paper's section 4.2.1), so the sub-sample rays cross about one texel each. Texel thresholds are
+// hashed from (particle index, texel): the pattern moves with the particle, and different particles'
+// masks are independent, so two layers of alpha 0.5 cover 0.75 of a pixel on average, not 0.5 or 1 as
+// one shared screen-space mask would.
 // A sphere reaching the eye plane has no such plane in front of the eye; it hashes its screen
 // sub-sample instead.
 #extension GL_GOOGLE_include_directive : require

@@ -46,7 +46,7 @@ BRUME_CONST BINDING_SORT_ORDER = 7;      // buffer uint[]: draw i shows sphere o
 // wsum, wavg, wboit
 BRUME_CONST BINDING_WEIGHT_PARAMS = 7;   // buffer WeightParams
 BRUME_CONST BINDING_WEIGHT_ACCUM = 11;   // rgba32f: sum(w alpha c), sum(w alpha)
-BRUME_CONST BINDING_WEIGHT_EXTRA = 12;   // r32f: the mode's second sum (product of (1 - alpha), or count)
+BRUME_CONST BINDING_WEIGHT_EXTRA = 12;   // r32f: the mode's second sum (optical depth sum(tau * chord), or wavg's count)
 // kbuf
 BRUME_CONST BINDING_KBUF_KEYS = 7;       // buffer uint[pixel * k + slot]: entry keys, 0xffffffff empty
 BRUME_CONST BINDING_KBUF_IDS = 8;        // buffer uint[]: sphere per slot

@@ -2,7 +2,7 @@
 // sees it: the exact chord, clipped to the eye and to the opaque surface, turned into an alpha
 // alpha = 1 - exp(-tau * chord) and a colour albedo * L_s. Methods that cannot express overlapping
 // media (sorted, weighted, k-buffer, stochastic, screen-door) all use this, so the comparison is
-// about ordering and blending, not about a different light model (issue 4).
+// about ordering and blending, not about a different light model (docs/methods.md).
 // Needs bindings.glsl, rays.glsl and medium.glsl; the impostor varyings come from sphere_impostor.vert.
 #ifndef BRUME_SPHERE_SAMPLE_GLSL
 #define BRUME_SPHERE_SAMPLE_GLSL

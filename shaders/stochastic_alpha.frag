@@ -1,7 +1,8 @@
 #version 460
-// stochastic, total-alpha pass (the seed's alpha correction, eq. 6.1): per pixel sum(alpha c) and
-// sum(alpha) (target 0) and the optical depth sum(tau * chord) (target 1), so that
-// alpha_total = 1 - prod(1 - alpha_i) = 1 - exp(-sum) without rounding thin spheres away.
+// stochastic, total-alpha pass (the alpha correction, eq. 6.1 of Maule, "Survey on Order
+// Independent Transparency Techniques"): per pixel sum(alpha c) and sum(alpha) (target 0) and the
+// optical depth sum(tau * chord) (target 1), so that alpha_total = 1 - prod(1 - alpha_i) =
+// 1 - exp(-sum) without rounding thin spheres away.
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
 #include "rays.glsl"

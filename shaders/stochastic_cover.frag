@@ -1,6 +1,6 @@
 #version 460
 // stochastic, coverage pass: the sphere covers each of this pass's samples with probability alpha
-// (stratified over all S samples of the pixel, see render/methods/stochastic.h) and writes its colour
+// (stratified over all S samples of the pixel, see docs/methods.md, stochastic) and writes its colour
 // there; the depth test keeps the nearest covering sphere per sample. With DEPTH_ONLY (the ",depth"
 // variant) it writes the sphere's entry distance t0 instead, into an R32F layer.
 #extension GL_GOOGLE_include_directive : require

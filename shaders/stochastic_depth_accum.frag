@@ -1,8 +1,9 @@
 #version 460
-// stochastic ",depth" variant (Enderton et al. 2010, depth-based stochastic transparency; seed 001
-// section 6.1 steps 4-5), accumulation pass over every sphere fragment: its visibility is the
-// fraction of the pixel's S stochastic depth samples (layer k: the nearest covering sphere's entry
-// distance, or a huge value where none covered) that are NOT in front of it,
+// stochastic ",depth" variant (Enderton et al. 2010, depth-based stochastic transparency; Maule,
+// "Survey on Order Independent Transparency Techniques", section 6.1, steps 4-5), accumulation pass
+// over every sphere fragment: its visibility is the fraction of the pixel's S stochastic depth
+// samples (layer k: the nearest covering sphere's entry distance, or a huge value where none
+// covered) that are NOT in front of it,
 //   vis = count(z_k >= t0) / S,
 // equality (within a relative 1e-5, since this pass recomputes t0) counting as not in front, so a
 // fragment never occludes itself. Target 0 accumulates (alpha vis c, alpha vis), target 1 the

@@ -1,6 +1,6 @@
 #version 460
 // stochastic, resolve: average the S samples (the layers hold each pass's average) and composite
-// over the opaque radiance, plainly or with the alpha correction (render/methods/stochastic.h).
+// over the opaque radiance, plainly or with the alpha correction (docs/methods.md, stochastic).
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
 #include "medium.glsl"

@@ -1,7 +1,7 @@
 #version 460
 // wsum / wavg / wboit, pass 1: every sphere fragment adds its premultiplied colour to the
 // accumulation targets (additive blending: the sums cannot depend on draw order). See
-// render/methods/weighted.h for the equations.
+// docs/methods.md (wsum, wavg, wboit) for the equations.
 //   target 0 (rgba32f): wsum, wavg: (alpha c, alpha);  wboit: w * (alpha c, alpha)
 //   target 1 (r32f):    wavg: 1 (the fragment count N);  wsum, wboit: optical depth tau * chord
 #extension GL_GOOGLE_include_directive : require

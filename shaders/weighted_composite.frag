@@ -1,6 +1,6 @@
 #version 460
 // wsum / wavg / wboit, pass 2: composite the accumulated layer over the opaque radiance C_bg
-// (equations in render/methods/weighted.h).
+// (equations in docs/methods.md, wsum, wavg, wboit).
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
 #include "medium.glsl"

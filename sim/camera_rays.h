@@ -1,5 +1,5 @@
 // The one definition of the pixel-centre ray, shared by the CPU reference and the GPU uniforms,
-// so both sample exactly the same rays (GUIDE section 2).
+// so both sample exactly the same rays (docs/accuracy.md).
 #pragma once
 
 #include "sim/scene.h"

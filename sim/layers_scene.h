@@ -1,4 +1,4 @@
-// The "layers" benchmark scene of seed 000 (Tables 1-2): every pixel sees exactly `layers` sphere
+// The "layers" benchmark scene of Barta & Kovács' Tables 1-2: every pixel sees exactly `layers` sphere
 // surfaces, from layers/2 large concentric-ish spheres that each enclose the whole view frustum
 // ahead of the eye (the eye outside them), so both the entry and the exit surface cover the screen.
 #pragma once

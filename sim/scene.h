@@ -1,4 +1,4 @@
-// The scene contract (GUIDE section 2): what every renderer and method reads.
+// The scene contract (docs/methods.md): what every renderer and method reads.
 // Plain data in double precision; the GPU path converts to float when it uploads.
 #pragma once
 
@@ -53,7 +53,7 @@ struct VolumeTransform {
 
 // Where a density grid comes from: a .vdb file (relative paths against base_dir, the directory of the
 // file that names it; empty: the working directory) or "builtin:NAME", a sample volume Brume makes with
-// OpenVDB's own API (sim/vdb/sample_volumes.h).
+// OpenVDB's own API (sim/vdb/vdb_file.h, sample_volumes).
 struct DensitySource {
     std::string file;
     std::string base_dir;
@@ -78,7 +78,7 @@ struct VdbVolume {
 };
 
 struct RenderSettings {
-    // Integration stops once transmittance falls below this (GUIDE section 1); 0 integrates everything.
+    // Integration stops once transmittance falls below this (docs/decisions.md); 0 integrates everything.
     double min_transmittance = 1e-4;
 };
 

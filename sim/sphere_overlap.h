@@ -1,6 +1,6 @@
 // Whether any two spheres of a scene share volume. When none do, sorting spheres by power
 // distance |c - eye|^2 - r^2 gives their exact visibility order along every ray from the eye, so a
-// sort replaces per-pixel lists (the `auto` method's test, issue 4).
+// sort replaces per-pixel lists (the `auto` method's test, docs/decisions.md).
 #pragma once
 
 #include "sim/scene.h"

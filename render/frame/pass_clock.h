@@ -14,7 +14,7 @@ namespace brume {
 
 class PassClock {
 public:
-    // More passes than any method records in a frame (peel:dual:64 records 70).
+    // More passes than any method records in a frame (peel:dual:64 records 68).
     static constexpr std::uint32_t kMaxPasses = 255;
 
     explicit PassClock(const vk::Device& device);

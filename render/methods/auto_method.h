@@ -1,8 +1,8 @@
-// `auto` (issue 4): model no more than the frame needs. When no two spheres on screen share volume,
+// `auto`: model no more than the frame needs. When no two spheres on screen share volume,
 // compositing whole spheres back to front in power-distance order (|c - eye|^2 - r^2) is exact, with
 // each sphere's chord clipped by the eye and the opaque surface, and needs no per-pixel lists; only
 // frames with intersecting spheres pay for ppll. The choice is made per frame on the CPU
-// (sim/sphere_overlap.h, O(n log n)).
+// (sim/sphere_overlap.h, O(n log n); why: docs/decisions.md, "`auto` decides per frame on the CPU").
 //
 // One difference remains: the compositor integrates every sphere, while ppll and the reference stop
 // once transmittance falls below the scene's min_transmittance. What lies behind such a point

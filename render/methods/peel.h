@@ -1,45 +1,14 @@
-// The `peel` method (seed 001 section 3.2, GUIDE section 3): depth peeling of the sphere impostors.
-// Each sphere is one homogeneous layer (sphere_sample.glsl: alpha = 1 - exp(-tau * clipped chord),
-// colour albedo * L_s), composited front to back ("under"): L += T * alpha * colour, T *= exp(-x).
-// That is exact where the spheres' chords do not overlap; where media intersect, peel composites
-// whole spheres in order of entry distance instead of mixing them (not the reference).
-//
-// Keys: per pixel each sphere has the key (t0, sphere index), t0 its clipped entry distance,
-// compared as exact floats, the index breaking ties, so coincident spheres and spheres containing
-// the eye (t0 = 0) peel one by one, lowest index first.
-//
-// "peel:N" (default 8, 1..64), classic front-to-back peeling (Everitt 2001): peel pass p keeps the
-// fragments whose key is greater than the key pass p-1 peeled and lets the depth test (LESS on
-// t0 * 2^-k, exact) pick the smallest; equal depths keep the first drawn, the lowest index. A
-// fullscreen composite shades that sphere and puts it under the result so far.
-//
-// "peel:dual:N" (1..64), dual depth peeling (Bavoil & Myers 2008): a first pass finds each pixel's
-// nearest and farthest t0; each of the N passes after it peels the smallest remaining key at the
-// front and the largest at the back (MAX blending only: the device does not enable independent
-// blend states), and its composite puts the front layer under the front result and the back layer
-// in front of the back result. Up to 2N layers in N + 1 geometry passes.
-//
-// Layers beyond the passes are approximated, not dropped: a tail pass sums every sphere's optical
-// depth x and x * colour per pixel; minus what was peeled, that is the tail, composited as one
-// homogeneous slab (between the front and the back layers for dual) with optical depth X = sum x
-// (so its transmittance exp(-X) is exact) and the x-weighted mean colour (the extinction-weighted
-// albedo of GUIDE section 1). Per channel the error against the layer-by-layer result is at most
-// T_front * (1 - exp(-X)) * (max - min of the tail layers' colours), T_front the transmittance in
-// front of the tail: zero when the tail's layers share one colour. PeelOptions::tail = false drops
-// the tail instead.
-//
-// Early stop: each composite counts the pixels that may hold more layers and, when there are any,
-// switches on the next geometry pass (or the tail) in its indirect draw arguments, so passes beyond
-// the scene's depth draw nothing; the CPU reads the counts back after every few passes and stops
-// recording. The scene's min_transmittance ends a pixel as the reference does (nothing behind is
-// added) when the transmittance falls below it after a peeled layer (dual: a front layer). Within
-// the tail and dual's back layers it is not applied: what they add beyond that point is less than
-// min_transmittance times the radiance there.
-//
-// FrameStats: `passes` holds "clear+opaque", one entry per peel pass that drew spheres ("peel[p]";
-// dual: "window", "dual[p]", each with its composite), "passes switched off" (recorded passes the
-// GPU skipped: their attachment clears), "tail", "resolve"; `memory_bytes` the method's images and
-// buffers. The list fields stay 0. last_frame() says how many passes were drawn.
+// The `peel` method: depth peeling of the sphere impostors (Maule, "Survey on Order Independent
+// Transparency Techniques", section 3.2). Each sphere is one layer (sphere_sample.glsl), peeled in
+// order of its clipped entry distance (ties: lowest sphere index first) and composited front to back.
+// Exact where the spheres' chords do not overlap and the passes reach every layer; intersecting
+// media are composited as whole spheres (not the reference).
+// Settings: "peel:N" (1..64, default 8), classic peeling (Everitt 2001), one layer per pass;
+// "peel:dual:N" (1..64), dual depth peeling (Bavoil & Myers 2008), a front and a back layer per pass,
+// up to 2N layers in N + 1 geometry passes. Layers beyond the passes are composited as one slab of
+// exact transmittance (PeelOptions::tail = false drops them). Passes beyond the scene's depth are
+// switched off on the GPU, and the CPU stops recording once the counts it reads back say so.
+// Keys, the tail's error bound, the early stop and the FrameStats pass names: docs/methods.md, peel.
 #pragma once
 
 #include "render/frame/gpu_method.h"
@@ -108,8 +77,8 @@ private:
     vk::UniquePipeline tail_pipeline_;
     vk::UniquePipeline composite_pipeline_;
     vk::UniquePipeline resolve_pipeline_;
-    // Bound to BINDING_AUX_IMAGE0 + i. classic: keys0, keys1 (ping-pong), tail;
-    // dual: state, window, tail, ids.
+    // classic: keys0, keys1 (ping-pong), tail; dual: state, window, tail, ids. Each is bound to
+    // its BINDING_PEEL_* (shaders/shared.h).
     std::vector<vk::DeviceImage> images_;
     vk::DeviceImage depth_;  // classic only
     vk::Buffer accum_;

@@ -1,6 +1,8 @@
-// The `ppll` method (seed 000, GUIDE sections 1-2): per-pixel linked lists of sphere intervals built
-// by an impostor pass, then sorted and integrated exactly per pixel. The node pool is sized from the
-// scene, checked after every frame, and grown (frame rendered again) on overflow up to a budget.
+// The `ppll` method (Barta & Kovács, "Order Independent Transparency with Per-Pixel Linked Lists"):
+// per-pixel linked lists of sphere intervals built by an impostor pass, then sorted and integrated
+// exactly per pixel (the light model of docs/methods.md; what "exact" means: docs/accuracy.md). The
+// node pool is sized from the scene, checked after every frame, and grown (frame rendered again) on
+// overflow up to a budget.
 #pragma once
 
 #include "render/frame/gpu_method.h"

@@ -1,23 +1,12 @@
-// The `screendoor` method (seed 002: object-space screen-door transparency with supersampling).
-//
-// Every sphere is drawn as opaque geometry into a colour + depth target S times wider and taller than
-// the image, nearest entry distance wins. At each sub-sample the sphere's fragment is kept or
-// discarded by comparing its alpha (shaders/sphere_sample.glsl: 1 - exp(-tau * chord), the chord
-// clipped by the eye and the opaque surface) with a threshold from a random mask fixed to the
-// particle: the mask lies on the particle's camera-facing plane through its centre, one texel per
-// sub-sample footprint at the particle's distance (the scale rule of the paper's section 4.2.1), and
-// its texels are hashed from (particle index, texel), so the pattern moves with the particle and two
-// particles' masks are independent. A kept fragment shows albedo * L_s at full coverage. A box filter
-// then averages each S x S block into the HDR target; sub-samples no sphere kept show the opaque
-// radiance of their pixel (the opaque pass runs at the image's resolution, so boxes, and the clipping
-// of spheres by boxes, are sampled at the pixel centre exactly as the reference samples them).
-//
-// The expected kept fraction of a sub-sample is alpha, so the image converges, as S grows, to
-// "nearest-entry over" compositing of whole spheres, anti-aliased by the box filter: exact (up to
-// anti-aliasing at silhouettes) where spheres do not intersect, noisy with a standard deviation of
-// about sqrt(alpha (1 - alpha)) / S per layer, and wrong where spheres intersect (the nearer entry
-// hides the other sphere's part inside it with probability alpha, whatever the overlap). S = 1 samples
-// the reference's pixel-centre rays; an opaque sphere (alpha = 1) is then exact.
+// The `screendoor` method: object-space screen-door transparency with supersampling (Sen,
+// Chemudugunta & Gopi, "Silhouette-Opaque Transparency Rendering"). Spheres are drawn as opaque
+// geometry into a target S x S times the image's size, each sub-sample kept where the sphere's alpha
+// (sphere_sample.glsl) exceeds a random mask fixed to the particle, nearest entry winning; a box
+// filter averages each S x S block.
+// It converges, as S grows, to "over" compositing of whole spheres in order of entry distance
+// (wrong where spheres intersect); S = 1 samples the reference's rays, and an opaque sphere is then
+// exact. Setting: S, 1..8, default 4. The mask, the noise and the convergence: docs/methods.md,
+// screendoor.
 #pragma once
 
 #include "render/image.h"

@@ -1,17 +1,12 @@
-// The `sorted` method (seed 003, the painter's algorithm users have today) and the machinery it shares
-// with `soft`: spheres sorted back to front by the view depth of their centres, on the CPU, with an
-// insertion sort that starts from last frame's order, then composited with premultiplied "over"
-// blending into the HDR target, which is first filled with the opaque image's radiance.
-//
-// `sorted` draws one classic camera-facing planar billboard per sphere: the plane through the centre,
-// perpendicular to the view direction. Its alpha at a pixel is 1 - exp(-tau * chord), with the whole
-// chord of the sphere along that pixel ray (a sphere sprite's "thickness texture", computed exactly),
-// and its colour albedo * L_s. Being a plane, it is depth tested against the opaque surface where the
-// plane lies (a hard cut where the plane crosses geometry, whatever the sphere's extent), and it is
-// dropped whole when the plane lies behind the eye. The chord is not clipped by the eye or the
-// opaque surface. Exact where spheres are wholly in front of the opaque surface and of the eye and
-// their depth ranges do not overlap; wrong for intersecting spheres, and it pops: the image jumps
-// whenever two particles' centre depths cross and their order flips.
+// The `sorted` method (the painter's algorithm users have today, as in the WebGL lesson "11.4
+// Transparency (and Alpha Blending)") and the machinery it shares with `soft`: spheres sorted back to
+// front by the view depth of their centres, on the CPU, with an insertion sort that starts from last
+// frame's order, then composited with premultiplied "over" blending into the HDR target, which is
+// first filled with the opaque image's radiance.
+// `sorted` draws one classic camera-facing planar billboard per sphere, with the sphere's whole
+// chord and a hard depth cut where the plane meets geometry. Exact only where spheres lie wholly in
+// front of the eye and the opaque surface with disjoint depth ranges; it pops whenever two
+// particles' centre depths cross. The billboard in detail: docs/methods.md, sorted.
 #pragma once
 
 #include "render/frame/gpu_method.h"

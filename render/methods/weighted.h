@@ -1,31 +1,13 @@
-// The unsorted blending methods of seed 001 section 5 and McGuire & Bavoil 2013: one geometry pass of
-// sphere impostors into accumulation targets (additive blending only, so the result cannot depend on
-// draw order), then one full-screen pass that composites the accumulated layer over the opaque
-// radiance. Each sphere is one fragment per pixel with sphere_sample.glsl's alpha_i and colour c_i;
-// C_bg is the opaque pass's radiance behind the pixel.
-//
-//   wsum  (Meshkin 2007, seed eq. 5.1):  C = sum(alpha_i c_i) + C_bg (1 - sum alpha_i)
-//   wavg  (Bavoil & Myers 2008, eqs. 5.2-5.4), with N the pixel's fragment count:
-//         C_avg = sum(alpha_i c_i) / sum(alpha_i),  alpha_avg = sum(alpha_i) / N,
-//         C = C_avg (1 - (1 - alpha_avg)^N) + C_bg (1 - alpha_avg)^N
-//   wboit (McGuire & Bavoil 2013, their eq. 9 weight):
-//         w_i = alpha_i * clamp(0.03 / (1e-5 + (z_i / D)^4), 1e-2, 3e3),
-//         C = [sum(w_i alpha_i c_i) / sum(w_i alpha_i)] (1 - R) + C_bg R,  R = prod(1 - alpha_i)
-//
-// Choices made here:
-// - z_i is the distance along the pixel ray to the sphere's clipped entry point.
-// - D adapts the paper's z/200 (scenes of 0.1-500 units) to Brume's scene units: D = z_max / 1.32,
-//   with z_max the farthest point of any sphere from the eye, so the back of the scene lands where the
-//   paper's weight reaches its lower clamp (z = 264 there) and w ~ z^-4 spans the whole scene. Scaling D
-//   scales every unclamped weight alike, which the normalisation cancels.
-// - R is accumulated as the optical depth sum(tau_i * chord_i) (additive) and taken as exp(-sum): the
-//   same product, but exact for thin spheres, where 1 - alpha rounds to 1 in float.
-// - (1 - alpha_avg)^N is evaluated as exp(N log(1 - alpha_avg)) with a series for small alpha_avg.
-// - wsum keeps the seed's equation unclamped: where sum(alpha_i) > 1 the background weight is
-//   negative. That is the method's failure mode, not hidden.
-// - The scene's min_transmittance cut-off plays no part (none of the equations has a transmittance
-//   per layer).
-// All three equal the exact answer alpha c + (1 - alpha) C_bg for a pixel covered by one sphere.
+// `wsum`, `wavg`, `wboit`: the unsorted blending methods (Maule, "Survey on Order Independent
+// Transparency Techniques", section 5; McGuire & Bavoil 2013). One geometry pass of sphere impostors
+// into accumulation targets (additive blending only, so the result cannot depend on draw order),
+// then one full-screen pass that composites the accumulated layer over the opaque radiance:
+//   wsum  weighted sum (Meshkin 2007), unclamped: it overshoots where the alphas add past 1;
+//   wavg  weighted average (Bavoil & Myers 2008);
+//   wboit weighted blended OIT, McGuire & Bavoil's eq. 9 depth weight with z in units of
+//         D = z_max / 1.32 (weight_depth_scale).
+// All three are exact for a pixel covered by one sphere. None takes a setting. The equations and
+// the choices made here: docs/methods.md, wsum, wavg, wboit.
 #pragma once
 
 #include "render/image.h"

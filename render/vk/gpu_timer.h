@@ -1,5 +1,5 @@
 // GPU timestamps between passes. Stamps are written at bottom-of-pipe: lavapipe's top-of-pipe
-// stamps do not wait for earlier work and read wrong (GUIDE section 6).
+// stamps do not wait for earlier work and read wrong (docs/performance.md's figures are taken so).
 #pragma once
 
 #include "render/vk/device.h"

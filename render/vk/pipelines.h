@@ -45,8 +45,8 @@ VkPipelineColorBlendAttachmentState blend_premultiplied_over();
 VkPipelineColorBlendAttachmentState blend_additive();
 // dst = max(src, dst) per channel: per-pixel maxima (dual depth peeling's depth range).
 VkPipelineColorBlendAttachmentState blend_max();
-// dst = dst * (1 - src) per channel, alpha likewise with src alpha: products of transmittances
-// (revealage in weighted blended OIT).
+// dst = dst * (1 - src) per channel, alpha likewise with src alpha: products of transmittances.
+// (No pass uses it now: wboit accumulates the optical depth instead, docs/methods.md.)
 VkPipelineColorBlendAttachmentState blend_multiply_one_minus_src();
 
 UniqueShaderModule create_shader_module(const Device& device, Spirv spirv, const std::string& name);

@@ -1,7 +1,8 @@
-// Spheres back to a density grid (issue 5, `brume vdb-export`): the inverse of sphere_cloud.h, so a
-// simulated frame opens in other VFX tools. Each voxel holds the spheres' extinction averaged over the
-// voxel's cube, divided by extinction_scale, so the grid's trilinear field (density_grid.h) carries the
-// spheres' extinction mass, sum of extinction * 4/3 pi r^3, to rounding (about 1e-9 relative).
+// Spheres back to a density grid (`brume vdb-export`; docs/vdb.md, "Export"): the inverse of
+// sphere_cloud.h, so a simulated frame opens in other VFX tools. Each voxel holds the spheres'
+// extinction averaged over the voxel's cube, divided by extinction_scale, so the grid's trilinear field
+// (density_grid.h) carries the spheres' extinction mass, sum of extinction * 4/3 pi r^3, to rounding
+// (about 1e-9 relative).
 //
 // How. A sphere's share of a voxel is integrated exactly along x (the chord of each column) and by
 // midpoint subsamples across y and z (4 x 4 per voxel face, more for spheres of a voxel or two), so voxels

@@ -1,4 +1,4 @@
-// A density grid as a cloud of spheres (issue 5), the fewest that meet a stated error.
+// A density grid as a cloud of spheres (docs/vdb.md), the fewest that meet a stated error.
 //
 // Cells. An adaptive octree over the grid's voxels: a cell whose densities spread (max - min) by at most a
 // threshold becomes one sphere, so uniform regions cost one sphere, not one per voxel. A sphere keeps its

@@ -128,9 +128,15 @@ int run_render(const RenderArgs& args) {
     std::unique_ptr<Method> method = make_method(device.get(), args.method, options);
     // Timed GPU frames follow one untimed frame: lavapipe compiles shaders and the first frame
     // touches fresh memory, which would otherwise dominate a short run's figures.
-    if (on_gpu && (!args.stats.empty() || args.repeat > 1)) method->render(scene, nullptr);
+    // The pool grows on the first frame that needs it, usually the untimed one: its regrows count.
+    int regrows = 0;
+    if (on_gpu && (!args.stats.empty() || args.repeat > 1)) {
+        method->render(scene, &last);
+        regrows += last.regrows;
+    }
     for (int f = 0; f < args.repeat; ++f) {
         image = method->render(scene, &last);
+        regrows += last.regrows;
         if (timing.pass_names.empty()) {
             for (const PassTime& p : last.passes) timing.pass_names.push_back(p.name);
             timing.pass_ms.resize(last.passes.size());
@@ -147,6 +153,7 @@ int run_render(const RenderArgs& args) {
 
     if (!exr.empty()) write_exr(image, exr);
     if (!png.empty()) write_png(image, png, args.exposure);
+    last.regrows = regrows;  // over every frame this run rendered
     if (!args.stats.empty())
         write_file_atomically(args.stats, stats_json(args, scene, device_name, timing, last, on_gpu));
 

@@ -266,6 +266,17 @@ else
     ok render.stats_keys
 fi
 
+# A pool that must grow says so in the statistics, although the untimed first frame does the growing.
+run render "$data/many_spheres.toml" --pool-nodes 1 -o "$ok_dir/grow.exr" --stats "$ok_dir/grow.json"
+if expect_success render.regrows_reported; then
+    if grep -Eq '"regrows": [1-9]' "$ok_dir/grow.json"; then
+        ok render.regrows_reported
+    else
+        fail render.regrows_reported "a 1-node first pool reported $(grep -o '"regrows": [0-9]*' "$ok_dir/grow.json")"
+    fi
+fi
+rm -f "$ok_dir/grow.exr" "$ok_dir/grow.json"
+
 run render "$data/small.toml" --method reference -o "$ok_dir/ref.exr"
 if expect_success render.reference_exr; then
     if has_magic "$ok_dir/ref.exr" $EXR_MAGIC; then

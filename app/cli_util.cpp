@@ -1,5 +1,6 @@
 #include "app/cli_util.h"
 
+#include "render/image.h"
 #include "sim/vdb/volume_loader.h"
 
 #include <algorithm>
@@ -53,6 +54,17 @@ void check_output_format(const std::string& option, const std::string& path, con
     throw std::invalid_argument(option + " " + path + ": " + option + " writes " + format + ", but the name ends in " +
                                 ext + "; name it " + extension +
                                 (extension == ".exr" ? " (--png writes PNG)" : " (-o writes OpenEXR)"));
+}
+
+void refuse_non_finite(const Image& image, const std::string& what) {
+    std::size_t bad = 0, first = 0;
+    for (std::size_t i = 0; i < image.rgb.size(); ++i)
+        if (!std::isfinite(image.rgb[i]) && bad++ == 0) first = i / 3;
+    if (bad == 0) return;
+    const std::size_t w = std::size_t(std::max(image.width, 1));
+    throw std::runtime_error(what + " has " + std::to_string(bad) + " non-finite (NaN or infinite) values, the first at pixel (" +
+                             std::to_string(first % w) + ", " + std::to_string(first / w) +
+                             "): the scene's numbers are out of the renderer's range; nothing was written");
 }
 
 void parse_size(const std::string& text, int& width, int& height) {

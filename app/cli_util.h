@@ -12,6 +12,10 @@ namespace brume {
 struct VolumeReport;
 }
 
+namespace brume {
+struct Image;
+}
+
 namespace brume::app {
 
 // "512M", "2G", "1.5GiB", "1000000" -> bytes. Throws std::invalid_argument naming the text.
@@ -25,6 +29,9 @@ std::optional<long long> parse_whole_number(std::string_view text);
 // (`-o out.png` would otherwise be OpenEXR bytes in a .png file). `extension` is ".exr" or ".png";
 // a path without an extension is taken as it is.
 void check_output_format(const std::string& option, const std::string& path, const std::string& extension);
+// A result that may be wrong is never written: throws std::runtime_error naming how many pixels of
+// `what` are NaN or infinite and where the first is.
+void refuse_non_finite(const Image& image, const std::string& what);
 // "2,4,8" or "2-16:2" -> numbers. Throws std::invalid_argument.
 std::vector<int> parse_int_list(const std::string& text);
 

@@ -172,6 +172,7 @@ int run_play(const PlayArgs& args) {
         scene.camera.width = preset.scene.camera.width;
         scene.camera.height = preset.scene.camera.height;
         const Image image = renderer->render(scene, nullptr);
+        refuse_non_finite(image, "frame " + std::to_string(frame));
         if (exr) write_exr(image, frame_path(dir, preset.name, frame, "exr"));
         if (png) write_png(image, frame_path(dir, preset.name, frame, "png"), exposure);
         ++written;

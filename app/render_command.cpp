@@ -151,6 +151,7 @@ int run_render(const RenderArgs& args) {
         return 3;
     }
 
+    refuse_non_finite(image, "the frame");
     if (!exr.empty()) write_exr(image, exr);
     if (!png.empty()) write_png(image, png, args.exposure);
     last.regrows = regrows;  // over every frame this run rendered

@@ -34,7 +34,7 @@ double paper_fps(int width, int layers) {
 void add_bench_command(CLI::App& app, BenchArgs& args) {
     CLI::App* cmd = app.add_subcommand("bench", "Benchmarks that print figures side by side");
     cmd->add_option("which", args.which,
-                    "methods (default: every method on every scene, charted), layers (seed 000 Tables 1-2), "
+                    "methods (default: every method on every scene, charted), layers (Barta & Kovács, Tables 1-2), "
                     "sim (simulation step) or vdb (OpenVDB import: spheres against error)")
         ->check(CLI::IsMember({"methods", "layers", "sim", "vdb"}));
     add_bench_methods_options(*cmd, args);
@@ -90,7 +90,7 @@ int run_bench(const BenchArgs& args) {
     const char* threads = std::getenv("LP_NUM_THREADS");
     std::printf("# brume bench layers: ppll on %s (LP_NUM_THREADS=%s), median of %d frames after 1 warm-up;\n",
                 device.name().c_str(), threads ? threads : "default", args.frames);
-    std::printf("# reference = CPU double-precision renderer, all cores, median of %d; paper = seed 000 Tables 1-2\n",
+    std::printf("# reference = CPU double-precision renderer, all cores, median of %d; paper = Barta & Kovács, Tables 1-2\n",
                 args.reference_frames);
     std::printf("%-9s %6s %9s %9s %9s %9s %8s %8s %11s %10s %9s %9s\n", "size", "layers", "opaque", "particle",
                 "resolve", "total_ms", "fps", "paper", "Mlayers/s", "ref_ms", "ref/ppll", "max_err");

@@ -5,22 +5,31 @@
 #include "render/image_compare.h"
 #include "render/reference.h"
 #include "render/vk/device.h"
+#include "sim/scene.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 
 namespace brume::testing {
+
+// Loads only lavapipe's driver (Mesa's CPU Vulkan driver, the default device): other installed ICDs
+// stay out of the way.
+inline void force_lavapipe() {
+    const char* lavapipe = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
+    setenv("VK_DRIVER_FILES", lavapipe, 1);
+    setenv("VK_ICD_FILENAMES", lavapipe, 1);
+}
 
 class GpuTest : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         if (device_) return;
-        // Only lavapipe's driver is loaded (GUIDE section 5): other installed ICDs stay out of the way.
-        const char* lavapipe = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
-        setenv("VK_DRIVER_FILES", lavapipe, 1);
-        setenv("VK_ICD_FILENAMES", lavapipe, 1);
+        force_lavapipe();
         vk::DeviceOptions options;
         options.device_name = "llvmpipe";
         options.validate = true;
@@ -41,14 +50,35 @@ private:
 // A float32 GPU can place its pixel rays only to about this relative precision (a few ulps of the
 // direction and of the eye); near silhouettes and box edges the exact answer moves by that much.
 inline constexpr double kRayRelError = 1e-6;
-// GUIDE/issue: the exact method matches the reference to 1e-4 of the image's peak.
+// The exact method matches the reference to 1e-4 of the image's peak (docs/accuracy.md).
 inline constexpr double kRelTol = 1e-4;
+
+// The reference image of a scene and its float-conditioning tolerance, computed once for tests that
+// compare several methods with it.
+struct ReferenceImage {
+    explicit ReferenceImage(const Scene& scene)
+        : image(render_reference(scene)), tolerance(reference_tolerance(scene, kRayRelError)) {}
+    Image image;
+    Image tolerance;
+};
+
+inline ImageDiff compare_with_reference(const Image& gpu, const ReferenceImage& ref) {
+    return compare_images(gpu, ref.image, kRelTol, &ref.tolerance);
+}
 
 // Compares with the reference at the float-conditioning tolerance; returns the diff for messages.
 inline ImageDiff compare_with_reference(const Image& gpu, const Scene& scene) {
-    const Image ref = render_reference(scene);
-    const Image tol = reference_tolerance(scene, kRayRelError);
-    return compare_images(gpu, ref, kRelTol, &tol);
+    return compare_with_reference(gpu, ReferenceImage(scene));
+}
+
+// Bit for bit the same image.
+inline bool same_bits(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
+           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+inline bool all_finite(const Image& img) {
+    return std::all_of(img.rgb.begin(), img.rgb.end(), [](float v) { return std::isfinite(v); });
 }
 
 }  // namespace brume::testing

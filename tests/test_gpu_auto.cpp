@@ -1,5 +1,6 @@
 // `auto`: power-distance sorting where no spheres intersect (exact there), ppll where they do.
 #include "gpu_test_env.h"
+#include "test_scenes.h"
 #include "render/methods/auto_method.h"
 #include "render/methods/registry.h"
 #include "sim/sphere_overlap.h"
@@ -11,24 +12,13 @@ namespace {
 
 using testing::compare_with_reference;
 using testing::GpuTest;
-
-Sphere sphere(glm::dvec3 c, double r, double tau, glm::dvec3 albedo) {
-    Sphere s;
-    s.center = c;
-    s.radius = r;
-    s.extinction = tau;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 Scene scene_with(std::vector<Sphere> spheres) {
-    Scene s;
+    Scene s = testing::small_scene(96, 72);  // min_transmittance 0: the compositor integrates everything; see auto_method.h
     s.camera.position = {0, 0, 0};
     s.camera.look_at = {0, 0, -1};
     s.camera.fov_y_deg = 70;
-    s.camera.width = 96;
-    s.camera.height = 72;
-    s.render.min_transmittance = 0.0;  // the compositor integrates everything; see auto_method.h
     s.spheres = std::move(spheres);
     s.boxes.push_back(Box{{-40, -9, -60}, {40, -8, 0}, {0.25, 0.22, 0.2}});
     return s;

@@ -22,31 +22,22 @@ namespace brume {
 namespace {
 
 using testing::GpuTest;
+using testing::same_bits;
 using testing::small_scene;
 using testing::sphere;
 
-Scene overlapping_scene() {
-    Scene s = small_scene(48, 36);
-    s.spheres.push_back(sphere({-0.3, 0.0, 0.0}, 0.8, 1.5));
-    s.spheres.push_back(sphere({0.3, 0.1, 0.2}, 0.7, 2.5, {0.3, 0.6, 0.9}));
-    s.spheres.push_back(sphere({0.0, -0.4, -0.5}, 1.0, 0.7));
-    s.lighting.background = {0.2, 0.1, 0.05};
-    return s;
-}
-
-bool same_bits(const Image& a, const Image& b) {
-    return a.width == b.width && a.height == b.height &&
-           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
-}
+Scene overlapping_scene() { return testing::overlapping_scene(48, 36); }
 
 class FramePathTest : public GpuTest {};
 
 // One frame path serves methods one after another (as a preview switching methods does): each
-// frame is bit for bit what the method renders through its own path.
+// frame is bit for bit what the method renders through its own path. Every GPU method of the
+// catalogue, at its default setting and at the settings `brume bench` sweeps.
 TEST_F(FramePathTest, SharedPathMatchesEachMethodsOwnPath) {
     const Scene scene = overlapping_scene();
     FramePath path(device());
-    for (const char* spec : {"ppll", "kbuf:4", "peel:dual:4", "stochastic:4", "wboit", "screendoor:2", "auto"}) {
+    for (const std::string& spec : bench_method_specs()) {
+        if (!find_method(spec).needs_device) continue;
         auto own = make_method(&device(), spec);
         auto shared = make_method(&device(), spec);
         const Image expected = own->render(scene);

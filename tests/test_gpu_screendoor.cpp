@@ -1,6 +1,6 @@
-// `screendoor` (seed 002: object-space screen-door transparency, S x S supersampling): exact where the
-// answer is binary (opaque spheres), converging as S grows where it is not, with a mask that moves
-// with its particle.
+// `screendoor`, object-space screen-door transparency with S x S supersampling (Sen, Chemudugunta &
+// Gopi, "Silhouette-Opaque Transparency Rendering"): exact where the answer is binary (opaque spheres),
+// converging as S grows where it is not, with a mask that moves with its particle.
 #include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/screendoor.h"
@@ -77,7 +77,6 @@ TEST_F(Screendoor, OpaqueSpheresAtOneSampleMatchReference) {
     const ImageDiff d = compare_with_reference(img, s);
     EXPECT_EQ(d.pixels_over, 0u) << describe(d);
     ASSERT_EQ(stats.passes.size(), 3u);
-    EXPECT_GT(stats.total_ms, 0.0);
     EXPECT_EQ(stats.memory_bytes, ScreendoorMethod::target_bytes(1, 128, 96));
 }
 
@@ -178,7 +177,7 @@ TEST_F(Screendoor, MaskMovesWithTheParticle) {
 }
 
 TEST_F(Screendoor, SettingIsSamplesPerAxis) {
-    EXPECT_EQ(make_screendoor_method(device(), "")->name(), "screendoor:4");
+    // The catalogued settings' names: test_gpu_methods.cpp.
     EXPECT_EQ(make_screendoor_method(device(), "1")->name(), "screendoor:1");
     EXPECT_EQ(make_screendoor_method(device(), "8")->name(), "screendoor:8");
     for (const char* bad : {"0", "9", "-1", "x", "4x", "2.5", " 4", "100"})

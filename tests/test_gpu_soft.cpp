@@ -13,16 +13,8 @@ namespace {
 using testing::compare_with_reference;
 using testing::GpuTest;
 
-Scene small_scene(int w = 128, int h = 96) {
-    Scene s;
-    s.source = "test";
-    s.camera.position = {0.0, 0.0, 5.0};
-    s.camera.look_at = {0.0, 0.0, 0.0};
-    s.camera.width = w;
-    s.camera.height = h;
-    s.render.min_transmittance = 0.0;  // back-to-front compositing integrates everything
-    return s;
-}
+// min_transmittance 0: back-to-front compositing integrates everything.
+Scene small_scene(int w = 128, int h = 96) { return testing::small_scene(w, h); }
 
 using testing::sphere;
 
@@ -30,15 +22,12 @@ class Soft : public GpuTest {};
 
 TEST_F(Soft, SingleSphereMatchesReference) {
     Scene s = small_scene();
-    s.boxes.push_back(Box{{-20, -20, -12}, {20, 20, -10}, {0.3, 0.25, 0.2}});
+    testing::add_back_wall(s);
     s.spheres.push_back(sphere({0.3, -0.2, 0.0}, 1.1, 1.3));
     SoftMethod soft(device());
-    FrameStats stats;
-    const Image img = soft.render(s, &stats);
+    const Image img = soft.render(s);
     const ImageDiff d = compare_with_reference(img, s);
     EXPECT_EQ(d.pixels_over, 0u) << describe(d);
-    EXPECT_GT(stats.total_ms, 0.0);
-    EXPECT_GT(stats.memory_bytes, 0u);
 }
 
 TEST_F(Soft, SpheresCutByGeometryAndByTheEyeAreClippedExactly) {
@@ -59,13 +48,7 @@ TEST_F(Soft, SpheresCutByGeometryAndByTheEyeAreClippedExactly) {
 
 TEST_F(Soft, NonIntersectingStackedSpheresMatchReference) {
     // Disjoint depth ranges, overlapping on screen, listed out of depth order.
-    Scene s = small_scene();
-    s.boxes.push_back(Box{{-20, -20, -12}, {20, 20, -10}, {0.3, 0.25, 0.2}});
-    s.spheres.push_back(sphere({0.2, 0.1, -3.2}, 1.2, 0.6, {0.9, 0.3, 0.2}));   // z in [-4.4, -2.0]
-    s.spheres.push_back(sphere({-0.3, -0.1, 2.6}, 0.5, 2.5, {0.2, 0.8, 0.3}));  // [2.1, 3.1]
-    s.spheres.push_back(sphere({0.0, 0.2, 0.3}, 0.9, 1.0, {0.3, 0.4, 0.95}));   // [-0.6, 1.2]
-    s.spheres.push_back(sphere({0.5, -0.3, -1.3}, 0.6, 4.0, {0.95, 0.9, 0.3})); // [-1.9, -0.7]
-    s.spheres.push_back(sphere({-0.4, 0.3, 1.6}, 0.3, 0.8, {0.8, 0.8, 0.8}));   // [1.3, 1.9]
+    const Scene s = testing::stacked_scene();
     SoftMethod soft(device());
     const Image img = soft.render(s);
     EXPECT_EQ(soft.order(), (std::vector<std::uint32_t>{0, 3, 2, 4, 1}));
@@ -74,17 +57,13 @@ TEST_F(Soft, NonIntersectingStackedSpheresMatchReference) {
 }
 
 TEST_F(Soft, StaysExactAcrossFramesAsOneSphereCirclesAnother) {
-    // Sphere 1 circles sphere 0 (in front, past it at the side, behind, back), overlapping it on
-    // screen only where their depth ranges are disjoint; sphere 3 joins for frames 2-4.
-    const glm::dvec3 path[7] = {{0, 0, 2}, {1.5, 0, 1}, {1.5, 0, -1}, {0, 0.05, -2}, {-1.5, 0, -1}, {-1.5, 0, 1}, {0, 0, 2}};
+    // testing::circling_spheres: sphere 1 circles sphere 0, overlapping it on screen only where their
+    // depth ranges are disjoint; sphere 3 joins for frames 2-4.
     SoftMethod soft(device());
     for (int frame = 0; frame < 7; ++frame) {
         Scene s = small_scene();
         s.boxes.push_back(Box{{-9, -9, -9}, {9, -0.3, -4}, {0.3, 0.3, 0.3}});  // cuts sphere 2
-        s.spheres.push_back(sphere({0, 0, 0}, 0.5, 2.0, {0.9, 0.2, 0.2}));
-        s.spheres.push_back(sphere(path[frame], 0.4, 3.0, {0.2, 0.9, 0.3}));
-        s.spheres.push_back(sphere({0, 0, -5}, 1.5, 0.7, {0.3, 0.3, 0.9}));
-        if (frame >= 2 && frame < 5) s.spheres.push_back(sphere({0.1, -0.1, 3.0}, 0.2, 5.0, {0.9, 0.9, 0.9}));
+        s.spheres = testing::circling_spheres(frame);
         const Image img = soft.render(s);
         const std::vector<double> depth = view_depths(s);
         ASSERT_EQ(soft.order().size(), s.spheres.size());
@@ -98,9 +77,7 @@ TEST_F(Soft, StaysExactAcrossFramesAsOneSphereCirclesAnother) {
 TEST_F(Soft, IntersectingSpheresDisagreeWithReference) {
     // Spheres that share volume: "over" of separately attenuated spheres is not the integral through
     // intersecting media (the limitation `ppll` removes).
-    Scene s = small_scene();
-    s.spheres.push_back(sphere({-0.35, 0.0, 0.0}, 1.0, 2.0, {0.95, 0.2, 0.1}));
-    s.spheres.push_back(sphere({0.35, 0.0, 0.1}, 1.0, 2.0, {0.1, 0.3, 0.95}));
+    const Scene s = testing::intersecting_pair(0.35, 2.0, 0.0, 0.1);
     SoftMethod soft(device());
     const Image img = soft.render(s);
     const ImageDiff d = compare_with_reference(img, s);
@@ -109,9 +86,7 @@ TEST_F(Soft, IntersectingSpheresDisagreeWithReference) {
 }
 
 TEST_F(Soft, StillPopsWhenIntersectingParticlesSwapOrder) {
-    Scene a = small_scene();
-    a.spheres.push_back(sphere({-0.3, 0.0, 0.001}, 1.0, 2.5, {0.95, 0.2, 0.1}));
-    a.spheres.push_back(sphere({0.3, 0.0, 0.0}, 1.0, 2.5, {0.1, 0.3, 0.95}));
+    const Scene a = testing::intersecting_pair(0.3, 2.5, 0.001, 0.0);
     Scene b = a;
     b.spheres[0].center.z = -0.001;
     SoftMethod soft(device());
@@ -125,7 +100,7 @@ TEST_F(Soft, StillPopsWhenIntersectingParticlesSwapOrder) {
 }
 
 TEST_F(Soft, FactoryTakesNoSetting) {
-    EXPECT_EQ(make_soft_method(device(), "")->name(), "soft");
+    // Called directly, not through the registry; the name: test_gpu_methods.cpp.
     EXPECT_THROW(make_soft_method(device(), "x"), std::invalid_argument);
 }
 

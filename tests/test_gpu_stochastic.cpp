@@ -1,6 +1,7 @@
-// stochastic transparency (seed 001 section 6.1): exact for one sphere with the alpha correction,
-// converging as the sample count grows, and the same noise in every frame; the depth-based variant
-// (",depth") exact for one sphere, converging, stable, and closer than the plain average.
+// stochastic transparency (Maule, "Survey on Order Independent Transparency Techniques", section 6.1):
+// exact for one sphere with the alpha correction, converging as the sample count grows, noise that
+// follows the spheres; the depth-based variant (",depth") exact for one sphere, converging, and closer
+// than the plain average. That every frame of one scene has the same noise: test_gpu_methods.cpp.
 #include "test_scenes.h"
 #include "gpu_test_env.h"
 #include "render/methods/stochastic.h"
@@ -47,10 +48,7 @@ TEST_F(Stochastic, SingleSphereIsExactWithAlphaCorrection) {
     // One sphere: alpha_total is the sphere's alpha and every covered sample has its colour, so the
     // corrected resolve gives alpha c + (1 - alpha) C_bg whatever the noise, even with one sample
     // (where no sample is covered, the alpha-weighted average stands in for the colour).
-    Scene s = small_scene(65, 65);
-    s.spheres.push_back(sphere({0, 0, 0}, 1.0, 0.7));
-    s.boxes.push_back(Box{{-3, -3, -3}, {3, -0.4, -2}, {0.6, 0.3, 0.1}});
-    s.boxes.push_back(Box{{0.3, -2, -2}, {0.5, 2, 2}, {0.1, 0.4, 0.2}});
+    const Scene s = testing::clipped_sphere_scene();
     for (std::uint32_t samples : {1u, 2u, 8u, 16u}) {
         StochasticMethod method(device(), {samples, true});
         FrameStats stats;
@@ -58,8 +56,6 @@ TEST_F(Stochastic, SingleSphereIsExactWithAlphaCorrection) {
         const ImageDiff d = compare_with_reference(img, s);
         EXPECT_EQ(d.pixels_over, 0u) << method.name() << ": " << describe(d);
         ASSERT_EQ(stats.passes.size(), 4u);
-        EXPECT_GT(stats.total_ms, 0.0);
-        EXPECT_GT(stats.memory_bytes, 0u);
     }
     // Without the correction a single sphere is only right on average: the covered fraction is a
     // multiple of 1/S, not alpha.
@@ -108,16 +104,10 @@ TEST_F(Stochastic, PlainAverageIsUnbiased) {
     EXPECT_GT(mean_abs_error(img, ref), 1e-3);
 }
 
-TEST_F(Stochastic, NoiseIsTheSameInEveryFrame) {
+TEST_F(Stochastic, NoiseFollowsTheSpheres) {
     const Scene s = layered_scene(9);
     StochasticMethod method(device(), {8, true});
     const Image a = method.render(s, nullptr);
-    const Image b = method.render(s, nullptr);
-    StochasticMethod other(device(), {8, true});
-    const Image c = other.render(s, nullptr);
-    ASSERT_EQ(a.rgb.size(), b.rgb.size());
-    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
-    EXPECT_EQ(std::memcmp(a.rgb.data(), c.rgb.data(), a.rgb.size() * sizeof(float)), 0);
     // Moving one sphere changes the noise only where that sphere is seen.
     Scene moved = s;
     moved.spheres[0].center.x += 10.0;  // out of view
@@ -135,10 +125,7 @@ StochasticOptions depth_options(std::uint32_t samples) {
 TEST_F(Stochastic, DepthVariantIsExactForOneSphere) {
     // One sphere: its fragment is never in front of itself (vis = 1), so the normalised
     // accumulation is its colour and alpha_total its alpha, whatever the noise and S.
-    Scene s = small_scene(65, 65);
-    s.spheres.push_back(sphere({0, 0, 0}, 1.0, 0.7));
-    s.boxes.push_back(Box{{-3, -3, -3}, {3, -0.4, -2}, {0.6, 0.3, 0.1}});
-    s.boxes.push_back(Box{{0.3, -2, -2}, {0.5, 2, 2}, {0.1, 0.4, 0.2}});
+    const Scene s = testing::clipped_sphere_scene();
     for (std::uint32_t samples : {1u, 2u, 8u, 16u}) {
         StochasticMethod method(device(), depth_options(samples));
         EXPECT_EQ(method.passes(), samples);  // single-sample depth passes
@@ -148,7 +135,6 @@ TEST_F(Stochastic, DepthVariantIsExactForOneSphere) {
         EXPECT_EQ(d.pixels_over, 0u) << method.name() << ": " << describe(d);
         ASSERT_EQ(stats.passes.size(), 4u);
         EXPECT_EQ(stats.passes[1].name, "depth x" + std::to_string(samples));
-        EXPECT_GT(stats.total_ms, 0.0);
     }
 }
 
@@ -166,17 +152,11 @@ TEST_F(Stochastic, DepthVariantErrorFallsAsSamplesGrow) {
     EXPECT_GT(error[1], 0.0);
 }
 
-TEST_F(Stochastic, DepthVariantIsTheSameInEveryFrame) {
+TEST_F(Stochastic, DepthVariantIsNotTheCorrectedAverage) {
     const Scene s = layered_scene(9);
     StochasticMethod method(device(), depth_options(8));
     const Image a = method.render(s, nullptr);
-    const Image b = method.render(s, nullptr);
-    StochasticMethod other(device(), depth_options(8));
-    const Image c = other.render(s, nullptr);
-    ASSERT_EQ(a.rgb.size(), b.rgb.size());
-    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
-    EXPECT_EQ(std::memcmp(a.rgb.data(), c.rgb.data(), a.rgb.size() * sizeof(float)), 0);
-    // ... and not the corrected variant's image: the estimator differs.
+    // The depth variant's image is not the corrected variant's: the estimator differs.
     StochasticMethod corrected(device(), {8, true});
     const Image e = corrected.render(s, nullptr);
     EXPECT_NE(std::memcmp(a.rgb.data(), e.rgb.data(), a.rgb.size() * sizeof(float)), 0);
@@ -220,22 +200,21 @@ TEST_F(Stochastic, SettingsParse) {
     EXPECT_EQ(parse_stochastic_setting("16,depth").samples, 16u);
     for (const char* bad : {"0", "3", "12", "128", "x", "-4", "8,", "8,fast", " 8", "8,depth,plain", "3,depth", "depth"})
         EXPECT_THROW(parse_stochastic_setting(bad), std::invalid_argument) << bad;
-    EXPECT_EQ(make_stochastic_method(device(), "")->name(), "stochastic:8");
+    // The catalogued settings' names: test_gpu_methods.cpp.
     EXPECT_EQ(make_stochastic_method(device(), "32,plain")->name(), "stochastic:32,plain");
     EXPECT_EQ(make_stochastic_method(device(), "4,depth")->name(), "stochastic:4,depth");
     EXPECT_THROW(make_stochastic_method(device(), "5"), std::invalid_argument);
 }
 
-TEST_F(Stochastic, EmptySceneShowsTheOpaqueRadiance) {
+TEST_F(Stochastic, PlainVariantShowsTheOpaqueRadianceOnAnEmptyScene) {
+    // The catalogued settings (corrected and depth-based): test_gpu_methods.cpp.
     Scene s = small_scene(32, 24);
     s.boxes.push_back(Box{{-1, -1, -1}, {1, 1, 1}, {0.5, 0.25, 0.125}});
-    for (int variant = 0; variant < 3; ++variant) {
-        StochasticMethod method(device(), variant == 2 ? depth_options(8) : StochasticOptions{8, variant == 1});
-        const Image img = method.render(s, nullptr);
-        for (int c = 0; c < 3; ++c) {
-            EXPECT_FLOAT_EQ(img.pixel(16, 12)[c], float(s.boxes[0].radiance[c]));
-            EXPECT_FLOAT_EQ(img.pixel(0, 0)[c], float(s.lighting.background[c]));
-        }
+    StochasticMethod method(device(), {8, false});
+    const Image img = method.render(s, nullptr);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_FLOAT_EQ(img.pixel(16, 12)[c], float(s.boxes[0].radiance[c]));
+        EXPECT_FLOAT_EQ(img.pixel(0, 0)[c], float(s.lighting.background[c]));
     }
 }
 

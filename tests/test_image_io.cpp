@@ -1,5 +1,5 @@
 // Image files: EXR keeps every float bit, PNG applies exposure and the exact sRGB curve, and a write that
-// fails leaves neither a partial file nor a damaged old one (GUIDE section 2).
+// fails leaves neither a partial file nor a damaged old one (the contracts in README.md, "Tour").
 #include "render/image_io.h"
 
 #include <gtest/gtest.h>

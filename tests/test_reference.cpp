@@ -1,6 +1,10 @@
-// The reference renderer against closed forms of the light model (GUIDE section 1), and its invariances:
+// The reference renderer against closed forms of the light model (the intersecting homogeneous media of
+// Barta & Kovács, "Order Independent Transparency with Per-Pixel Linked Lists", section 3.5, made
+// robust as render/reference.h states), and its invariances:
 // sphere order, binning and thread count may not change a single bit.
 #include "render/reference.h"
+
+#include "test_scenes.h"
 
 #include "sim/camera_rays.h"
 
@@ -31,14 +35,7 @@ Scene base_scene() {
     return s;
 }
 
-Sphere sphere(dvec3 c, double r, double tau, dvec3 albedo) {
-    Sphere s;
-    s.center = c;
-    s.radius = r;
-    s.extinction = tau;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 Box box(dvec3 lo, dvec3 hi, dvec3 radiance) {
     Box b;
@@ -48,11 +45,8 @@ Box box(dvec3 lo, dvec3 hi, dvec3 radiance) {
     return b;
 }
 
-// L_s written out from the guide, independently of the renderer.
-dvec3 source(const Scene& s, const dvec3& dir) {
-    const double c = glm::dot(glm::normalize(s.lighting.sun_direction), dir);
-    return s.lighting.ambient + s.lighting.sun * (3.0 / (16.0 * kPi)) * (1.0 + c * c);
-}
+// L_s, written out independently of the renderer.
+dvec3 source(const Scene& s, const dvec3& dir) { return testing::source_radiance(s, dir); }
 
 // Front-to-back compositing of homogeneous segments, eq. 3 as printed (fine away from tiny extinction).
 struct Segment {

@@ -1,5 +1,5 @@
 // Scene files: the schema is read exactly, written back exactly, and every bad input is rejected with
-// the file, line and key path (GUIDE section 2).
+// the file, line and key path (the contracts in README.md, "Tour").
 #include "sim/builtin_scenes.h"
 #include "sim/scene_file.h"
 

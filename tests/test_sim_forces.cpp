@@ -9,6 +9,8 @@
 #include "sim/rng.h"
 #include "sim/simulator.h"
 
+#include "test_scenes.h"
+
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
@@ -20,11 +22,7 @@ namespace {
 
 using glm::dvec3;
 
-ForceDesc force(ForceKind kind) {
-    ForceDesc f;
-    f.kind = kind;
-    return f;
-}
+using testing::force;
 
 // One particle from a point emitter at x0 with velocity v0, born at time 0, living forever.
 Preset single_particle(dvec3 x0, dvec3 v0, std::vector<ForceDesc> forces, double fps = 24.0, int substeps = 2) {

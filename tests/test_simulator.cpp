@@ -3,6 +3,8 @@
 #include "sim/emitters.h"
 #include "sim/simulator.h"
 
+#include "test_scenes.h"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -14,11 +16,7 @@ namespace {
 
 using glm::dvec3;
 
-ForceDesc force(ForceKind kind) {
-    ForceDesc f;
-    f.kind = kind;
-    return f;
-}
+using testing::force;
 
 // Everything at once: two emitters (continuous and bursts), every force kind, boxes, a budget that
 // binds, deaths, so that any hidden nondeterminism has somewhere to show.

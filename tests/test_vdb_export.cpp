@@ -7,6 +7,7 @@
 #include "sim/vdb/vdb_file.h"
 #include "sim/vdb/vdb_import.h"
 
+#include "tests/test_scenes.h"
 #include "tests/vdb_test_samples.h"
 
 #include <gtest/gtest.h>
@@ -27,14 +28,7 @@ using namespace vdb_test;
 
 constexpr double kPi = std::numbers::pi;
 
-Sphere sphere(glm::dvec3 centre, double radius, double extinction, glm::dvec3 albedo = glm::dvec3(1.0)) {
-    Sphere s;
-    s.center = centre;
-    s.radius = radius;
-    s.extinction = extinction;
-    s.albedo = albedo;
-    return s;
-}
+using testing::sphere;
 
 SplatOptions at_voxel(double voxel_size) {
     SplatOptions o;

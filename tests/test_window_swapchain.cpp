@@ -2,6 +2,7 @@
 // starts with xvfb-run, a Vulkan surface and swapchain on it, frames presented through the frame
 // path with two frames in flight, a resize that recreates the swapchain and a minimised window that
 // skips frames. The validation layer is on; any message fails the test.
+#include "gpu_test_env.h"
 #include "test_scenes.h"
 
 #include "render/frame/frame_path.h"
@@ -68,9 +69,7 @@ TEST(WindowSwapchain, PresentsResizesAndSkipsMinimisedFrames) {
     XcbWindow window(48, 36);
     ASSERT_TRUE(window.ok()) << "no X display";
 
-    const char* lavapipe = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
-    setenv("VK_DRIVER_FILES", lavapipe, 1);
-    setenv("VK_ICD_FILENAMES", lavapipe, 1);
+    testing::force_lavapipe();
     vk::DeviceOptions options;
     options.device_name = "lavapipe";
     options.validate = true;

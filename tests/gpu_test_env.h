@@ -2,7 +2,10 @@
 // and a check after every test that it reported nothing (any message fails the test).
 #pragma once
 
+#include "test_scenes.h"
+
 #include "render/image_compare.h"
+#include "render/methods/method.h"
 #include "render/reference.h"
 #include "render/vk/device.h"
 #include "sim/scene.h"
@@ -79,6 +82,27 @@ inline bool same_bits(const Image& a, const Image& b) {
 
 inline bool all_finite(const Image& img) {
     return std::all_of(img.rgb.begin(), img.rgb.end(), [](float v) { return std::isfinite(v); });
+}
+
+// Two frames of testing::intersecting_pair whose centres' depth order flips between them (a 2 mm step
+// of one sphere), rendered by `method`: its popping (temporal_error, render/image_compare.h) against
+// the reference's own step, and the two frames.
+struct OrderFlip {
+    Image before, after;
+    double popping = 0.0;         // temporal error of the method's step
+    double reference_step = 0.0;  // mean |R_t - R_t-1| / peak
+};
+inline OrderFlip flip_order(Method& method) {
+    const Scene a = intersecting_pair(0.3, 2.5, 0.001, 0.0);
+    Scene b = a;
+    b.spheres[0].center.z = -0.001;
+    OrderFlip f;
+    f.before = method.render(a);
+    f.after = method.render(b);
+    const Image ra = render_reference(a), rb = render_reference(b);
+    f.popping = temporal_error(f.after, f.before, rb, ra);
+    f.reference_step = temporal_error(rb, ra, ra, ra);
+    return f;
 }
 
 }  // namespace brume::testing

@@ -15,7 +15,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -155,14 +154,7 @@ TEST_P(Methods, StatsAreFilled) {
 TEST_P(Methods, ConsecutiveFramesOfOneSceneAreIdentical) {
     // Tie-free random spheres: every catalogued method is deterministic on them (ppll's node order
     // depends on thread timing, but the resolve sorts by distance, and no two distances are equal).
-    Scene a = small_scene(64, 48);
-    a.camera.position = {0.3, 1.2, 7.0};
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (int i = 0; i < 40; ++i)
-        a.spheres.push_back(sphere({u(rng) * 4 - 2, u(rng) * 3 - 1.5, u(rng) * 4 - 2}, 0.2 + 0.5 * u(rng),
-                                   0.3 + 2.0 * u(rng), {u(rng), u(rng), u(rng)}));
-    a.boxes.push_back(Box{{-5, -1.5, -5}, {5, -1, 5}, {0.3, 0.3, 0.3}});
+    const Scene a = testing::random_scene(64, 48, 40, 5, true);
     const Scene b = testing::stacked_scene(48, 36);
     const std::unique_ptr<Method> method = make();
     const Image first = method->render(a);

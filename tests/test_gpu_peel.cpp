@@ -55,9 +55,7 @@ Scene nested_scene(int count, const std::vector<glm::dvec3>& albedos, const std:
 
 // Disjoint spheres (gap >= 0.02) at random in a box, some cut by opaque boxes.
 Scene disjoint_scene(int count, unsigned seed, bool with_boxes) {
-    Scene s = small_scene(128, 96);
-    s.camera.position = {0.3, 1.2, 7.0};
-    s.camera.look_at = {0.0, 0.2, 0.0};
+    Scene s = testing::random_scene(128, 96, 0, seed, with_boxes);  // its view and boxes
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     int attempts = 0;
@@ -68,10 +66,6 @@ Scene disjoint_scene(int count, unsigned seed, bool with_boxes) {
         for (const Sphere& o : s.spheres)
             clear = clear && glm::length(o.center - c.center) > o.radius + c.radius + 0.02;
         if (clear) s.spheres.push_back(c);
-    }
-    if (with_boxes) {
-        s.boxes.push_back(Box{{-5, -1.5, -5}, {5, -1, 5}, {0.3, 0.3, 0.3}});
-        s.boxes.push_back(Box{{-0.5, -1, -0.5}, {0.4, 1.0, 0.6}, {0.8, 0.3, 0.1}});
     }
     return s;
 }
@@ -383,12 +377,7 @@ Image layer_model(const Scene& s) {
 
 TEST_F(Peel, OverlappingSpheresCompositeWholeSpheresInEntryOrder) {
     // Not the reference (intersecting media are not mixed), but exactly the layer model above.
-    Scene s = disjoint_scene(0, 1, true);
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (int i = 0; i < 200; ++i)
-        s.spheres.push_back(sphere({u(rng) * 4 - 2, u(rng) * 3 - 1, u(rng) * 4 - 2}, 0.1 + 0.5 * u(rng),
-                                   std::pow(10.0, u(rng) * 2.5 - 2.0), {u(rng), u(rng), u(rng)}));
+    Scene s = testing::random_scene(128, 96, 200, 3, true);
     const Image tol = reference_tolerance(s, testing::kRayRelError);
     for (double min_t : {0.0, 1e-3}) {
         s.render.min_transmittance = min_t;

@@ -36,21 +36,10 @@ TEST_F(Ppll, TwoOverlappingSpheresMatchReference) {
     EXPECT_EQ(stats.max_list_length, 2u);
 }
 
+// testing::random_scene at 128 x 96, stopping at transmittance 1e-4 as scene files do by default.
 Scene random_scene(int count, unsigned seed, bool with_boxes) {
-    Scene s = small_scene();
-    s.camera.position = {0.3, 1.2, 7.0};
-    s.camera.look_at = {0.0, 0.2, 0.0};
+    Scene s = testing::random_scene(128, 96, count, seed, with_boxes);
     s.render.min_transmittance = 1e-4;
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (int i = 0; i < count; ++i) {
-        s.spheres.push_back(sphere({u(rng) * 4 - 2, u(rng) * 3 - 1, u(rng) * 4 - 2}, 0.1 + 0.5 * u(rng),
-                                   std::pow(10.0, u(rng) * 2.5 - 2.0), {u(rng), u(rng), u(rng)}));
-    }
-    if (with_boxes) {
-        s.boxes.push_back(Box{{-5, -1.5, -5}, {5, -1, 5}, {0.3, 0.3, 0.3}});
-        s.boxes.push_back(Box{{-0.5, -1, -0.5}, {0.4, 1.0, 0.6}, {0.8, 0.3, 0.1}});
-    }
     return s;
 }
 

@@ -22,15 +22,9 @@ Scene small_scene(int w = 96, int h = 72) { return testing::small_scene(w, h); }
 
 using testing::sphere;
 
+// testing::random_scene over a floor, at 96 x 72.
 Scene random_scene(int count, unsigned seed) {
-    Scene s = small_scene();
-    s.camera.position = {0.3, 1.2, 7.0};
-    s.camera.look_at = {0.0, 0.2, 0.0};
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (int i = 0; i < count; ++i)
-        s.spheres.push_back(sphere({u(rng) * 4 - 2, u(rng) * 3 - 1, u(rng) * 4 - 2}, 0.1 + 0.5 * u(rng),
-                                   std::pow(10.0, u(rng) * 2.5 - 2.0), {u(rng), u(rng), u(rng)}));
+    Scene s = testing::random_scene(96, 72, count, seed, false);
     s.boxes.push_back(Box{{-5, -1.5, -5}, {5, -1, 5}, {0.3, 0.3, 0.3}});
     return s;
 }

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <random>
 #include <vector>
 
 namespace brume::testing {
@@ -46,6 +47,25 @@ inline ForceDesc force(ForceKind kind) {
 
 // An opaque wall well behind every sphere of the scenes below, so the background is not flat.
 inline void add_back_wall(Scene& s) { s.boxes.push_back(Box{{-20, -20, -12}, {20, 20, -10}, {0.3, 0.25, 0.2}}); }
+
+// `count` random spheres (seeded), overlapping freely, in [-2, 2] x [-1, 2] x [-2, 2]: radii 0.1..0.6,
+// extinction 0.01..3.2 (log-uniform), random albedo; seen from (0.3, 1.2, 7) down at (0, 0.2, 0).
+// `boxes`: a floor under them and a pillar through them.
+inline Scene random_scene(int w, int h, int count, unsigned seed, bool boxes) {
+    Scene s = small_scene(w, h);
+    s.camera.position = {0.3, 1.2, 7.0};
+    s.camera.look_at = {0.0, 0.2, 0.0};
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < count; ++i)
+        s.spheres.push_back(sphere({u(rng) * 4 - 2, u(rng) * 3 - 1, u(rng) * 4 - 2}, 0.1 + 0.5 * u(rng),
+                                   std::pow(10.0, u(rng) * 2.5 - 2.0), {u(rng), u(rng), u(rng)}));
+    if (boxes) {
+        s.boxes.push_back(Box{{-5, -1.5, -5}, {5, -1, 5}, {0.3, 0.3, 0.3}});
+        s.boxes.push_back(Box{{-0.5, -1, -0.5}, {0.4, 1.0, 0.6}, {0.8, 0.3, 0.1}});
+    }
+    return s;
+}
 
 // One sphere (radius 1, tau 0.7) at the centre of a 65 x 65 view (odd: the centre pixel's ray goes
 // through the sphere centre), a box behind it below and a wall through it at x in [0.3, 0.5] that clips

@@ -19,9 +19,7 @@ layout(set = 0, binding = BINDING_KBUF_KEYS, std430) coherent buffer KeyBlock { 
 layout(set = 0, binding = BINDING_KBUF_IDS, std430) coherent buffer IdBlock { uint ids[]; };
 layout(set = 0, binding = BINDING_KBUF_EXITS, std430) writeonly buffer ExitBlock { float exits[]; };
 
-layout(location = 0) flat in uint v_sphere;
-layout(location = 1) noperspective in vec3 v_ray;
-layout(location = 2) flat in vec4 v_offset_r2;
+#include "impostor_interface.glsl"
 layout(location = 0) out vec4 out_tail;             // (alpha c, alpha)
 layout(location = 1) out float out_tail_optical_depth;  // tau * chord
 

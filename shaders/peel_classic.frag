@@ -22,10 +22,7 @@ layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaq
 layout(set = 0, binding = BINDING_PEEL_KEYS0, rgba32ui) uniform readonly uimage2D keys0;
 layout(set = 0, binding = BINDING_PEEL_KEYS1, rgba32ui) uniform readonly uimage2D keys1;
 
-layout(location = 0) flat in uint v_sphere;
-layout(location = 1) noperspective in vec3 v_ray;
-layout(location = 2) flat in vec4 v_offset_r2;
-layout(location = 3) flat in uint v_pass;
+#include "impostor_interface.glsl"
 
 layout(location = 0) out uvec4 out_key;
 

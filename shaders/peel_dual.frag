@@ -24,10 +24,7 @@
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
 layout(set = 0, binding = BINDING_PEEL_STATE, rgba32f) uniform readonly image2D state_image;  // (-near, far, fcur, bcur)
 
-layout(location = 0) flat in uint v_sphere;
-layout(location = 1) noperspective in vec3 v_ray;
-layout(location = 2) flat in vec4 v_offset_r2;
-layout(location = 3) flat in uint v_pass;
+#include "impostor_interface.glsl"
 
 layout(location = 0) out vec4 out_window;  // (-t0, t0) of the fragments strictly inside the window
 layout(location = 1) out vec4 out_ids;     // (-front index, front index, -back index, back index)

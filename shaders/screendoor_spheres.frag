@@ -20,9 +20,7 @@
 
 layout(constant_id = 0) const uint S = 4;  // sub-samples per pixel along each axis
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(location = 0) flat in uint v_sphere;
-layout(location = 1) noperspective in vec3 v_ray;
-layout(location = 2) flat in vec4 v_offset_r2;
+#include "impostor_interface.glsl"
 layout(location = 0) out vec4 out_color;
 
 // Jarzynski & Olano 2020, "Hash Functions for GPU Rendering": pcg3d, good statistics for

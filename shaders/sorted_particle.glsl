@@ -2,22 +2,21 @@
 // of the back-to-front order, so one instanced draw composites in sorted order (the rasteriser
 // blends each pixel's fragments in primitive order). The rectangle is the sphere's conservative
 // screen rectangle (screen_bounds.glsl); the fragment shaders decide what is covered. The varyings
-// are those of sphere_impostor.vert, so sphere_sample.glsl works unchanged.
+// are those of sphere_impostor.vert (impostor_interface.glsl), so sphere_sample.glsl works unchanged.
 // Needs bindings.glsl, rays.glsl and screen_bounds.glsl.
 #ifndef BRUME_SORTED_PARTICLE_GLSL
 #define BRUME_SORTED_PARTICLE_GLSL
+#define BRUME_VERTEX_STAGE
+#include "impostor_interface.glsl"
 
 layout(set = 0, binding = BINDING_SORT_ORDER, std430) readonly buffer OrderBlock { uint order[]; };
-
-layout(location = 0) flat out uint v_sphere;
-layout(location = 1) noperspective out vec3 v_ray;  // unnormalised direction of the pixel ray
-layout(location = 2) flat out vec4 v_offset_r2;     // xyz: eye - centre, w: radius^2
 
 // `planar`: the billboard is the plane through the centre facing the camera, dropped whole when that
 // plane lies at or behind the eye.
 void emit_sorted_particle(bool planar) {
     uint sphere = order[gl_InstanceIndex];
     v_sphere = sphere;
+    v_pass = 0u;  // one pass
     GpuSphere s = spheres[sphere];
     vec4 rect;
     bool visible = s.albedo_extinction.w > 0.0 && sphere_screen_rect(s.center_radius.xyz, s.center_radius.w, rect);

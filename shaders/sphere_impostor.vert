@@ -10,14 +10,12 @@
 // pipeline layout has no push constants). Every pass runs this same compiled code, so an entry
 // distance found in one pass compares bit for bit with the same sphere's in the next.
 #extension GL_GOOGLE_include_directive : require
+#define BRUME_VERTEX_STAGE
+#include "impostor_interface.glsl"
 #include "bindings.glsl"
 #include "rays.glsl"
 #include "screen_bounds.glsl"
 
-layout(location = 0) flat out uint v_sphere;
-layout(location = 1) noperspective out vec3 v_ray;  // unnormalised direction of the pixel ray
-layout(location = 2) flat out vec4 v_offset_r2;     // xyz: eye - centre, w: radius^2
-layout(location = 3) flat out uint v_pass;          // firstVertex / 6; 0 for single-pass methods
 
 void main() {
     const uint vertex = uint(gl_VertexIndex);

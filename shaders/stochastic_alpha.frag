@@ -10,9 +10,7 @@
 #include "sphere_sample.glsl"
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(location = 0) flat in uint v_sphere;
-layout(location = 1) noperspective in vec3 v_ray;
-layout(location = 2) flat in vec4 v_offset_r2;
+#include "impostor_interface.glsl"
 layout(location = 0) out vec4 out_accum;
 layout(location = 1) out float out_optical_depth;
 

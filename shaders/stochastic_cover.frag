@@ -14,10 +14,7 @@ layout(constant_id = 1) const uint PASS_SAMPLES = 4;  // samples per pass (the M
 layout(constant_id = 2) const uint DEPTH_ONLY = 0u;   // 1: write (t0, 0, 0, 0) for the depth-based variant
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
-layout(location = 0) flat in uint v_sphere;
-layout(location = 1) noperspective in vec3 v_ray;
-layout(location = 2) flat in vec4 v_offset_r2;
-layout(location = 3) flat in uint v_pass;
+#include "impostor_interface.glsl"
 layout(location = 0) out vec4 out_color;
 
 // Jarzynski & Olano 2020, "Hash Functions for GPU Rendering": pcg3d.

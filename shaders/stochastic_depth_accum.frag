@@ -18,9 +18,7 @@ layout(constant_id = 0) const uint SAMPLES = 8;  // S: depth layers
 
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
 layout(set = 0, binding = BINDING_STOCHASTIC_LAYERS, r32f) uniform readonly image2DArray depth_layers;
-layout(location = 0) flat in uint v_sphere;
-layout(location = 1) noperspective in vec3 v_ray;
-layout(location = 2) flat in vec4 v_offset_r2;
+#include "impostor_interface.glsl"
 layout(location = 0) out vec4 out_accum;
 layout(location = 1) out float out_optical_depth;
 

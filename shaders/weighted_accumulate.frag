@@ -16,9 +16,7 @@ layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaq
 // x: depth scale D of McGuire & Bavoil's weight (eq. 9), adapted to scene units on the CPU.
 layout(set = 0, binding = BINDING_WEIGHT_PARAMS, std430) readonly buffer WeightBlock { WeightParams weight_params; };
 
-layout(location = 0) flat in uint v_sphere;
-layout(location = 1) noperspective in vec3 v_ray;
-layout(location = 2) flat in vec4 v_offset_r2;
+#include "impostor_interface.glsl"
 layout(location = 0) out vec4 out_accum;
 layout(location = 1) out float out_extra;
 

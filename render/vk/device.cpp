@@ -204,9 +204,6 @@ Device::Device(const DeviceOptions& options) {
         VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
         features13.dynamicRendering = VK_TRUE;
         features13.synchronization2 = VK_TRUE;
-        // Relaxed interface matching: one impostor vertex shader serves every sphere pass, and
-        // fragment shaders that ignore its pass number leave that output unread.
-        features13.maintenance4 = VK_TRUE;
         VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
         features.features.fragmentStoresAndAtomics = VK_TRUE;
 

@@ -33,8 +33,10 @@ std::uint64_t parse_bytes(const std::string& text) {
     else if (unit == "k" || unit == "kb" || unit == "kib") scale = 1024.0;
     else if (unit == "m" || unit == "mb" || unit == "mib") scale = 1024.0 * 1024.0;
     else if (unit == "g" || unit == "gb" || unit == "gib") scale = 1024.0 * 1024.0 * 1024.0;
+    else if (unit == "t" || unit == "tb" || unit == "tib") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
     if (scale == 0 || !std::isfinite(value) || value <= 0 || value * scale > 1.8e19)
-        throw std::invalid_argument("'" + text + "' is not a positive size (examples: 64M, 2G, 1048576)");
+        throw std::invalid_argument("'" + text + "' is not a positive size: a number of bytes with K, M, G or T "
+                                    "(powers of 1024), e.g. 64M, 2G, 1T, 1048576");
     return std::uint64_t(value * scale);
 }
 

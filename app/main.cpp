@@ -51,6 +51,7 @@ int fail(const char* what) {
 int main(int argc, char** argv) {
     CLI::App app{"Brume: exact volumetric particle rendering with per-pixel linked lists"};
     app.require_subcommand(1);
+    app.set_version_flag("--version", "brume " BRUME_VERSION);
     brume::app::RenderArgs render_args;
     brume::app::add_render_command(app, render_args);
     brume::app::PlayArgs play_args;
@@ -65,11 +66,17 @@ int main(int argc, char** argv) {
     brume::app::add_vdb_export_commands(app, vdb_export_args, vdb_sample_args);
     app.add_subcommand("devices", "List the Vulkan devices Brume can use");
     app.add_subcommand("methods", "List the rendering methods and their settings");
+    if (argc < 2) {  // a new user's first try: show what there is, as usage
+        std::fprintf(stderr, "%s", app.help().c_str());
+        return 2;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "brume: error: %s (see brume --help)\n", e.what());

@@ -47,9 +47,17 @@ FrameRange parse_frames(const std::string& text, int frame_count) {
         first = *a;
         last = *b;
     }
-    if (first < 0 || last < first || last >= frame_count)
+    if (last < first)
+        throw std::invalid_argument("--frames " + text + " is a reversed range: write A-B with A <= B");
+    if (first < 0 || first >= frame_count)
         throw std::invalid_argument("--frames " + text + " is outside the preset's frames 0-" +
                                     std::to_string(frame_count - 1));
+    if (last >= frame_count) {
+        // Farm schedulers cut sequences into equal chunks; the last one may run past the end.
+        std::printf("--frames %s: the preset ends at frame %d; rendering %lld-%d\n", text.c_str(), frame_count - 1,
+                    first, frame_count - 1);
+        last = frame_count - 1;
+    }
     return {int(first), int(last)};
 }
 
@@ -176,7 +184,7 @@ int run_play(const PlayArgs& args) {
         if (exr) write_exr(image, frame_path(dir, preset.name, frame, "exr"));
         if (png) write_png(image, frame_path(dir, preset.name, frame, "png"), exposure);
         ++written;
-        progress.frame_done(frame, std::to_string(scene.spheres.size()) + " spheres");
+        progress.frame_done(frame, std::to_string(scene.spheres.size()) + (scene.spheres.size() == 1 ? " sphere" : " spheres"));
         if (g_stop_requested) break;
     }
     progress.finish();
@@ -188,8 +196,8 @@ int run_play(const PlayArgs& args) {
         std::fprintf(stderr, "brume: error: the Vulkan validation layer reported problems (above)\n");
         return 3;
     }
-    std::printf("wrote %d frames in %.1f s (simulation %.2f s) to %s\n", written, progress.elapsed_seconds(), sim_s,
-                dir.string().c_str());
+    std::printf("wrote %d frame%s in %.1f s (simulation %.2f s) to %s\n", written, written == 1 ? "" : "s",
+                progress.elapsed_seconds(), sim_s, dir.string().c_str());
     if (g_stop_requested) {
         std::fprintf(stderr, "brume: interrupted after %d frames; every written frame is complete\n", written);
         return 130;

@@ -149,6 +149,30 @@ run play crossing --frames 4294967296-4294967297 -o frames_wrap
 expect_error frames.wrap "4294967296-4294967297" "outside" && ok frames.wrap
 run play crossing --frames 99999999999999999999 -o frames_huge
 expect_error frames.huge "99999999999999999999" "not A-B or N" && ok frames.huge
+# Frame ranges: reversed is named as such; a farm chunk past the end renders to the last frame.
+run play crossing --frames 5-2 -o frames_rev
+expect_error frames.reversed "5-2" "reversed" && ok frames.reversed
+run play crossing --frames 142-150 --size 16x12 -o frames_tail
+if expect_success frames.clamped; then
+    if grep -q "ends at frame 143" "$out" && [ -e frames_tail/crossing.0143.png ] && [ ! -e frames_tail/crossing.0144.png ] &&
+        grep -q "wrote 2 frames" "$out"; then
+        ok frames.clamped
+    else
+        fail frames.clamped "$(tail -n 2 "$out")"
+    fi
+fi
+run play crossing --frames 7 --size 16x12 -o frames_one
+expect_success frames.one && grep -q "wrote 1 frame in" "$out" && ok frames.one
+# A first try with no subcommand shows the help; --version answers.
+run
+if [ "$rc" -eq 2 ] && grep -q "render" "$err" && grep -q "Subcommands" "$err"; then ok usage.no_arguments; else fail usage.no_arguments "rc $rc: $(first_err)"; fi
+run --version
+expect_success usage.version && grep -Eq "^brume [0-9]+\.[0-9]+\.[0-9]+" "$out" && ok usage.version
+# Budgets take T as well, and a unit that is not one is named with the ones that are.
+run render "$data/small.toml" --max-memory 1T -o terabyte.exr
+expect_success budget.terabyte && ok budget.terabyte
+run render "$data/small.toml" --max-memory 5Q -o never.exr
+expect_error budget.unit "5Q" "K, M, G or T" && ok budget.unit
 # The format follows the option, and a name that says otherwise is refused before any work.
 run render "$data/small.toml" -o out.png
 expect_error format.exr_as_png "-o out.png" "OpenEXR" ".exr" && [ ! -e out.png ] && ok format.exr_as_png

@@ -19,12 +19,7 @@ OffscreenPresenter::OffscreenPresenter(const Device& device, VkExtent2D extent, 
 bool OffscreenPresenter::present(const FrameResources& frame, FrameRing& ring) {
     VkCommandBuffer cmd = ring.current().cmd;
     tone_map_.record(cmd, framebuffer_, extent_, frame.hdr_view(), frame.extent(), exposure_stops_);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {extent_.width, extent_.height, 1};
-    vkCmdCopyImageToBuffer(cmd, target_.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.get(), 1, &region);
-    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                   VK_ACCESS_2_HOST_READ_BIT);
+    copy_image_to_host(cmd, target_.get(), extent_, readback_.get());
     ring.submit();
     ring.wait();
     pixels_.resize(std::size_t(extent_.width) * extent_.height * 4);

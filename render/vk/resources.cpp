@@ -99,6 +99,15 @@ DeviceImage::DeviceImage(const Device& device, VkFormat format, VkExtent2D exten
             layer_views_.push_back(make_view(VK_IMAGE_VIEW_TYPE_2D, l, 1, name + ".layer" + std::to_string(l)));
 }
 
+void copy_image_to_host(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, VkBuffer buffer) {
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {extent.width, extent.height, 1};
+    vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer, 1, &region);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                   VK_ACCESS_2_HOST_READ_BIT);
+}
+
 void begin_color_rendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& views,
                            VkAttachmentLoadOp load) {
     std::vector<VkRenderingAttachmentInfo> targets(views.size(), {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO});

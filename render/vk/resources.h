@@ -69,6 +69,10 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect
                    VkImageLayout new_layout, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access, std::uint32_t layers = 1);
 
+// Copies a whole 2D colour image (in TRANSFER_SRC_OPTIMAL) into `buffer`, tightly packed, and makes
+// the bytes visible to the host once the submission completes: a frame's readback.
+void copy_image_to_host(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, VkBuffer buffer);
+
 // Begins dynamic rendering into colour targets kept in GENERAL layout (they are also read as storage
 // images), cleared to zero or loaded as they are.
 void begin_color_rendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& views,

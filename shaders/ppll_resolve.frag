@@ -15,6 +15,7 @@
 #include "bindings.glsl"
 #include "medium.glsl"
 #include "ppll_storage.glsl"
+#include "exact_integrator.glsl"
 
 const uint WINDOW = 8;  // events per walk; BRUME_INSERT and BRUME_SWEEP below are written for 8
 const uvec2 NO_KEY = uvec2(0xffffffffu);
@@ -22,50 +23,8 @@ layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaq
 layout(location = 0) noperspective in vec3 v_ray;
 layout(location = 0) out vec4 out_radiance;
 
-// Front-to-back state of one ray.
-struct Integrator {
-    vec3 radiance;
-    float transmittance;
-    float sigma_t;   // running extinction of the media the ray is in
-    vec3 sigma_s;    // running scattering coefficient (tau * albedo summed)
-    int inside;      // how many media the ray is in
-    float t_prev;
-    bool stopped;    // transmittance fell below the scene's threshold
-};
-
 // Distances are >= +0.0, so their bit patterns order like the floats.
 bool key_less(uvec2 a, uvec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }
-
-// Integrates the segment up to the event's distance, then enters or leaves the event's medium.
-void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
-    float t = uintBitsToFloat(key.x);
-    float len = t - it.t_prev;
-    if (len > 0.0) {
-        float x = it.sigma_t * len;
-        float segment_transmittance = exp(-x);
-        it.radiance += it.transmittance * it.sigma_s * source * (len * one_minus_exp_over_x(x, segment_transmittance));
-        it.transmittance *= segment_transmittance;
-        if (it.transmittance < frame.params.x) {
-            it.stopped = true;
-            return;
-        }
-    }
-    vec4 medium = spheres[key.y >> 1u].albedo_extinction;
-    float tau = medium.w;
-    vec3 tau_albedo = tau * medium.rgb;
-    if ((key.y & 1u) == 0u) {
-        it.sigma_t += tau;
-        it.sigma_s += tau_albedo;
-        ++it.inside;
-    } else if (--it.inside == 0) {
-        it.sigma_t = 0.0;  // back in free space: drop the rounding left by add/subtract
-        it.sigma_s = vec3(0.0);
-    } else {
-        it.sigma_t = max(it.sigma_t - tau, 0.0);
-        it.sigma_s = max(it.sigma_s - tau_albedo, vec3(0.0));
-    }
-    it.t_prev = t;
-}
 
 void main() {
     if (gl_HelperInvocation) return;
@@ -77,7 +36,7 @@ void main() {
         return;  // empty pixels take no part in the statistics below: they add nothing to them
     }
     vec3 source = source_radiance(normalize(v_ray));
-    Integrator it = Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), 0, 0.0, false);
+    Integrator it = start_integrator();
 
     uvec2 w[WINDOW];  // the batch, sorted; NO_KEY marks empty slots (it sorts after every real key)
     // Inserts `key` into the sorted batch, dropping the largest: with c_i = (key sorts before slot i),

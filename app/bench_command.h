@@ -15,6 +15,7 @@ struct BenchArgs {
     std::string layers = "2-16:2";
     std::string device;
     int frames = 9;
+    std::string spheres = "1000,10000,100000";  // bench scale
     std::size_t particles = 100000;  // bench sim
     int steps = 50;                   // bench sim
     int reference_frames = 1;

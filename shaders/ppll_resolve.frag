@@ -1,14 +1,26 @@
 #version 460
 // ppll, pass 2: sort each pixel's events and integrate the intersecting homogeneous media exactly
-// (the light model of docs/methods.md), front to back from the eye.
+// (the light model of docs/accuracy.md), front to back from the eye.
 //
-// Events are keyed by (distance, sphere * 2 + is_exit): unique per pixel, so the order is fixed
-// whatever order the fragments were appended in. The events are consumed in batches of WINDOW:
-// each walk of the list keeps the WINDOW smallest keys greater than the last key integrated, in a
-// sorted array held in registers (every index a literal constant: an insertion is a fixed chain of
-// compare-and-shift steps). A list of n nodes takes ceil(2n / WINDOW) walks, exact for any length,
-// with no per-pixel array in memory. (Dynamically indexed local arrays, as in a textbook insertion
-// sort, become per-lane scatters on a CPU device and cost several times more; see docs/performance.md.)
+// The ordered path, one walk of the list. The host draws the spheres far to near by a lower bound
+// of every distance at which a sphere's ray events can lie (its nearest possible distance, less a
+// float margin: ppll.cpp), so the list, built in reverse append order, arrives sorted by that bound.
+// When a node arrives, no later node can hold an event before its bound (the watermark), so every
+// pending event before it is final and is integrated at once. Pending events wait in a sorted
+// window of WINDOW keys in registers (event_window.glsl). Each node takes two emission steps: an
+// event below the watermark goes, and so does the smallest one when the window could not take the
+// node's two events. A forced emission is only a guess, and so is the order when the device did
+// not append fragments in draw order: if a key ever arrives below the last one integrated, the
+// order was wrong, and the pixel is resolved again by the general path. So the result is exact
+// whatever the order, and the ordered path costs O(n * WINDOW) for a list of n nodes.
+//
+// The general path: walks of the list, each keeping the WINDOW smallest keys greater than the last
+// key integrated, so a list of n nodes takes ceil(2n / WINDOW) walks (O(n^2 / WINDOW)). It runs
+// only for pixels where too many media overlap for the window (hundreds of coincident spheres).
+//
+// lavapipe ends a shader's loops after 65,535 iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared
+// by every loop of an invocation). A loop that was cut shows as a list not walked to its end; such a
+// pixel is counted in `unresolved`, and the host refuses the frame instead of writing a wrong image.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
@@ -16,15 +28,35 @@
 #include "medium.glsl"
 #include "ppll_storage.glsl"
 #include "exact_integrator.glsl"
+#include "event_window.glsl"
 
-const uint WINDOW = 8;  // events per walk; BRUME_INSERT and BRUME_SWEEP below are written for 8
-const uvec2 NO_KEY = uvec2(0xffffffffu);
 layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaque_image;
+layout(set = 0, binding = BINDING_PPLL_BOUNDS, std430) readonly buffer BoundBlock { float nearest_bound[]; };
+// 0: every pixel takes the general path (`ppll-general`, the resolve Brume shipped before the
+// ordered path: kept to chart what the ordered path gains).
+layout(constant_id = 2) const uint ORDERED_PATH = 1u;
 layout(location = 0) noperspective in vec3 v_ray;
 layout(location = 0) out vec4 out_radiance;
 
-// Distances are >= +0.0, so their bit patterns order like the floats.
-bool key_less(uvec2 a, uvec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }
+// Integrates the window's first event if it lies before the watermark `mark` (final), or if the
+// window could not take two more events (forced: checked by the order test).
+#define BRUME_EMISSION_STEP                                                        \
+    if (!it.stopped && (q[0].x < mark || q[ORDERED_WINDOW - 2u] != NO_KEY)) {      \
+        integrate_event(it, source, q[0]);                                         \
+        last = q[0];                                                               \
+        BRUME_ORDERED_SHIFT_LEFT                                                   \
+    }
+
+// The general path's walk over one node: its keys not integrated yet go into the batch.
+#define BRUME_GENERAL_TAKE_NODE                                                                   \
+    {                                                                                             \
+        uvec4 v = load_node(node);                                                                \
+        uvec2 entry = uvec2(v.x, v.z * 2u), exit = uvec2(v.y, v.z * 2u + 1u);                     \
+        if (walk == 0u || key_less(last_key, entry)) BRUME_WINDOW_INSERT(entry)                   \
+        if (walk == 0u || key_less(last_key, exit)) BRUME_WINDOW_INSERT(exit)                     \
+        node = v.w;                                                                               \
+        ++count;                                                                                  \
+    }
 
 void main() {
     if (gl_HelperInvocation) return;
@@ -37,68 +69,97 @@ void main() {
     }
     vec3 source = source_radiance(normalize(v_ray));
     Integrator it = start_integrator();
-
-    uvec2 w[WINDOW];  // the batch, sorted; NO_KEY marks empty slots (it sorts after every real key)
-    // Inserts `key` into the sorted batch, dropping the largest: with c_i = (key sorts before slot i),
-    // slot i takes its left neighbour if c_(i-1), else key if c_i, else keeps its own. All eight
-    // comparisons use the batch as it was, so they are made once, before any slot moves.
-#define BRUME_SHIFT(i, c_left, c) w[i] = c_left ? w[i - 1] : (c ? key : w[i]);
-#define BRUME_INSERT(k)                                                                           \
-    {                                                                                             \
-        uvec2 key = k;                                                                            \
-        bool c0 = key_less(key, w[0]), c1 = key_less(key, w[1]), c2 = key_less(key, w[2]);       \
-        bool c3 = key_less(key, w[3]), c4 = key_less(key, w[4]), c5 = key_less(key, w[5]);       \
-        bool c6 = key_less(key, w[6]), c7 = key_less(key, w[7]);                                 \
-        BRUME_SHIFT(7, c6, c7) BRUME_SHIFT(6, c5, c6) BRUME_SHIFT(5, c4, c5)                      \
-        BRUME_SHIFT(4, c3, c4) BRUME_SHIFT(3, c2, c3) BRUME_SHIFT(2, c1, c2)                      \
-        BRUME_SHIFT(1, c0, c1)                                                                    \
-        w[0] = c0 ? key : w[0];                                                                   \
+    // The ordered path.
+    uvec2 q[ORDERED_WINDOW];
+    BRUME_ORDERED_CLEAR
+    uvec2 last = uvec2(0u);  // the last key integrated
+    bool in_order = ORDERED_PATH != 0u;
+    uint prev_mark = 0u;  // the list must come sorted by bound, or the watermark means nothing
+    uint list_length = 0u;
+    uint node = head;
+    for (; in_order && node != LIST_END && !it.stopped; ++list_length) {
+        uvec4 v = load_node(node);
+        uint mark = floatBitsToUint(max(nearest_bound[v.z], 0.0));
+        if (mark < prev_mark) in_order = false;
+        prev_mark = mark;
+        // Two emission steps: room for this node's two events, and final events leave early.
+        BRUME_EMISSION_STEP
+        BRUME_EMISSION_STEP
+        uvec2 entry = uvec2(v.x, v.z * 2u), exit = uvec2(v.y, v.z * 2u + 1u);  // exit > entry: t1 > t0
+        if (entry.x < last.x) in_order = false;  // equal distances may come in any order
+        BRUME_ORDERED_INSERT(entry)
+        BRUME_ORDERED_INSERT(exit)
+        node = v.w;
     }
+    // Leaving early out of order is no cut: the general path walks the list again.
+    bool cut = in_order && node != LIST_END && !it.stopped;
+    // After an early stop the order is proven only up to the last event integrated: a node further
+    // on with an entry before it would have changed the answer (a forced emission may have gone too
+    // soon). The nodes come sorted by bound, so the check ends at the first bound past that event.
+    while (in_order && it.stopped && node != LIST_END) {
+        uvec4 v = load_node(node);
+        uint mark = floatBitsToUint(max(nearest_bound[v.z], 0.0));
+        if (mark > last.x) break;
+        if (mark < prev_mark || v.x < last.x) in_order = false;
+        prev_mark = mark;
+        node = v.w;
+    }
+    while (in_order && !it.stopped && q[0] != NO_KEY) {
+        integrate_event(it, source, q[0]);
+        BRUME_ORDERED_SHIFT_LEFT
+    }
+    cut = cut || (in_order && !it.stopped && q[0] != NO_KEY);
 
-    uvec2 last = uvec2(0u);
-    uint list_length = 0u, events = 0u, taken = 0u, walks = 0u;
-    for (;;) {
-        w[0] = w[1] = w[2] = w[3] = w[4] = w[5] = w[6] = w[7] = NO_KEY;
-        for (uint node = head; node != LIST_END;) {
-            uvec4 v = load_node(node);
-            uvec2 entry = uvec2(v.x, v.z * 2u), exit = uvec2(v.y, v.z * 2u + 1u);
-            if (walks == 0u) {
-                ++list_length;
-                BRUME_INSERT(entry)
-                BRUME_INSERT(exit)
-            } else {
-                if (key_less(last, entry)) BRUME_INSERT(entry)  // not integrated yet
-                if (key_less(last, exit)) BRUME_INSERT(exit)
+    // The general path, from the start, where the ordered one could not be sure of the order.
+    bool general = !in_order && !cut;
+    if (general) {
+        it = start_integrator();
+        uvec2 w[WINDOW];
+        uvec2 last_key = uvec2(0u);
+        uint events = 0u, taken = 0u;
+        for (uint walk = 0u; !cut; ++walk) {
+            BRUME_WINDOW_CLEAR
+            uint count = 0u;
+            // Two nodes per iteration: half the iterations of lavapipe's loop budget.
+            for (node = head; node != LIST_END;) {
+                BRUME_GENERAL_TAKE_NODE
+                if (node != LIST_END) BRUME_GENERAL_TAKE_NODE
             }
-            node = v.w;
+            cut = node != LIST_END;
+            if (walk == 0u) {
+                list_length = count;
+                events = 2u * count;
+            }
+            last_key = w[WINDOW - 1u];  // only read when this batch was full
+            // Integrate the batch front to back; a loop ends once every lane is done.
+            while (!it.stopped && w[0] != NO_KEY) {
+                integrate_event(it, source, w[0]);
+                BRUME_WINDOW_SHIFT_LEFT
+            }
+            cut = cut || (!it.stopped && w[0] != NO_KEY);
+            taken += WINDOW;
+            if (it.stopped || taken >= events) break;
         }
-        if (walks == 0u) events = 2u * list_length;
-        ++walks;
-        last = w[WINDOW - 1u];  // only read when this batch was full
-        // Integrate the batch front to back, shifting it left so the next event is always in
-        // slot 0: a loop ends once every lane is done, where unused slots would cost full events.
-        while (!it.stopped && w[0] != NO_KEY) {
-            integrate_event(it, source, w[0]);
-            w[0] = w[1]; w[1] = w[2]; w[2] = w[3]; w[3] = w[4]; w[4] = w[5]; w[5] = w[6]; w[6] = w[7];
-            w[7] = NO_KEY;
-        }
-        taken += WINDOW;
-        if (it.stopped || taken >= events) break;
     }
-#undef BRUME_INSERT
-#undef BRUME_SHIFT
 
     if (!it.stopped) it.radiance += it.transmittance * opaque.rgb;
     out_radiance = vec4(it.radiance, 1.0);
 
-    // Statistics, one atomic per subgroup, on request (the flag is uniform: no divergence here).
+    // A cut loop means the pixel is wrong: always counted (one atomic per subgroup), so the host
+    // can refuse the frame. The flag is uniform, so there is no divergence around the ballot.
+    uint unresolved = subgroupAdd(cut ? 1u : 0u);
+    if (subgroupElect() && unresolved > 0u) atomicAdd(counters.unresolved, unresolved);
+
+    // Statistics on request (the flag is uniform too).
     if ((frame.pool.w & FRAME_COLLECT_LIST_STATS) == 0u) return;
+    if (!general) // the ordered path stops at the early termination: count the rest
+        for (; node != LIST_END; node = load_node(node).w) ++list_length;
     uint longest = subgroupMax(list_length);
     uint nonempty = subgroupAdd(1u);
-    uint long_lists = subgroupAdd(walks > 1u ? 1u : 0u);
+    uint general_lists = subgroupAdd(general ? 1u : 0u);
     if (subgroupElect()) {
         atomicMax(counters.max_length, longest);
         atomicAdd(counters.nonempty_pixels, nonempty);
-        atomicAdd(counters.long_lists, long_lists);
+        atomicAdd(counters.long_lists, general_lists);
     }
 }

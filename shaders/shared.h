@@ -41,8 +41,10 @@ BRUME_CONST BINDING_METHOD_IMAGE_FIRST = 11;
 BRUME_CONST METHOD_IMAGES = 4;
 BRUME_CONST BINDING_COUNT = BINDING_METHOD_IMAGE_FIRST + METHOD_IMAGES;
 
-// sorted, soft, auto's power-sorted frames
+// sorted, soft, auto's power-sorted frames, ppll
 BRUME_CONST BINDING_SORT_ORDER = 7;      // buffer uint[]: draw i shows sphere order[i]
+// ppll
+BRUME_CONST BINDING_PPLL_BOUNDS = 8;     // buffer float[]: per sphere, a lower bound of its ray events' distances
 // wsum, wavg, wboit
 BRUME_CONST BINDING_WEIGHT_PARAMS = 7;   // buffer WeightParams
 BRUME_CONST BINDING_WEIGHT_ACCUM = 11;   // rgba32f: sum(w alpha c), sum(w alpha)
@@ -109,7 +111,9 @@ struct ListCounters {
     uint allocated;        // nodes requested this frame; above capacity means the pool overflowed
     uint max_length;       // longest list, in nodes
     uint nonempty_pixels;  // pixels with at least one node
-    uint long_lists;       // pixels whose list needed more than one resolve window
+    uint long_lists;       // pixels the ordered path could not resolve: resolved by the general path
+    uint unresolved;       // pixels whose resolve the device cut short (a loop limit): the frame is wrong
+    uint reserved0, reserved1, reserved2;
 };
 
 // The tone-map pass (render/frame/tone_map.h) has a set layout of its own: the HDR target, sampled.

@@ -10,21 +10,5 @@
 // pipeline layout has no push constants). Every pass runs this same compiled code, so an entry
 // distance found in one pass compares bit for bit with the same sphere's in the next.
 #extension GL_GOOGLE_include_directive : require
-#define BRUME_VERTEX_STAGE
-#include "impostor_interface.glsl"
-#include "bindings.glsl"
-#include "rays.glsl"
-#include "screen_bounds.glsl"
-
-
-void main() {
-    const uint vertex = uint(gl_VertexIndex);
-    v_pass = vertex / 6u;
-    v_sphere = gl_InstanceIndex;
-    GpuSphere s = spheres[gl_InstanceIndex];
-    vec4 rect;
-    bool visible = s.albedo_extinction.w > 0.0 && sphere_screen_rect(s.center_radius.xyz, s.center_radius.w, rect);
-    gl_Position = visible ? rect_corner(rect, int(vertex % 6u)) : vec4(2.0, 2.0, 0.0, 1.0);
-    v_ray = ndc_ray(gl_Position.xy);
-    v_offset_r2 = vec4(frame.eye.xyz - s.center_radius.xyz, s.center_radius.w * s.center_radius.w);
-}
+#define BRUME_INSTANCE_SPHERE uint(gl_InstanceIndex)
+#include "sphere_impostor.glsl"

@@ -1,5 +1,5 @@
 // Popping regression tests: animated scenes where the order of particles flips. The temporal error
-// (temporal_error, render/image_compare.h) of every exact method of the catalogue (ppll, auto) stays at
+// (temporal_error, render/image_compare.h) of every exact method of the catalogue (ppll, ppll-general, auto) stays at
 // the reference's floor; the sorted baseline, on the very same frames, exceeds a threshold many times
 // larger, which shows the metric can fail.
 #include "gpu_test_env.h"

@@ -157,9 +157,10 @@ TEST_F(Ppll, MorePartsThanAddressableIsABudgetError) {
     }
 }
 
-TEST_F(Ppll, ListsLongerThanTheResolveWindowStayExact) {
-    // 60 spheres on the view axis: 60 nodes = 120 events per pixel, 15 batches of the resolve's
-    // 8-event window, with many ties in distance between neighbouring spheres' surfaces.
+TEST_F(Ppll, NearlySortedListsLongerThanTheWindowTakeTheOrderedPath) {
+    // 60 spheres on the view axis: 60 nodes = 120 events per pixel, far more than the ordered
+    // window's 32 slots, with many ties in distance between neighbouring spheres' surfaces. Drawn
+    // far to near, every list arrives sorted by the spheres' bounds and needs no second walk.
     Scene s = small_scene(48, 48);
     s.render.min_transmittance = 0.0;
     for (int i = 0; i < 60; ++i) s.spheres.push_back(sphere({0.01 * i, 0.0, 2.0 - 0.07 * i}, 1.0, 0.05));
@@ -167,10 +168,83 @@ TEST_F(Ppll, ListsLongerThanTheResolveWindowStayExact) {
     FrameStats stats;
     const Image img = ppll.render(s, &stats);
     EXPECT_EQ(stats.max_list_length, 60u);
+    EXPECT_EQ(stats.long_list_pixels, 0u);
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+TEST_F(Ppll, MoreOverlappingMediaThanTheWindowHoldsTakeTheGeneralPathExactly) {
+    // 100 nearly coincident spheres: every one is open at once, so the window cannot hold the
+    // pending exits; those pixels are resolved again by the general path, and stay exact.
+    Scene s = small_scene(48, 48);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+    for (int i = 0; i < 100; ++i)
+        s.spheres.push_back(sphere({jitter(rng), jitter(rng), jitter(rng)}, 1.0, 0.02, {0.9, 0.6 + 0.003 * i, 0.5}));
+    PpllMethod ppll(device());
+    FrameStats stats;
+    const Image img = ppll.render(s, &stats);
+    EXPECT_EQ(stats.max_list_length, 100u);
     EXPECT_GT(stats.long_list_pixels, 0u);
     const ImageDiff d = compare_with_reference(img, s);
     EXPECT_EQ(d.pixels_over, 0u) << describe(d);
 }
+
+// Lists of 800, 3,000 and 20,000 nodes, thin (no early stop) and thick (early stop), on one pixel
+// (15 x 15: the centre pixel's ray is the view axis). A chain of disjoint spheres along the axis
+// is nearly sorted and must always be exact. Coincident spheres keep every medium open at once;
+// the general path resolves them exactly where the device lets its loops run long enough
+// (lavapipe: all of them at 800 nodes), and otherwise the frame is refused: never a wrong image.
+struct LongList {
+    int nodes;
+    bool coincident;
+    bool thick;
+};
+
+class PpllLongLists : public GpuTest, public ::testing::WithParamInterface<LongList> {};
+
+TEST_P(PpllLongLists, AreExactOrRefusedNeverWrong) {
+    const LongList p = GetParam();
+    Scene s = small_scene(15, 15);
+    s.render.min_transmittance = p.thick ? 1e-4 : 0.0;
+    for (int i = 0; i < p.nodes; ++i) {
+        if (p.coincident) {
+            // Optical depth through the centre: 1 (thin) or 40 (thick).
+            s.spheres.push_back(sphere({0, 0, 0}, 0.5, (p.thick ? 40.0 : 1.0) / p.nodes, {0.9, 0.7, 0.5}));
+        } else {
+            const double spacing = 2.0 / p.nodes;  // centres from z = 1 down to z = -1, radius 0.4 spacing
+            s.spheres.push_back(sphere({0, 0, 1.0 - spacing * i}, 0.4 * spacing, (p.thick ? 100.0 : 1.0) / 0.8,
+                                       {0.9, 0.7, 0.5}));
+        }
+    }
+    PpllMethod ppll(device());
+    FrameStats stats;
+    try {
+        const Image img = ppll.render(s, &stats, true);
+        EXPECT_EQ(stats.max_list_length, std::uint32_t(p.nodes));
+        const ImageDiff d = compare_with_reference(img, s);
+        EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+        const float* centre = img.pixel(7, 7);
+        const float* corner = img.pixel(0, 0);
+        EXPECT_NE(centre[0], corner[0]) << "the list's medium is missing from the image";
+    } catch (const ListResolveError& e) {
+        // Only the general path may run out of loop iterations, and only past 800 nodes.
+        EXPECT_TRUE(p.coincident && p.nodes > 800) << e.what();
+        EXPECT_NE(std::string(e.what()).find("could not be resolved"), std::string::npos) << e.what();
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Lengths, PpllLongLists,
+                         ::testing::Values(LongList{800, false, false}, LongList{800, false, true},
+                                           LongList{3000, false, false}, LongList{3000, false, true},
+                                           LongList{20000, false, false}, LongList{20000, false, true},
+                                           LongList{800, true, false}, LongList{800, true, true},
+                                           LongList{3000, true, false}, LongList{3000, true, true},
+                                           LongList{20000, true, false}, LongList{20000, true, true}),
+                         [](const ::testing::TestParamInfo<LongList>& info) {
+                             return std::to_string(info.param.nodes) + (info.param.coincident ? "_coincident" : "_chain") +
+                                    (info.param.thick ? "_thick" : "_thin");
+                         });
 
 TEST_F(Ppll, LayersSceneHasExactlyTheStatedLayersEverywhere) {
     for (int layers : {2, 8}) {

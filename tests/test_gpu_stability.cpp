@@ -1,6 +1,6 @@
 // The stability suite: the scenes where methods break. On each, every method of the catalogue
 // (render/methods/registry.h) runs, stays finite and keeps the validation layer quiet; the methods
-// marked exact (ppll, auto) must match the reference, ppll reports exactly what it could not do,
+// marked exact (ppll, ppll-general, auto) must match the reference, ppll reports exactly what it could not do,
 // and every other method's error against the reference is recorded (printed and stored as a test
 // property), not asserted: how a baseline degrades is what `brume bench` charts. The scenes set
 // min_transmittance = 0, within which auto is exact (render/methods/auto_method.h).

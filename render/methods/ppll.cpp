@@ -7,12 +7,14 @@
 #include "ppll_resolve.frag.h"
 #include "render/vk/pipelines.h"
 #include "render/vk/vk_check.h"
-#include "sphere_impostor.vert.h"
+#include "sphere_impostor_ordered.vert.h"
+#include "render/methods/sorted.h"
 #include "sim/camera_rays.h"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 
@@ -33,6 +35,13 @@ void tangent_slopes(double lateral, double depth, double r, double& lo, double& 
 }
 
 }  // namespace
+
+ListResolveError::ListResolveError(std::uint64_t pixels, std::uint32_t longest)
+    : std::runtime_error(std::to_string(pixels) + (pixels == 1 ? " pixel" : " pixels") +
+                         " could not be resolved on this device: the longest list has " + std::to_string(longest) +
+                         " nodes of overlapping media, and the device cut the resolve's loops short (lavapipe ends a "
+                         "shader's loops after 65,535 iterations in all); no image was written. Use --method reference, "
+                         "or fewer overlapping particles") {}
 
 PoolBudgetError::PoolBudgetError(std::uint64_t needed, std::uint64_t allowed, bool addressable)
     : std::runtime_error(
@@ -95,11 +104,12 @@ PpllMethod::PpllMethod(Device& device, PpllOptions options) : GpuMethod(device),
 
 void PpllMethod::ensure_pipelines(std::uint32_t parts) {
     if (parts == pipeline_parts_) return;
-    // Specialization constant 1: pool parts (see ppll_storage.glsl); 0 is unused.
-    const std::vector<std::uint32_t> constants = {0u, parts};
+    // Specialization constants: 1, pool parts (see ppll_storage.glsl); 2, the resolve's ordered
+    // path (ppll_resolve.frag); 0 is unused.
+    const std::vector<std::uint32_t> constants = {0u, parts, options_.ordered_path ? 1u : 0u};
     GraphicsPipelineDesc append;
     append.name = "ppll_append";
-    append.vertex = BRUME_SPIRV(spv_sphere_impostor_vert);
+    append.vertex = BRUME_SPIRV(spv_sphere_impostor_ordered_vert);
     append.fragment = BRUME_SPIRV(spv_ppll_append_frag);
     append.fragment_constants = constants;
     append_pipeline_ = create_graphics_pipeline(device_, descriptors_.pipeline_layout(), append);
@@ -150,8 +160,39 @@ void PpllMethod::write_pool_uniforms(FrameContext& ctx) const {
     ctx.uniforms().pool = gpu::uvec4(std::uint32_t(capacity_), part_shift_, std::uint32_t(pool_parts_.size()), flags);
 }
 
+void PpllMethod::upload_draw_order(const Scene& scene) {
+    const auto start = std::chrono::steady_clock::now();
+    // Every ray event of sphere k lies at a distance >= |c - e| - r. The shader finds it in float,
+    // from float copies of c, e and r: the margin covers that rounding (about 1e-6 of these
+    // magnitudes) ten times over, so the float event is never before its bound.
+    const glm::dvec3 eye = scene.camera.position;
+    bound_.resize(scene.spheres.size());
+    for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+        const Sphere& s = scene.spheres[k];
+        const double distance = glm::length(s.center - eye);
+        const double margin = 1e-5 * (distance + s.radius + glm::length(s.center) + glm::length(eye));
+        bound_[k] = distance - s.radius - margin;
+    }
+    // Far to near, starting from last frame's order (an animation sorts in about linear time).
+    sort_back_to_front(order_, bound_);
+    const std::size_t n = std::max<std::size_t>(order_.size(), 1);  // Vulkan has no empty buffers
+    if (order_buffer_.size() < n * sizeof(std::uint32_t) || order_buffer_.size() > 4 * n * sizeof(std::uint32_t)) {
+        order_buffer_ = Buffer(device_, n * sizeof(std::uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload,
+                               "ppll.draw_order");
+        bound_buffer_ = Buffer(device_, n * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload,
+                               "ppll.bounds");
+        descriptors_.write_storage(gpu::BINDING_SORT_ORDER, order_buffer_.get());
+        descriptors_.write_storage(gpu::BINDING_PPLL_BOUNDS, bound_buffer_.get());
+    }
+    if (!order_.empty()) std::memcpy(order_buffer_.mapped(), order_.data(), order_.size() * sizeof(std::uint32_t));
+    float* bounds = bound_buffer_.as<float>();
+    for (std::size_t k = 0; k < bound_.size(); ++k) bounds[k] = float(bound_[k]);  // rounds by < the margin
+    sort_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
 void PpllMethod::prepare(FrameContext& ctx) {
     ensure_heads(ctx.extent());
+    upload_draw_order(ctx.scene());
     if (capacity_ == 0) {
         std::uint64_t want = options_.initial_nodes;
         if (want == 0) {
@@ -197,7 +238,10 @@ bool PpllMethod::record(VkCommandBuffer cmd, FrameContext& ctx, int) {
 
 GpuMethod::After PpllMethod::after_step(FrameContext& ctx, int) {
     std::memcpy(&counters_seen_, counters_readback_.mapped(), sizeof counters_seen_);
-    if (counters_seen_.allocated <= capacity_) return After::Done;
+    if (counters_seen_.allocated <= capacity_) {
+        if (counters_seen_.unresolved > 0) throw ListResolveError(counters_seen_.unresolved, counters_seen_.max_length);
+        return After::Done;
+    }
     // Overflow: nothing past capacity was written and the frame is discarded. Grow to what this
     // frame needed plus headroom for the next one, and render again.
     const std::uint64_t needed = counters_seen_.allocated;
@@ -210,10 +254,12 @@ GpuMethod::After PpllMethod::after_step(FrameContext& ctx, int) {
 
 void PpllMethod::report(FrameStats& stats, const FrameContext& ctx) {
     const gpu::ListCounters& counters = counters_seen_;
+    // The sort runs on the CPU; it is listed with the GPU passes because every frame pays for it.
+    stats.passes.insert(stats.passes.begin(), {"sort (cpu)", sort_ms_});
     stats.fragments = counters.allocated;
     stats.pool_capacity = capacity_;
     stats.pool_bytes = nodes_bytes(capacity_);
-    stats.memory_bytes = stats.pool_bytes + heads_.size() + counters_.size();
+    stats.memory_bytes = stats.pool_bytes + heads_.size() + counters_.size() + order_buffer_.size() + bound_buffer_.size();
     stats.list_stats = ctx.list_stats_wanted();
     stats.max_list_length = counters.max_length;
     stats.nonempty_pixels = counters.nonempty_pixels;

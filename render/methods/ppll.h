@@ -1,6 +1,7 @@
 // The `ppll` method (Barta & Kovács, "Order Independent Transparency with Per-Pixel Linked Lists"):
 // per-pixel linked lists of sphere intervals built by an impostor pass, then sorted and integrated
-// exactly per pixel (the light model of docs/methods.md; what "exact" means: docs/accuracy.md). The
+// exactly per pixel. The spheres are drawn far to near, so each list arrives nearly sorted and the
+// resolve merges it in one walk, checking the order as it goes (shaders/ppll_resolve.frag) (the light model of docs/methods.md; what "exact" means: docs/accuracy.md). The
 // node pool is sized from the scene, checked after every frame, and grown (frame rendered again) on
 // overflow up to a budget.
 #pragma once
@@ -23,6 +24,14 @@ struct PpllOptions {
     std::uint64_t initial_nodes = 0;   // first pool size; 0: estimated from the scene's projected spheres
     std::uint64_t part_nodes = 0;      // nodes per pool part, a power of two; 0: the most one
                                        // storage-buffer descriptor can address (tests use small parts)
+    bool ordered_path = true;          // false: every pixel by the general path (`ppll-general`)
+};
+
+// A pixel's list could not be resolved on this device: its shader loops were cut short (lavapipe
+// ends a shader's loops after 65,535 iterations in all). The frame is refused, never written wrong.
+class ListResolveError : public std::runtime_error {
+public:
+    ListResolveError(std::uint64_t pixels, std::uint32_t longest);
 };
 
 // The scene needs more list memory than the budget allows.
@@ -45,7 +54,7 @@ class PpllMethod : public GpuMethod {
 public:
     explicit PpllMethod(vk::Device& device, PpllOptions options = {});
 
-    std::string name() const override { return "ppll"; }
+    std::string name() const override { return options_.ordered_path ? "ppll" : "ppll-general"; }
     bool exact() const override { return true; }
     using GpuMethod::render;
     // Renders one frame and reads it back. Throws PoolBudgetError when the lists cannot fit.
@@ -69,6 +78,7 @@ private:
     void ensure_heads(VkExtent2D extent);
     void allocate_pool(std::uint64_t nodes);
     void write_pool_uniforms(FrameContext& ctx) const;
+    void upload_draw_order(const Scene& scene);
 
     PpllOptions options_;
     vk::UniquePipeline append_pipeline_;
@@ -83,6 +93,13 @@ private:
     std::uint64_t max_nodes_ = 0;
     std::uint64_t max_pool_bytes_ = 0;
     gpu::ListCounters counters_seen_{};  // what the last submission counted
+    // The draw order, far to near by each sphere's nearest possible distance (less a float margin),
+    // and those bounds: the resolve's watermark (shaders/ppll_resolve.frag).
+    std::vector<std::uint32_t> order_;
+    std::vector<double> bound_;
+    vk::Buffer order_buffer_;
+    vk::Buffer bound_buffer_;
+    double sort_ms_ = 0.0;
 };
 
 }  // namespace brume

@@ -35,6 +35,12 @@ std::unique_ptr<Method> make_ppll(vk::Device* device, const std::string&, const 
     return std::make_unique<PpllMethod>(*device, ppll_options(options));
 }
 
+std::unique_ptr<Method> make_ppll_general(vk::Device* device, const std::string&, const MethodOptions& options) {
+    PpllOptions ppll = ppll_options(options);
+    ppll.ordered_path = false;
+    return std::make_unique<PpllMethod>(*device, ppll);
+}
+
 std::unique_ptr<Method> make_auto(vk::Device* device, const std::string&, const MethodOptions& options) {
     return std::make_unique<AutoMethod>(*device, ppll_options(options));
 }
@@ -54,8 +60,12 @@ std::string option_names(unsigned bits) {
 
 const std::vector<MethodEntry>& method_catalogue() {
     static const std::vector<MethodEntry> catalogue = {
-        {"ppll", "", "", "per-pixel linked lists, exact intersecting media (GPU)", true, true, true,
-         kHonoursMaxMemory, {}, &make_ppll},
+        {"ppll", "", "",
+         "per-pixel linked lists, exact intersecting media (GPU); spheres drawn far to near, each list merged in one walk",
+         true, true, true, kHonoursMaxMemory, {}, &make_ppll},
+        {"ppll-general", "", "",
+         "ppll with every pixel resolved by repeated walks of its list, O(n^2): the resolve before the ordered one",
+         true, true, true, kHonoursMaxMemory, {}, &make_ppll_general},
         {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)", false, true, false,
          kHonoursThreads, {}, &make_reference},
         {"auto", "", "",

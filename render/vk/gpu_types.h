@@ -16,7 +16,7 @@ static_assert(offsetof(FrameUniforms, pool) == 9 * 16);
 static_assert(offsetof(FrameUniforms, params) == 10 * 16);
 static_assert(sizeof(GpuSphere) == 32 && offsetof(GpuSphere, albedo_extinction) == 16);
 static_assert(sizeof(GpuBox) == 48 && offsetof(GpuBox, max_corner) == 16 && offsetof(GpuBox, radiance) == 32);
-static_assert(sizeof(ListCounters) == 16 && offsetof(ListCounters, allocated) == 0 &&
+static_assert(sizeof(ListCounters) == 32 && offsetof(ListCounters, unresolved) == 16 && offsetof(ListCounters, allocated) == 0 &&
               offsetof(ListCounters, max_length) == 4 && offsetof(ListCounters, nonempty_pixels) == 8 &&
               offsetof(ListCounters, long_lists) == 12);
 static_assert(NODE_BYTES == sizeof(uvec4), "a node is one uvec4 (std430 stride 16)");

@@ -1,0 +1,155 @@
+#include "app/bench_scale.h"
+
+#include "app/charts.h"
+#include "app/cli_util.h"
+#include "render/image_compare.h"
+#include "render/methods/ppll.h"
+#include "render/methods/registry.h"
+#include "render/vk/device.h"
+#include "sim/smoke_cloud_scene.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace brume::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Every exact method of the catalogue, then `sorted`: the fast inexact method users have today.
+std::vector<std::string> default_scale_methods() {
+    std::vector<std::string> specs;
+    for (const MethodEntry& entry : method_catalogue())
+        if (entry.exact) specs.push_back(entry.name);
+    specs.push_back("sorted");
+    return specs;
+}
+
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');)
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+struct Row {
+    std::size_t spheres = 0;
+    std::string method;
+    double ms = 0.0;
+};
+
+}  // namespace
+
+int run_bench_scale(const BenchArgs& args) {
+    int w = 640, h = 360;
+    if (!args.size.empty()) parse_size(args.size, w, h);
+    std::vector<std::size_t> counts;
+    for (int n : parse_int_list(args.spheres)) {
+        if (n < 1) throw std::invalid_argument("--spheres: counts must be at least 1 (got " + std::to_string(n) + ")");
+        counts.push_back(std::size_t(n));
+    }
+    const std::vector<std::string> specs = args.methods.empty() ? default_scale_methods() : split_list(args.methods);
+    for (const std::string& spec : specs) find_method(spec);  // names an unknown method before any work
+
+    vk::DeviceOptions device_options;
+    device_options.device_name = args.device;
+    device_options.validate = args.validate;
+    vk::Device device(device_options);
+    const char* threads = std::getenv("LP_NUM_THREADS");
+    std::printf("# brume bench scale: smoke clouds at %dx%d (radius ~ N^-1/3, fixed seed), device %s "
+                "(LP_NUM_THREADS=%s), median of %d frames after 1 warm-up\n",
+                w, h, device.name().c_str(), threads ? threads : "default", args.frames);
+    std::printf("# fragments, mean and longest list from ppll's list statistics; ns/frag = ms per fragment; "
+                "vs_ref = reference ms / method ms (above 1: faster than the CPU reference)\n");
+    std::printf("%9s %11s %7s %6s  %-12s %10s %9s %8s %9s %s\n", "spheres", "fragments", "mean", "max", "method",
+                "ms", "ns/frag", "vs_ref", "max_err", "passes (ms, last frame)");
+
+    std::vector<Row> rows;
+    std::map<std::size_t, std::uint64_t> fragments_of;
+    for (std::size_t n : counts) {
+        const Scene scene = make_smoke_cloud_scene(n, w, h);
+        // The list figures, once per scene, from a ppll frame that gathers them.
+        PpllMethod probe(device);
+        FrameStats list_stats;
+        probe.render(scene, &list_stats, true);
+        fragments_of[n] = list_stats.fragments;
+        std::printf("# %zu spheres: ppll resolved %llu of %llu pixels by the general path\n", n,
+                    (unsigned long long)list_stats.long_list_pixels, (unsigned long long)list_stats.nonempty_pixels);
+
+        std::map<std::string, double> ms_of;
+        std::map<std::string, std::string> passes_of;
+        Image reference_image;
+        std::vector<std::pair<std::string, Image>> images;
+        for (const std::string& spec : specs) {
+            std::unique_ptr<Method> method = make_method(&device, spec);
+            Image image = method->render(scene);  // warm-up: pipelines, pool sizing, first sort
+            std::vector<double> times;
+            for (int f = 0; f < args.frames; ++f) {
+                FrameStats stats;
+                const auto t0 = std::chrono::steady_clock::now();
+                image = method->render(scene, &stats);
+                const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+                // GPU methods: GPU time plus the CPU passes they list (the sort); the reference: wall time.
+                times.push_back(method->gpu() ? stats.total_ms : wall);
+                if (f + 1 == args.frames) {  // the passes of the last frame, for where the time goes
+                    std::ostringstream passes;
+                    for (const PassTime& p : stats.passes) passes << " " << p.name << "=" << int(p.ms + 0.5);
+                    passes_of[spec] = passes.str();
+                }
+            }
+            ms_of[spec] = median(times);
+            if (spec == "reference") reference_image = image;
+            images.emplace_back(spec, std::move(image));
+        }
+        if (reference_image.width == 0) reference_image = make_method(nullptr, "reference")->render(scene);
+        const double ref_ms = ms_of.count("reference") ? ms_of["reference"] : 0.0;
+        for (const auto& [spec, image] : images) {
+            const ImageDiff diff = compare_images(image, reference_image, 0.0);
+            const double max_err = diff.peak > 0 ? diff.max_abs / diff.peak : diff.max_abs;
+            const double ms = ms_of[spec];
+            char ratio[32] = "-";
+            if (ref_ms > 0) std::snprintf(ratio, sizeof ratio, "%.2fx", ref_ms / ms);
+            std::printf("%9zu %11llu %7.1f %6u  %-12s %10.1f %9.1f %8s %9.1e %s\n", n,
+                        (unsigned long long)list_stats.fragments, list_stats.mean_list_length,
+                        list_stats.max_list_length, spec.c_str(), ms, ms * 1e6 / double(std::max<std::uint64_t>(list_stats.fragments, 1)),
+                        ratio, max_err, passes_of[spec].c_str());
+            rows.push_back({n, spec, ms});
+        }
+        std::fflush(stdout);
+    }
+
+    if (!args.output_dir.empty()) {
+        const fs::path dir(args.output_dir);
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
+        std::ofstream data(dir / "scale.dat");
+        data << "# method fragments ms\n";
+        std::ostringstream plot;
+        plot << "set terminal svg size 720,440\nset output 'scale.svg'\nset logscale xy\nset key left top\n"
+             << "set xlabel 'fragments (list nodes) per frame'\nset ylabel 'ms per frame'\n"
+             << "set title 'brume bench scale: " << w << "x" << h << " smoke clouds, " << device.name() << "'\nplot ";
+        for (std::size_t m = 0; m < specs.size(); ++m) {
+            data << "\n\n# " << specs[m] << "\n";
+            for (const Row& row : rows)
+                if (row.method == specs[m]) data << specs[m] << " " << fragments_of[row.spheres] << " " << row.ms << "\n";
+            plot << (m ? ", " : "") << "'scale.dat' index " << m << " using 2:3 with linespoints title '" << specs[m] << "'";
+        }
+        plot << "\nset terminal pngcairo size 720,440\nset output 'scale.png'\nreplot\n";
+        data.close();
+        for (const std::string& file : draw_charts(dir, {{"scale", plot.str()}})) std::printf("# chart: %s\n", file.c_str());
+    }
+    if (device.validation_message_count() > 0) {
+        for (const std::string& m : device.take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
+        return 3;
+    }
+    return 0;
+}
+
+}  // namespace brume::app

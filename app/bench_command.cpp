@@ -5,6 +5,7 @@
 #include "app/bench_vdb.h"
 #include "app/cli_util.h"
 #include "render/image_compare.h"
+#include "render/methods/fill_ceiling.h"
 #include "render/methods/ppll.h"
 #include "render/reference.h"
 #include "render/vk/device.h"
@@ -98,13 +99,16 @@ int run_bench(const BenchArgs& args) {
     device_options.validate = args.validate;
     vk::Device device(device_options);
     PpllMethod ppll(device);
+    FillCeiling ceiling(device);
     const char* threads = std::getenv("LP_NUM_THREADS");
     std::printf("# brume bench layers: ppll on %s (LP_NUM_THREADS=%s), median of %d frames after 1 warm-up;\n",
                 device.name().c_str(), threads ? threads : "default", args.frames);
     std::printf("# reference = CPU double-precision renderer, all cores, median of %d; paper = Barta & Kovács, Tables 1-2\n",
                 args.reference_frames);
-    std::printf("%-9s %6s %9s %9s %9s %9s %8s %8s %11s %10s %9s %9s\n", "size", "layers", "opaque", "particle",
-                "resolve", "total_ms", "fps", "paper", "Mlayers/s", "ref_ms", "ref/ppll", "max_err");
+    std::printf("# fill_ms = the fill ceiling: the same impostors with a shader that does nothing but cannot be skipped "
+                "(a never-taken discard); x_fill = total_ms / fill_ms\n");
+    std::printf("%-9s %6s %9s %9s %9s %9s %8s %8s %11s %9s %7s %10s %9s %9s\n", "size", "layers", "opaque", "particle",
+                "resolve", "total_ms", "fps", "paper", "Mlayers/s", "fill_ms", "x_fill", "ref_ms", "ref/ppll", "max_err");
     for (auto [w, h] : sizes) {
         for (int n : layer_counts) {
             const Scene scene = make_layers_scene(n, w, h);
@@ -119,6 +123,14 @@ int run_bench(const BenchArgs& args) {
                 total.push_back(stats.total_ms);
             }
             const double ms = median(total);
+            ceiling.render(scene);  // warm-up
+            std::vector<double> fill;
+            for (int f = 0; f < args.frames; ++f) {
+                FrameStats fill_stats;
+                ceiling.render(scene, &fill_stats);
+                fill.push_back(pass_ms(fill_stats, "particles"));
+            }
+            const double fill_ms = median(fill);
             double ref_ms = 0.0, max_err = 0.0;
             if (!args.no_reference) {
                 std::vector<double> ref_times;
@@ -136,9 +148,10 @@ int run_bench(const BenchArgs& args) {
             const double paper = paper_fps(w, n);
             char size_text[32];
             std::snprintf(size_text, sizeof size_text, "%dx%d", w, h);
-            std::printf("%-9s %6d %9.2f %9.2f %9.2f %9.2f %8.1f %8s %11.1f %10s %9s %9.1e\n", size_text, n,
+            std::printf("%-9s %6d %9.2f %9.2f %9.2f %9.2f %8.1f %8s %11.1f %9.2f %6.1fx %10s %9s %9.1e\n", size_text, n,
                         median(opaque), median(particles), median(resolve), ms, 1000.0 / ms,
-                        paper > 0 ? std::to_string(int(paper)).c_str() : "-", double(n) * w * h / (ms * 1e3),
+                        paper > 0 ? std::to_string(int(paper)).c_str() : "-", double(n) * w * h / (ms * 1e3), fill_ms,
+                        ms / fill_ms,
                         args.no_reference ? "-" : std::to_string(int(ref_ms + 0.5)).c_str(),
                         args.no_reference ? "-" : (std::to_string(ref_ms / ms).substr(0, 5) + "x").c_str(), max_err);
             std::fflush(stdout);

@@ -2,6 +2,8 @@
 // ppll, pass 2: sort each pixel's events and integrate the intersecting homogeneous media exactly
 // (the light model of docs/accuracy.md), front to back from the eye.
 //
+// Short lists (at most WINDOW / 2 nodes) are taken whole by one walk into a sorted register window.
+//
 // The ordered path, one walk of the list. The host draws the spheres far to near by a lower bound
 // of every distance at which a sphere's ray events can lie (its nearest possible distance, less a
 // float margin: ppll.cpp), so the list, built in reverse append order, arrives sorted by that bound.
@@ -58,6 +60,17 @@ layout(location = 0) out vec4 out_radiance;
         ++count;                                                                                  \
     }
 
+// One walk of the general path over the list from `head`: the WINDOW smallest keys after last_key
+// (walk 0: of all keys) into w, counting the nodes. Two nodes per iteration: half the iterations
+// of lavapipe's loop budget.
+#define BRUME_GENERAL_WALK                                                                        \
+    BRUME_WINDOW_CLEAR                                                                            \
+    uint count = 0u;                                                                              \
+    for (node = head; node != LIST_END;) {                                                        \
+        BRUME_GENERAL_TAKE_NODE                                                                   \
+        if (node != LIST_END) BRUME_GENERAL_TAKE_NODE                                             \
+    }
+
 void main() {
     if (gl_HelperInvocation) return;
     ivec2 px = ivec2(gl_FragCoord.xy);
@@ -69,76 +82,86 @@ void main() {
     }
     vec3 source = source_radiance(normalize(v_ray));
     Integrator it = start_integrator();
-    // The ordered path.
-    uvec2 q[ORDERED_WINDOW];
-    BRUME_ORDERED_CLEAR
-    uvec2 last = uvec2(0u);  // the last key integrated
-    bool in_order = ORDERED_PATH != 0u;
-    uint prev_mark = 0u;  // the list must come sorted by bound, or the watermark means nothing
-    uint list_length = 0u;
-    uint node = head;
-    for (; in_order && node != LIST_END && !it.stopped; ++list_length) {
-        uvec4 v = load_node(node);
-        uint mark = floatBitsToUint(max(nearest_bound[v.z], 0.0));
-        if (mark < prev_mark) in_order = false;
-        prev_mark = mark;
-        // Two emission steps: room for this node's two events, and final events leave early.
-        BRUME_EMISSION_STEP
-        BRUME_EMISSION_STEP
-        uvec2 entry = uvec2(v.x, v.z * 2u), exit = uvec2(v.y, v.z * 2u + 1u);  // exit > entry: t1 > t0
-        if (entry.x < last.x) in_order = false;  // equal distances may come in any order
-        BRUME_ORDERED_INSERT(entry)
-        BRUME_ORDERED_INSERT(exit)
-        node = v.w;
-    }
-    // Leaving early out of order is no cut: the general path walks the list again.
-    bool cut = in_order && node != LIST_END && !it.stopped;
-    // After an early stop the order is proven only up to the last event integrated: a node further
-    // on with an entry before it would have changed the answer (a forced emission may have gone too
-    // soon). The nodes come sorted by bound, so the check ends at the first bound past that event.
-    while (in_order && it.stopped && node != LIST_END) {
-        uvec4 v = load_node(node);
-        uint mark = floatBitsToUint(max(nearest_bound[v.z], 0.0));
-        if (mark > last.x) break;
-        if (mark < prev_mark || v.x < last.x) in_order = false;
-        prev_mark = mark;
-        node = v.w;
-    }
-    while (in_order && !it.stopped && q[0] != NO_KEY) {
-        integrate_event(it, source, q[0]);
-        BRUME_ORDERED_SHIFT_LEFT
-    }
-    cut = cut || (in_order && !it.stopped && q[0] != NO_KEY);
 
-    // The general path, from the start, where the ordered one could not be sure of the order.
-    bool general = !in_order && !cut;
-    if (general) {
-        it = start_integrator();
-        uvec2 w[WINDOW];
-        uvec2 last_key = uvec2(0u);
-        uint events = 0u, taken = 0u;
-        for (uint walk = 0u; !cut; ++walk) {
-            BRUME_WINDOW_CLEAR
-            uint count = 0u;
-            // Two nodes per iteration: half the iterations of lavapipe's loop budget.
-            for (node = head; node != LIST_END;) {
-                BRUME_GENERAL_TAKE_NODE
-                if (node != LIST_END) BRUME_GENERAL_TAKE_NODE
-            }
+    // Walk 0 of the general path: it counts the list and keeps its WINDOW smallest events. A list
+    // of at most WINDOW / 2 nodes is then complete in registers: short lists (most pixels of light
+    // smoke, every pixel of the layers benchmark) need nothing more.
+    uvec2 w[WINDOW];
+    uvec2 last_key = uvec2(0u);  // the largest key of the general path's last batch
+    uint walk = 0u, list_length = 0u, node = head;
+    BRUME_GENERAL_WALK
+    list_length = count;
+    bool cut = node != LIST_END;
+    bool general = true, in_order = true;
+
+    bool take_ordered = ORDERED_PATH != 0u && !cut && 2u * list_length > WINDOW;
+    // A uniform branch (every lane agrees): lavapipe jumps over it, where a divergent `if` runs its
+    // body under an empty lane mask. Most subgroups of light smoke have no long list at all.
+    if (subgroupBallot(take_ordered) != uvec4(0u)) if (take_ordered) {
+        // The ordered path, for longer lists.
+        general = false;
+        uvec2 q[ORDERED_WINDOW];
+        BRUME_ORDERED_CLEAR
+        uvec2 last = uvec2(0u);  // the last key integrated
+        uint prev_mark = 0u;     // the list must come sorted by bound, or the watermark means nothing
+        for (node = head; in_order && node != LIST_END && !it.stopped;) {
+            uvec4 v = load_node(node);
+            uint mark = floatBitsToUint(max(nearest_bound[v.z], 0.0));
+            if (mark < prev_mark) in_order = false;
+            prev_mark = mark;
+            // Two emission steps: room for this node's two events, and final events leave early.
+            BRUME_EMISSION_STEP
+            BRUME_EMISSION_STEP
+            uvec2 entry = uvec2(v.x, v.z * 2u), exit = uvec2(v.y, v.z * 2u + 1u);  // exit > entry: t1 > t0
+            if (entry.x < last.x) in_order = false;  // equal distances may come in any order
+            BRUME_ORDERED_INSERT(entry)
+            BRUME_ORDERED_INSERT(exit)
+            node = v.w;
+        }
+        // Leaving early out of order is no cut: the general path walks the list again.
+        cut = in_order && node != LIST_END && !it.stopped;
+        // After an early stop the order is proven only up to the last event integrated: a node
+        // further on with an entry before it would have changed the answer (a forced emission may
+        // have gone too soon). Nodes come sorted by bound: the check ends at the first bound past it.
+        while (in_order && it.stopped && node != LIST_END) {
+            uvec4 v = load_node(node);
+            uint mark = floatBitsToUint(max(nearest_bound[v.z], 0.0));
+            if (mark > last.x) break;
+            if (mark < prev_mark || v.x < last.x) in_order = false;
+            prev_mark = mark;
+            node = v.w;
+        }
+        while (in_order && !it.stopped && q[0] != NO_KEY) {
+            integrate_event(it, source, q[0]);
+            BRUME_ORDERED_SHIFT_LEFT
+        }
+        cut = cut || (in_order && !it.stopped && q[0] != NO_KEY);
+        if (!in_order && !cut) {
+            // The general path, from the start, where the ordered one could not be sure of the order.
+            general = true;
+            it = start_integrator();
+            BRUME_GENERAL_WALK
             cut = node != LIST_END;
-            if (walk == 0u) {
-                list_length = count;
-                events = 2u * count;
-            }
+        }
+    }
+
+    if (general && !cut) {
+        // Batches of the general path: integrate this one, then walk again for the next.
+        uint events = 2u * list_length, taken = 0u;
+        for (;;) {
             last_key = w[WINDOW - 1u];  // only read when this batch was full
             // Integrate the batch front to back; a loop ends once every lane is done.
             while (!it.stopped && w[0] != NO_KEY) {
                 integrate_event(it, source, w[0]);
                 BRUME_WINDOW_SHIFT_LEFT
             }
-            cut = cut || (!it.stopped && w[0] != NO_KEY);
+            cut = !it.stopped && w[0] != NO_KEY;
             taken += WINDOW;
-            if (it.stopped || taken >= events) break;
+            if (cut || it.stopped || taken >= events) break;
+            ++walk;
+            BRUME_GENERAL_WALK
+            cut = node != LIST_END;
+            if (cut) break;
         }
     }
 
@@ -152,11 +175,9 @@ void main() {
 
     // Statistics on request (the flag is uniform too).
     if ((frame.pool.w & FRAME_COLLECT_LIST_STATS) == 0u) return;
-    if (!general) // the ordered path stops at the early termination: count the rest
-        for (; node != LIST_END; node = load_node(node).w) ++list_length;
     uint longest = subgroupMax(list_length);
     uint nonempty = subgroupAdd(1u);
-    uint general_lists = subgroupAdd(general ? 1u : 0u);
+    uint general_lists = subgroupAdd(in_order ? 0u : 1u);
     if (subgroupElect()) {
         atomicMax(counters.max_length, longest);
         atomicAdd(counters.nonempty_pixels, nonempty);

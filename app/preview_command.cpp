@@ -1,0 +1,306 @@
+#include "app/preview_command.h"
+
+#include "app/cli_util.h"
+#include "app/preview_adaptive.h"
+#include "app/preview_camera.h"
+#include "app/preview_controls.h"
+#include "app/preview_imgui.h"
+#include "app/preview_panel.h"
+#include "app/preview_script.h"
+#include "app/preview_session.h"
+#include "app/preview_window.h"
+#include "render/atomic_file.h"
+#include "render/frame/frame_path.h"
+#include "render/frame/swapchain_presenter.h"
+#include "render/methods/registry.h"
+#include "render/vk/device.h"
+#include "sim/builtin_presets.h"
+#include "sim/vdb/volume_loader.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+
+namespace brume::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Measures the presenter's own work (acquire, tone map and UI recording, submit, queue present).
+class TimedPresenter : public Presenter {
+public:
+    explicit TimedPresenter(SwapchainPresenter& inner) : inner_(inner) {}
+    bool present(const FrameResources& frame, vk::FrameRing& ring) override {
+        const auto t0 = Clock::now();
+        const bool shown = inner_.present(frame, ring);
+        last_seconds = seconds_since(t0);
+        return shown;
+    }
+    double last_seconds = 0.0;
+
+private:
+    SwapchainPresenter& inner_;
+};
+
+// Without --size the window is the preset's resolution, enlarged by a whole factor to be at least 800
+// pixels wide: what `brume play` renders, shown at a size one can work with.
+void default_viewport(const Preset& preset, int& width, int& height) {
+    const int w = preset.scene.camera.width, h = preset.scene.camera.height;
+    const int factor = std::max(1, (800 + w - 1) / w);
+    width = w * factor;
+    height = h * factor;
+}
+
+// Runs script commands until one has to wait for shown frames, or the script ends. Returns false
+// once `quit` ran.
+class ScriptRunner {
+public:
+    explicit ScriptRunner(std::vector<ScriptCommand> commands) : commands_(commands.begin(), commands.end()) {}
+
+    bool active() const { return !commands_.empty(); }
+    void frame_shown() {
+        if (frames_to_wait_ > 0) --frames_to_wait_;
+    }
+    // Executes what can run now. Throws std::runtime_error prefixed with "FILE:LINE: ".
+    bool run(PreviewSession& session, FramePath& path, const PreviewWindow& window) {
+        while (frames_to_wait_ == 0 && !commands_.empty()) {
+            const ScriptCommand c = commands_.front();
+            commands_.pop_front();
+            try {
+                if (!execute(c, session, path, window)) return false;
+            } catch (const std::exception& e) {
+                throw std::runtime_error(c.where + ": " + e.what());
+            }
+        }
+        return true;
+    }
+
+private:
+    bool execute(const ScriptCommand& c, PreviewSession& session, FramePath& path, const PreviewWindow& window) {
+        PreviewTimeline& timeline = session.timeline();
+        switch (c.kind) {
+        case ScriptCommand::Kind::Frame:
+            if (c.number >= timeline.frame_count())
+                throw std::invalid_argument("frame " + std::to_string(c.number) + " is outside the preset's frames 0-" +
+                                            std::to_string(timeline.frame_count() - 1));
+            timeline.seek(int(c.number));
+            break;
+        case ScriptCommand::Kind::Play: session.playback().playing = true; break;
+        case ScriptCommand::Kind::Pause: session.playback().playing = false; break;
+        case ScriptCommand::Kind::Wait: frames_to_wait_ = c.number; break;
+        case ScriptCommand::Kind::Orbit: session.set_user_camera(orbit_camera(session.camera(), c.x, c.y)); break;
+        case ScriptCommand::Kind::Method: session.set_method(c.text); break;
+        case ScriptCommand::Kind::Resize:
+            window.set_size(int(c.number), int(c.number2));
+            frames_to_wait_ = 1;  // the next frame is shown at the new size
+            break;
+        case ScriptCommand::Kind::Screenshot:
+            session.screenshot(path, window.framebuffer_extent(), c.text);
+            std::printf("screenshot %s: frame %d at %ux%u, method %s\n", c.text.c_str(), timeline.frame(),
+                        window.framebuffer_extent().width, window.framebuffer_extent().height,
+                        session.method_spec().c_str());
+            break;
+        case ScriptCommand::Kind::Camera: {
+            const Camera cam = session.camera();
+            std::printf("camera position %.17g %.17g %.17g look_at %.17g %.17g %.17g\n", cam.position.x, cam.position.y,
+                        cam.position.z, cam.look_at.x, cam.look_at.y, cam.look_at.z);
+            break;
+        }
+        case ScriptCommand::Kind::Quit: return false;
+        }
+        std::fflush(stdout);
+        return true;
+    }
+
+    std::deque<ScriptCommand> commands_;
+    // The script starts once the first frame is on the screen, so every run shows the window working.
+    long long frames_to_wait_ = 1;
+};
+
+// Smoothed per-part wall-clock times and a whole-run tally for the summary a scripted run prints.
+struct Timing {
+    PartTimes smoothed;
+    PartTimes total;
+    int frames = 0;
+    void add(const PartTimes& t) {
+        auto blend = [](double& s, double v) { s = s == 0.0 ? v : 0.9 * s + 0.1 * v; };
+        blend(smoothed.simulate, t.simulate);
+        blend(smoothed.render, t.render);
+        blend(smoothed.ui, t.ui);
+        blend(smoothed.present, t.present);
+        blend(smoothed.frame, t.frame);
+        total.simulate += t.simulate;
+        total.render += t.render;
+        total.ui += t.ui;
+        total.present += t.present;
+        total.frame += t.frame;
+        ++frames;
+    }
+};
+
+}  // namespace
+
+void add_preview_command(CLI::App& app, PreviewArgs& args) {
+    CLI::App* cmd = app.add_subcommand("preview", "Open a window that plays a preset, with a timeline and a panel");
+    cmd->add_option("preset", args.preset, "Preset or scene file, or built-in name (brume play --list); none: the default");
+    cmd->add_option("--size", args.size, "Viewport size WxH (default: the preset's resolution, enlarged)");
+    cmd->add_option("--method", args.method, "NAME[:SETTING] of a GPU method (default: the preset's)");
+    cmd->add_option("--exposure", args.exposure, "Exposure in stops (default: the preset's)")
+        ->each([&args](const std::string&) { args.exposure_set = true; });
+    cmd->add_option("--frame", args.frame, "Open at frame N (0-based)");
+    cmd->add_option("--screenshot", args.screenshot,
+                    "With --frame: save that frame's viewport (.png as brume play writes it, or .exr linear) and exit");
+    cmd->add_option("--script", args.script, "Run the commands of FILE (docs/preview.md), then stay open unless it quits");
+    cmd->add_flag("--fixed-resolution", args.fixed_resolution, "Always render at the full viewport size");
+    cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
+    cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers; any message fails the run");
+    cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M");
+}
+
+int run_preview(const PreviewArgs& args) {
+    // Everything that can be refused is refused before a window opens.
+    Preset preset = resolve_preset(args.preset.empty() ? default_preset_name() : args.preset);
+    int width = 0, height = 0;
+    if (!args.size.empty())
+        parse_size(args.size, width, height);
+    else
+        default_viewport(preset, width, height);
+    preset.scene.camera.width = width;
+    preset.scene.camera.height = height;
+    const std::string method = args.method.empty() ? preset.render.method : args.method;
+    const double exposure = args.exposure_set ? args.exposure : preset.render.exposure;
+    if (!std::isfinite(exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");
+    MethodOptions options;
+    unsigned given = 0;
+    if (!args.max_memory.empty()) {
+        options.max_pool_bytes = parse_bytes(args.max_memory);
+        given |= kHonoursMaxMemory;
+    }
+    check_method_options(method, given);
+    if (!find_method(method).needs_device)
+        throw std::invalid_argument("--method " + method + " runs on the CPU; the preview shows GPU methods "
+                                    "(render it with brume play --method " + method + ")");
+    if (args.frame >= preset.timeline.frame_count())
+        throw std::invalid_argument("--frame " + std::to_string(args.frame) + " is outside the preset's frames 0-" +
+                                    std::to_string(preset.timeline.frame_count() - 1));
+    if (args.frame < -1) throw std::invalid_argument("--frame must be 0 or more");
+    if (!args.screenshot.empty()) {
+        if (args.frame < 0) throw std::invalid_argument("--screenshot needs --frame N (the frame to save)");
+        if (!args.screenshot.ends_with(".png") && !args.screenshot.ends_with(".exr"))
+            throw std::invalid_argument("--screenshot " + args.screenshot + ": the name must end in .png or .exr");
+        if (!args.script.empty()) throw std::invalid_argument("--screenshot and --script: put the screenshot in the script");
+        check_writable_path(args.screenshot);
+    }
+    std::vector<ScriptCommand> commands;
+    if (!args.script.empty()) commands = load_script(args.script);
+    if (!args.screenshot.empty()) {
+        ScriptCommand shot;
+        shot.kind = ScriptCommand::Kind::Screenshot;
+        shot.text = args.screenshot;
+        shot.where = "--screenshot";
+        ScriptCommand quit;
+        quit.where = "--screenshot";
+        commands = {shot, quit};
+    }
+    const bool scripted = !commands.empty();
+    for (const VolumeReport& v : prepare_preset(preset)) print_volume_report(v);
+
+    PreviewWindow window(width, height, "brume preview: " + preset.name);
+    vk::DeviceOptions device_options;
+    device_options.device_name = args.device;
+    device_options.validate = args.validate;
+    device_options.instance_extensions = window.required_instance_extensions();
+    device_options.device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+    device_options.create_surface = [&window](VkInstance instance) { return window.create_surface(instance); };
+    vk::Device device(device_options);
+
+    int shown_frames = 0;
+    AdaptiveResolution adaptive;
+    adaptive.set_enabled(!args.fixed_resolution);
+    Timing timing;
+    VkExtent2D internal{};
+    {
+        PreviewSession session(device, preset, method, options, exposure);
+        if (args.frame >= 0) session.timeline().seek(int(args.frame));
+        session.playback().one_frame_per_view = scripted;
+        FramePath path(device);
+        SwapchainPresenter presenter(device, window.framebuffer_extent());
+        TimedPresenter timed(presenter);
+        PreviewImgui ui(window.handle(), device, presenter.render_pass(), vk::FrameRing::kDefaultSlots);
+        presenter.set_overlay([&ui](VkCommandBuffer cmd) { ui.record(cmd); });
+        ScriptRunner script(std::move(commands));
+        PanelState panel{session, adaptive, timing.smoothed};
+        panel.method_index = 0;
+
+        auto last = Clock::now();
+        while (!window.should_close()) {
+            const auto frame_start = Clock::now();
+            const double dt = std::chrono::duration<double>(frame_start - last).count();
+            last = frame_start;
+            window.poll_events();
+            const VkExtent2D viewport = window.framebuffer_extent();
+            presenter.set_window_extent(viewport);
+            if (viewport.width == 0 || viewport.height == 0) {
+                window.wait_events();  // minimised: no swapchain, nothing to draw
+                continue;
+            }
+            if (!script.run(session, path, window)) break;
+
+            PartTimes part;
+            const int frame_before = session.timeline().frame();
+            const WindowInput input = window.take_input();
+            bool moved = apply_controls(input, ui.wants_mouse(), ui.wants_keyboard(), dt, window, session);
+            auto t = Clock::now();
+            session.advance(dt);
+            part.simulate = seconds_since(t) * 1000.0;
+            moved = moved || session.playback().playing || session.timeline().frame() != frame_before;
+
+            t = Clock::now();
+            ui.new_frame();
+            panel.viewport = viewport;
+            panel.internal = internal;
+            draw_panel(panel);
+            ui.render();
+            part.ui = seconds_since(t) * 1000.0;
+
+            internal = adaptive.internal_extent(viewport);
+            presenter.set_exposure(session.exposure());
+            t = Clock::now();
+            const bool shown = path.render_to(timed, session.method(), session.scene(internal.width, internal.height),
+                                              &session.last_stats(), panel.list_stats);
+            part.present = timed.last_seconds * 1000.0;
+            part.render = seconds_since(t) * 1000.0 - part.present;
+            if (shown) {
+                ++shown_frames;
+                script.frame_shown();
+            }
+            part.frame = seconds_since(frame_start) * 1000.0;
+            timing.add(part);
+            adaptive.frame_done(part.frame / 1000.0, moved);
+            // A still view with nothing to do waits for input instead of redrawing the same frame.
+            if (!moved && !script.active() && internal.width == viewport.width) window.wait_events();
+        }
+    }
+
+    if (device.validation_message_count() > 0) {
+        for (const std::string& m : device.take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
+        std::fprintf(stderr, "brume: error: the Vulkan validation layer reported problems (above)\n");
+        return 3;
+    }
+    if (scripted && timing.frames > 0) {
+        const double n = timing.frames;
+        std::printf("preview: %d frames shown, %.1f FPS; mean ms per frame: simulate %.2f, render %.2f, ui %.2f, "
+                    "present %.2f; internal resolution %ux%u\n",
+                    shown_frames, 1000.0 * n / timing.total.frame, timing.total.simulate / n, timing.total.render / n,
+                    timing.total.ui / n, timing.total.present / n, internal.width, internal.height);
+    }
+    return 0;
+}
+
+}  // namespace brume::app

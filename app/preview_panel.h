@@ -1,0 +1,35 @@
+// The preview's ImGui panel: timeline (play, pause, loop, speed, step, scrub, the simulated and
+// checkpointed range), camera (follow the path, reset, exposure), method (every GPU method of the
+// registry with its setting) and the live figures of the frame (FPS, CPU time per part, GPU ms per
+// pass, fragments, pool memory, list lengths, internal resolution). It only edits the session and
+// the flags below; the loop applies them.
+#pragma once
+
+#include "app/preview_adaptive.h"
+#include "app/preview_session.h"
+
+#include <string>
+
+namespace brume::app {
+
+// Wall-clock milliseconds of each part of the last frame, smoothed.
+struct PartTimes {
+    double simulate = 0.0, render = 0.0, ui = 0.0, present = 0.0, frame = 0.0;
+};
+
+struct PanelState {
+    PreviewSession& session;
+    AdaptiveResolution& adaptive;
+    const PartTimes& times;
+    VkExtent2D viewport{};
+    VkExtent2D internal{};
+    bool list_stats = false;     // ask the method for list lengths (extra atomics)
+    std::string method_error;    // the last refused method switch, shown until the next one
+    char method_setting[32] = {};  // the setting text being edited
+    int method_index = 0;          // into the GPU methods of the catalogue
+};
+
+// Draws the panel for this UI frame.
+void draw_panel(PanelState& state);
+
+}  // namespace brume::app

@@ -3,6 +3,7 @@
 #include "app/cli_util.h"
 #include "app/preview_adaptive.h"
 #include "app/preview_camera.h"
+#include "app/preview_capture.h"
 #include "app/preview_controls.h"
 #include "app/preview_imgui.h"
 #include "app/preview_panel.h"
@@ -57,6 +58,15 @@ void default_viewport(const Preset& preset, int& width, int& height) {
     height = h * factor;
 }
 
+// What a script command reaches besides the session.
+struct ScriptTargets {
+    PreviewSession& session;
+    FramePath& path;
+    const PreviewWindow& window;
+    SwapchainPresenter& presenter;
+    bool& panel_visible;
+};
+
 // Runs script commands until one has to wait for shown frames, or the script ends. Returns false
 // once `quit` ran.
 class ScriptRunner {
@@ -64,16 +74,29 @@ public:
     explicit ScriptRunner(std::vector<ScriptCommand> commands) : commands_(commands.begin(), commands.end()) {}
 
     bool active() const { return !commands_.empty(); }
-    void frame_shown() {
+    // After each shown frame: counts down a wait, and writes a capture asked for by the last command.
+    void frame_shown(SwapchainPresenter& presenter) {
         if (frames_to_wait_ > 0) --frames_to_wait_;
+        if (capture_.path.empty()) return;
+        VkExtent2D extent{};
+        const std::vector<std::uint8_t> pixels = presenter.take_capture(extent);
+        if (pixels.empty()) return;  // not this frame (an out-of-date swapchain): the next one
+        try {
+            write_capture_png(pixels, extent, capture_.path);
+        } catch (const std::exception& e) {
+            throw std::runtime_error(capture_.where + ": " + e.what());
+        }
+        std::printf("capture %s: the window at %ux%u\n", capture_.path.c_str(), extent.width, extent.height);
+        std::fflush(stdout);
+        capture_ = {};
     }
     // Executes what can run now. Throws std::runtime_error prefixed with "FILE:LINE: ".
-    bool run(PreviewSession& session, FramePath& path, const PreviewWindow& window) {
-        while (frames_to_wait_ == 0 && !commands_.empty()) {
+    bool run(ScriptTargets& targets) {
+        while (frames_to_wait_ == 0 && capture_.path.empty() && !commands_.empty()) {
             const ScriptCommand c = commands_.front();
             commands_.pop_front();
             try {
-                if (!execute(c, session, path, window)) return false;
+                if (!execute(c, targets)) return false;
             } catch (const std::exception& e) {
                 throw std::runtime_error(c.where + ": " + e.what());
             }
@@ -82,7 +105,10 @@ public:
     }
 
 private:
-    bool execute(const ScriptCommand& c, PreviewSession& session, FramePath& path, const PreviewWindow& window) {
+    bool execute(const ScriptCommand& c, ScriptTargets& targets) {
+        PreviewSession& session = targets.session;
+        FramePath& path = targets.path;
+        const PreviewWindow& window = targets.window;
         PreviewTimeline& timeline = session.timeline();
         switch (c.kind) {
         case ScriptCommand::Kind::Frame:
@@ -106,6 +132,14 @@ private:
                         window.framebuffer_extent().width, window.framebuffer_extent().height,
                         session.method_spec().c_str());
             break;
+        case ScriptCommand::Kind::Capture:
+            check_writable_path(c.text);
+            if (!targets.presenter.capture_next_frame())
+                throw std::runtime_error("capture: this window's swapchain images cannot be copied from");
+            capture_.path = c.text;
+            capture_.where = c.where;
+            break;
+        case ScriptCommand::Kind::Panel: targets.panel_visible = c.number != 0; break;
         case ScriptCommand::Kind::Camera: {
             const Camera cam = session.camera();
             std::printf("camera position %.17g %.17g %.17g look_at %.17g %.17g %.17g\n", cam.position.x, cam.position.y,
@@ -119,6 +153,9 @@ private:
     }
 
     std::deque<ScriptCommand> commands_;
+    struct PendingCapture {
+        std::string path, where;
+    } capture_;
     // The script starts once the first frame is on the screen, so every run shows the window working.
     long long frames_to_wait_ = 1;
 };
@@ -235,8 +272,18 @@ int run_preview(const PreviewArgs& args) {
         PreviewImgui ui(window.handle(), device, presenter.render_pass(), vk::FrameRing::kDefaultSlots);
         presenter.set_overlay([&ui](VkCommandBuffer cmd) { ui.record(cmd); });
         ScriptRunner script(std::move(commands));
+        bool panel_visible = true;
+        ScriptTargets targets{session, path, window, presenter, panel_visible};
         PanelState panel{session, adaptive, timing.smoothed};
-        panel.method_index = 0;
+        // The method list starts at the method shown.
+        for (const MethodEntry& m : method_catalogue()) {
+            if (m.name == find_method(method).name) break;
+            if (m.needs_device) ++panel.method_index;
+        }
+        const std::size_t colon = method.find(':');
+        std::snprintf(panel.method_setting, sizeof panel.method_setting, "%s",
+                      colon == std::string::npos ? find_method(method).default_setting.c_str()
+                                                 : method.substr(colon + 1).c_str());
 
         auto last = Clock::now();
         while (!window.should_close()) {
@@ -250,7 +297,7 @@ int run_preview(const PreviewArgs& args) {
                 window.wait_events();  // minimised: no swapchain, nothing to draw
                 continue;
             }
-            if (!script.run(session, path, window)) break;
+            if (!script.run(targets)) break;
 
             PartTimes part;
             const int frame_before = session.timeline().frame();
@@ -265,7 +312,7 @@ int run_preview(const PreviewArgs& args) {
             ui.new_frame();
             panel.viewport = viewport;
             panel.internal = internal;
-            draw_panel(panel);
+            if (panel_visible) draw_panel(panel);
             ui.render();
             part.ui = seconds_since(t) * 1000.0;
 
@@ -278,7 +325,7 @@ int run_preview(const PreviewArgs& args) {
             part.render = seconds_since(t) * 1000.0 - part.present;
             if (shown) {
                 ++shown_frames;
-                script.frame_shown();
+                script.frame_shown(presenter);
             }
             part.frame = seconds_since(frame_start) * 1000.0;
             timing.add(part);

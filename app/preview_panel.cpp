@@ -43,7 +43,7 @@ void timeline_section(PanelState& s) {
     int frame = timeline.frame();
     ImGui::SetNextItemWidth(-1);
     if (ImGui::SliderInt("##frame", &frame, 0, last, "frame %d")) timeline.seek(frame);
-    ImGui::Text("frame %d of %d, t = %.3f s (%.4g fps)", timeline.frame(), last, timeline.time(), timeline.fps());
+    ImGui::Text("frame %d (0-%d), t = %.3f s at %.4g fps", timeline.frame(), last, timeline.time(), timeline.fps());
     // The cached range: frames simulated so far, each at most a few steps from a checkpoint.
     const float simulated = float(timeline.simulated_until() + 1) / float(timeline.frame_count());
     char label[96];
@@ -64,7 +64,7 @@ void camera_section(PanelState& s) {
     const Camera c = session.camera();
     ImGui::Text("eye (%.2f, %.2f, %.2f)  at (%.2f, %.2f, %.2f)", c.position.x, c.position.y, c.position.z, c.look_at.x,
                 c.look_at.y, c.look_at.z);
-    ImGui::TextDisabled("left drag: orbit, right or shift drag: pan, wheel: zoom, R: reset");
+    ImGui::TextDisabled("drag: orbit; right drag: pan; wheel: zoom");
 }
 
 void method_section(PanelState& s) {
@@ -134,14 +134,14 @@ void figures_section(PanelState& s) {
 
 void draw_panel(PanelState& s) {
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowBgAlpha(0.8f);
     if (!ImGui::Begin(("Brume: " + s.session.timeline().preset().name).c_str())) {
         ImGui::End();
         return;
     }
     if (ImGui::CollapsingHeader("Timeline", ImGuiTreeNodeFlags_DefaultOpen)) timeline_section(s);
-    if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) camera_section(s);
+    if (ImGui::CollapsingHeader("Camera")) camera_section(s);
     if (ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) method_section(s);
     if (ImGui::CollapsingHeader("Figures", ImGuiTreeNodeFlags_DefaultOpen)) figures_section(s);
     ImGui::End();

@@ -86,9 +86,21 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
             const std::string ext = c.text.size() >= 4 ? c.text.substr(c.text.size() - 4) : "";
             if (ext != ".png" && ext != ".exr")
                 throw ScriptError(c.where + ": screenshot '" + c.text + "': the name must end in .png or .exr");
+        } else if (name == "capture") {
+            expect(1, "capture PATH (.png)");
+            c.kind = ScriptCommand::Kind::Capture;
+            c.text = w[1];
+            if (!c.text.ends_with(".png"))
+                throw ScriptError(c.where + ": capture '" + c.text + "': the name must end in .png");
+        } else if (name == "panel") {
+            expect(1, "panel on|off");
+            c.kind = ScriptCommand::Kind::Panel;
+            if (w[1] != "on" && w[1] != "off") throw ScriptError(c.where + ": panel takes on or off, got '" + w[1] + "'");
+            c.number = w[1] == "on";
         } else {
             throw ScriptError(c.where + ": unknown command '" + name +
-                              "'; known: frame, play, pause, wait, orbit, method, resize, screenshot, camera, quit");
+                              "'; known: frame, play, pause, wait, orbit, method, resize, screenshot, capture, panel, "
+                              "camera, quit");
         }
         commands.push_back(std::move(c));
     }

@@ -7,6 +7,8 @@
 //   method SPEC        switch the method (as --method takes it)
 //   resize W H         resize the window (the swapchain is recreated)
 //   screenshot PATH    save the viewport without the panel: .png (exposed sRGB) or .exr (linear)
+//   capture PATH       save the window as it is shown, panel included (.png)
+//   panel on|off       show or hide the panel
 //   camera             print the camera's position and look_at on stdout
 //   quit               close the preview
 // A malformed line is refused before the window opens, as "FILE:LINE: what is wrong".
@@ -24,12 +26,12 @@ public:
 };
 
 struct ScriptCommand {
-    enum class Kind { Frame, Play, Pause, Wait, Orbit, Method, Resize, Screenshot, Camera, Quit };
+    enum class Kind { Frame, Play, Pause, Wait, Orbit, Method, Resize, Screenshot, Capture, Panel, Camera, Quit };
     Kind kind = Kind::Quit;
-    long long number = 0;      // frame, wait, resize width
+    long long number = 0;      // frame, wait, resize width; panel: 1 on, 0 off
     long long number2 = 0;     // resize height
     double x = 0.0, y = 0.0;   // orbit degrees
-    std::string text;          // method spec, screenshot path
+    std::string text;          // method spec, screenshot or capture path
     std::string where;         // "FILE:LINE", for errors found when the command runs
 };
 

@@ -7,6 +7,7 @@
 #include "app/preview_controls.h"
 #include "app/preview_imgui.h"
 #include "app/preview_panel.h"
+#include "app/preview_reload.h"
 #include "app/preview_script.h"
 #include "app/preview_session.h"
 #include "app/preview_window.h"
@@ -25,11 +26,14 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <filesystem>
+#include <optional>
 
 namespace brume::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+namespace fs = std::filesystem;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -65,6 +69,7 @@ struct ScriptTargets {
     const PreviewWindow& window;
     SwapchainPresenter& presenter;
     bool& panel_visible;
+    const PresetWatcher* watcher;  // null: a built-in preset, nothing to reload
 };
 
 // Runs script commands until one has to wait for shown frames, or the script ends. Returns false
@@ -73,7 +78,7 @@ class ScriptRunner {
 public:
     explicit ScriptRunner(std::vector<ScriptCommand> commands) : commands_(commands.begin(), commands.end()) {}
 
-    bool active() const { return !commands_.empty(); }
+    bool active() const { return !commands_.empty() || reload_wait_.active; }
     // After each shown frame: counts down a wait, and writes a capture asked for by the last command.
     void frame_shown(SwapchainPresenter& presenter) {
         if (frames_to_wait_ > 0) --frames_to_wait_;
@@ -92,7 +97,16 @@ public:
     }
     // Executes what can run now. Throws std::runtime_error prefixed with "FILE:LINE: ".
     bool run(ScriptTargets& targets) {
-        while (frames_to_wait_ == 0 && capture_.path.empty() && !commands_.empty()) {
+        if (reload_wait_.active) {
+            if (targets.watcher->changes() == reload_wait_.seen) {
+                if (seconds_since(reload_wait_.since) > 30.0)
+                    throw std::runtime_error(reload_wait_.where + ": wait-reload: " + targets.watcher->path().string() +
+                                             " did not change within 30 s");
+                return true;
+            }
+            reload_wait_.active = false;
+        }
+        while (frames_to_wait_ == 0 && capture_.path.empty() && !reload_wait_.active && !commands_.empty()) {
             const ScriptCommand c = commands_.front();
             commands_.pop_front();
             try {
@@ -120,6 +134,11 @@ private:
         case ScriptCommand::Kind::Play: session.playback().playing = true; break;
         case ScriptCommand::Kind::Pause: session.playback().playing = false; break;
         case ScriptCommand::Kind::Wait: frames_to_wait_ = c.number; break;
+        case ScriptCommand::Kind::WaitReload:
+            if (!targets.watcher) throw std::runtime_error("wait-reload: a built-in preset is not watched; open a file");
+            reload_wait_ = {true, targets.watcher->changes(), Clock::now(), c.where};
+            std::printf("waiting for %s to change\n", targets.watcher->path().string().c_str());
+            break;
         case ScriptCommand::Kind::Orbit: session.set_user_camera(orbit_camera(session.camera(), c.x, c.y)); break;
         case ScriptCommand::Kind::Method: session.set_method(c.text); break;
         case ScriptCommand::Kind::Resize:
@@ -153,6 +172,12 @@ private:
     }
 
     std::deque<ScriptCommand> commands_;
+    struct ReloadWait {
+        bool active = false;
+        int seen = 0;
+        Clock::time_point since;
+        std::string where;
+    } reload_wait_;
     struct PendingCapture {
         std::string path, where;
     } capture_;
@@ -160,12 +185,19 @@ private:
     long long frames_to_wait_ = 1;
 };
 
-// Smoothed per-part wall-clock times and a whole-run tally for the summary a scripted run prints.
+// Smoothed per-part wall-clock times for the panel, and for the summary a scripted run prints, a
+// tally of the frames since the internal resolution last changed (the figures it settled on).
 struct Timing {
     PartTimes smoothed;
     PartTimes total;
     int frames = 0;
-    void add(const PartTimes& t) {
+    VkExtent2D tallied_extent{};
+    void add(const PartTimes& t, VkExtent2D internal) {
+        if (internal.width != tallied_extent.width || internal.height != tallied_extent.height) {
+            total = {};
+            frames = 0;
+            tallied_extent = internal;
+        }
         auto blend = [](double& s, double v) { s = s == 0.0 ? v : 0.9 * s + 0.1 * v; };
         blend(smoothed.simulate, t.simulate);
         blend(smoothed.render, t.render);
@@ -262,6 +294,7 @@ int run_preview(const PreviewArgs& args) {
     adaptive.set_enabled(!args.fixed_resolution);
     Timing timing;
     VkExtent2D internal{};
+    VkExtent2D last_viewport{};
     {
         PreviewSession session(device, preset, method, options, exposure);
         if (args.frame >= 0) session.timeline().seek(int(args.frame));
@@ -273,8 +306,14 @@ int run_preview(const PreviewArgs& args) {
         presenter.set_overlay([&ui](VkCommandBuffer cmd) { ui.record(cmd); });
         ScriptRunner script(std::move(commands));
         bool panel_visible = true;
-        ScriptTargets targets{session, path, window, presenter, panel_visible};
         PanelState panel{session, adaptive, timing.smoothed};
+        // A file given on the command line is watched; a built-in preset cannot change.
+        std::optional<PresetWatcher> watcher;
+        if (std::error_code ec; !args.preset.empty() && fs::is_regular_file(args.preset, ec)) {
+            watcher.emplace(args.preset, width, height);
+            panel.watched_file = args.preset;
+        }
+        ScriptTargets targets{session, path, window, presenter, panel_visible, watcher ? &*watcher : nullptr};
         // The method list starts at the method shown.
         for (const MethodEntry& m : method_catalogue()) {
             if (m.name == find_method(method).name) break;
@@ -285,7 +324,10 @@ int run_preview(const PreviewArgs& args) {
                       colon == std::string::npos ? find_method(method).default_setting.c_str()
                                                  : method.substr(colon + 1).c_str());
 
-        auto last = Clock::now();
+        int quiet_frames = 0;
+        std::uint64_t events_seen = 0;
+        const auto run_start = Clock::now();
+        auto last = run_start;
         while (!window.should_close()) {
             const auto frame_start = Clock::now();
             const double dt = std::chrono::duration<double>(frame_start - last).count();
@@ -293,9 +335,25 @@ int run_preview(const PreviewArgs& args) {
             window.poll_events();
             const VkExtent2D viewport = window.framebuffer_extent();
             presenter.set_window_extent(viewport);
+            last_viewport = viewport;
             if (viewport.width == 0 || viewport.height == 0) {
                 window.wait_events();  // minimised: no swapchain, nothing to draw
                 continue;
+            }
+            if (watcher) {
+                std::string error;
+                if (std::optional<Preset> reloaded = watcher->poll(seconds_since(run_start), error)) {
+                    session.replace_preset(*reloaded);
+                    quiet_frames = 0;
+                    panel.reload_error.clear();
+                    std::printf("reloaded %s\n", args.preset.c_str());
+                } else if (!error.empty()) {
+                    std::fprintf(stderr, "brume: reload refused, still playing the last good version: %s\n", error.c_str());
+                    panel.reload_error = error;
+                    quiet_frames = 0;
+                }
+                std::fflush(stdout);
+                std::fflush(stderr);
             }
             if (!script.run(targets)) break;
 
@@ -307,6 +365,15 @@ int run_preview(const PreviewArgs& args) {
             session.advance(dt);
             part.simulate = seconds_since(t) * 1000.0;
             moved = moved || session.playback().playing || session.timeline().frame() != frame_before;
+            if (window.event_count() != events_seen || moved || script.active()) quiet_frames = 0;
+            events_seen = window.event_count();
+            // A still view with nothing to do waits for input instead of redrawing the same frame; a few
+            // frames after the last event still run, for the UI's hover and click states to settle.
+            if (quiet_frames >= 3 && adaptive.internal_extent(viewport).width == viewport.width) {
+                window.wait_events();
+                continue;
+            }
+            ++quiet_frames;
 
             t = Clock::now();
             ui.new_frame();
@@ -328,10 +395,8 @@ int run_preview(const PreviewArgs& args) {
                 script.frame_shown(presenter);
             }
             part.frame = seconds_since(frame_start) * 1000.0;
-            timing.add(part);
+            timing.add(part, internal);
             adaptive.frame_done(part.frame / 1000.0, moved);
-            // A still view with nothing to do waits for input instead of redrawing the same frame.
-            if (!moved && !script.active() && internal.width == viewport.width) window.wait_events();
         }
     }
 
@@ -342,10 +407,11 @@ int run_preview(const PreviewArgs& args) {
     }
     if (scripted && timing.frames > 0) {
         const double n = timing.frames;
-        std::printf("preview: %d frames shown, %.1f FPS; mean ms per frame: simulate %.2f, render %.2f, ui %.2f, "
-                    "present %.2f; internal resolution %ux%u\n",
-                    shown_frames, 1000.0 * n / timing.total.frame, timing.total.simulate / n, timing.total.render / n,
-                    timing.total.ui / n, timing.total.present / n, internal.width, internal.height);
+        std::printf("preview: %d frames shown; the last %d at internal resolution %ux%u of %ux%u: %.1f FPS, mean ms "
+                    "per frame: simulate %.2f, render %.2f, ui %.2f, present %.2f\n",
+                    shown_frames, timing.frames, timing.tallied_extent.width, timing.tallied_extent.height,
+                    last_viewport.width, last_viewport.height, 1000.0 * n / timing.total.frame,
+                    timing.total.simulate / n, timing.total.render / n, timing.total.ui / n, timing.total.present / n);
     }
     return 0;
 }

@@ -140,6 +140,14 @@ void draw_panel(PanelState& s) {
         ImGui::End();
         return;
     }
+    if (!s.reload_error.empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", s.reload_error.c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::TextDisabled("playing the last good version; fix the file to reload");
+    } else if (!s.watched_file.empty()) {
+        ImGui::TextDisabled("watching %s", s.watched_file.c_str());
+    }
     if (ImGui::CollapsingHeader("Timeline", ImGuiTreeNodeFlags_DefaultOpen)) timeline_section(s);
     if (ImGui::CollapsingHeader("Camera")) camera_section(s);
     if (ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) method_section(s);

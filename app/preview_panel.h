@@ -25,6 +25,8 @@ struct PanelState {
     VkExtent2D internal{};
     bool list_stats = false;     // ask the method for list lengths (extra atomics)
     std::string method_error;    // the last refused method switch, shown until the next one
+    std::string reload_error;    // the watched file's error while it does not read; the last good preset plays
+    std::string watched_file;    // empty: nothing is watched (a built-in preset)
     char method_setting[32] = {};  // the setting text being edited
     int method_index = 0;          // into the GPU methods of the catalogue
 };

@@ -64,6 +64,9 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
             expect(1, "wait N (frames)");
             c.kind = ScriptCommand::Kind::Wait;
             c.number = whole(w[1], "the number of frames", 1, c.where);
+        } else if (name == "wait-reload") {
+            expect(0, "wait-reload");
+            c.kind = ScriptCommand::Kind::WaitReload;
         } else if (name == "orbit") {
             expect(2, "orbit DEG_X DEG_Y");
             c.kind = ScriptCommand::Kind::Orbit;
@@ -99,7 +102,7 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
             c.number = w[1] == "on";
         } else {
             throw ScriptError(c.where + ": unknown command '" + name +
-                              "'; known: frame, play, pause, wait, orbit, method, resize, screenshot, capture, panel, "
+                              "'; known: frame, play, pause, wait, wait-reload, orbit, method, resize, screenshot, capture, panel, "
                               "camera, quit");
         }
         commands.push_back(std::move(c));

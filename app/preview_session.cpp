@@ -15,6 +15,12 @@ PreviewSession::PreviewSession(vk::Device& device, const Preset& preset, const s
     user_camera_ = timeline_.scene().camera;
 }
 
+void PreviewSession::replace_preset(const Preset& preset) {
+    const int frame = timeline_.frame();
+    timeline_ = PreviewTimeline(preset);
+    timeline_.seek(frame);
+}
+
 void PreviewSession::set_method(const std::string& spec) {
     if (!find_method(spec).needs_device)
         throw std::invalid_argument("method '" + spec + "' runs on the CPU; the preview shows GPU methods "

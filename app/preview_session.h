@@ -38,6 +38,10 @@ public:
     // it loops or stops.
     void advance(double seconds);
 
+    // A reloaded preset: a new timeline at the same frame (clamped to its frames); the method, the
+    // user's camera and the exposure stay.
+    void replace_preset(const Preset& preset);
+
     // Throws std::invalid_argument naming the method when it is unknown or has no GPU frame path.
     void set_method(const std::string& spec);
     const std::string& method_spec() const { return method_spec_; }

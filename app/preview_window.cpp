@@ -44,7 +44,14 @@ PreviewWindow::PreviewWindow(int width, int height, const std::string& title) {
     // ImGui's GLFW backend chains to the callback installed before it, so the wheel reaches both.
     glfwSetScrollCallback(window_, &PreviewWindow::on_scroll);
     glfwSetKeyCallback(window_, &PreviewWindow::on_key);
+    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double, double) { on_event(w); });
+    glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int, int, int) { on_event(w); });
+    glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned) { on_event(w); });
+    glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int, int) { on_event(w); });
+    glfwSetWindowRefreshCallback(window_, [](GLFWwindow* w) { on_event(w); });
 }
+
+void PreviewWindow::on_event(GLFWwindow* window) { ++static_cast<PreviewWindow*>(glfwGetWindowUserPointer(window))->events_; }
 
 PreviewWindow::~PreviewWindow() {
     glfwDestroyWindow(window_);
@@ -53,11 +60,13 @@ PreviewWindow::~PreviewWindow() {
 
 void PreviewWindow::on_scroll(GLFWwindow* window, double, double y) {
     static_cast<PreviewWindow*>(glfwGetWindowUserPointer(window))->scroll_ += y;
+    on_event(window);
 }
 
 void PreviewWindow::on_key(GLFWwindow* window, int key, int, int action, int) {
     if (action == GLFW_PRESS || action == GLFW_REPEAT)
         static_cast<PreviewWindow*>(glfwGetWindowUserPointer(window))->pressed_.push_back(key);
+    on_event(window);
 }
 
 std::vector<std::string> PreviewWindow::required_instance_extensions() const {

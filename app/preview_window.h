@@ -5,6 +5,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -52,17 +53,21 @@ public:
     void set_size(int width, int height) const;
     bool key_down(int glfw_key) const;
     WindowInput take_input();
+    // Input and window events seen so far (a still window with no events needs no new frame).
+    std::uint64_t event_count() const { return events_; }
 
     GLFWwindow* handle() const { return window_; }
 
 private:
     static void on_scroll(GLFWwindow* window, double x, double y);
     static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods);
+    static void on_event(GLFWwindow* window);
 
     GLFWwindow* window_ = nullptr;
     double last_x_ = 0.0, last_y_ = 0.0;
     double scroll_ = 0.0;
     std::vector<int> pressed_;
+    std::uint64_t events_ = 0;
     bool have_cursor_ = false;
 };
 

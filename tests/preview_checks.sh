@@ -130,8 +130,41 @@ elif [ "$(png_size resized.png)" != "80x60" ]; then fail resize "screenshot is $
 else ok resize_and_method_switch_validation_clean; fi
 
 # The scripted run's benchmark line: frames shown and the time of each part.
-if grep -q "^preview: [0-9]* frames shown, [0-9.]* FPS; mean ms per frame: simulate" resize.log; then ok benchmark_line
+if grep -q "^preview: [0-9]* frames shown; the last [0-9]* at internal resolution [0-9]*x[0-9]* of 80x60: [0-9.]* FPS, mean ms per frame: simulate" resize.log; then ok benchmark_line
 else fail benchmark_line "no summary in resize.log"; fi
+
+# Hot reload: a broken file is refused with its file:line error while the last good frame stays; the
+# fixed file is read and shown. The shell edits the file while the preview's script waits for it.
+wait_for() {  # wait_for FILE PATTERN [N]: up to 60 s for N (default 1) lines matching in FILE
+    for _ in $(seq 1 600); do
+        [ "$(grep -c "$2" "$1" 2>/dev/null)" -ge "${3:-1}" ] && return 0
+        sleep 0.1
+    done
+    return 1
+}
+cp "$data/small.toml" live.toml
+printf 'wait 1\nscreenshot good.png\nwait-reload\nwait 1\nscreenshot broken.png\nwait-reload\nwait 1\nscreenshot fixed.png\nquit\n' \
+    >reload.script
+"$brume" preview live.toml --size 64x48 --script reload.script --validate >reload.log 2>&1 &
+reload_pid=$!
+if wait_for reload.log "waiting for live.toml to change"; then
+    printf '\n[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = -1.0\nextinction = 1.0\n' >>live.toml
+    # The preview waits again only after it refused the broken file: then the fix is a change it sees.
+    if wait_for reload.log "reload refused" && wait_for reload.log "waiting for live.toml to change" 2; then
+        sed 's/extinction = 2.0/extinction = 6.0/' "$data/small.toml" >live.toml.new && mv live.toml.new live.toml
+    fi
+fi
+wait "$reload_pid"
+rc=$?
+sed 's/extinction = 2.0/extinction = 6.0/' "$data/small.toml" >edited.toml
+"$brume" render edited.toml --png edited.png >edited.log 2>&1
+if [ "$rc" -ne 0 ]; then fail hot_reload "rc $rc: $(tail -2 reload.log)"
+elif ! grep -q "reload refused, still playing the last good version: live.toml:[0-9]*:" reload.log; then
+    fail hot_reload.error "no file:line error: $(grep -i reload reload.log)"
+elif ! cmp -s good.png broken.png; then fail hot_reload.keeps_last_good "the broken file changed the frame"
+elif cmp -s good.png fixed.png; then fail hot_reload.recovers "the fixed file was not shown"
+elif ! cmp -s fixed.png edited.png; then fail hot_reload.recovers "the reloaded frame differs from brume render of the file"
+else ok hot_reload; fi
 
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1

@@ -5,6 +5,7 @@
 #include "app/preview_camera.h"
 #include "app/preview_capture.h"
 #include "app/preview_controls.h"
+#include "app/preview_edit.h"
 #include "app/preview_imgui.h"
 #include "app/preview_panel.h"
 #include "app/preview_reload.h"
@@ -27,6 +28,10 @@
 #include <cstdio>
 #include <deque>
 #include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <sstream>
 #include <optional>
 
 namespace brume::app {
@@ -70,6 +75,9 @@ struct ScriptTargets {
     SwapchainPresenter& presenter;
     bool& panel_visible;
     const PresetWatcher* watcher;  // null: a built-in preset, nothing to reload
+    std::unique_ptr<PresetEditor>& editor;
+    // The preset as `brume play` would prepare it: the viewport's size, the grid files beside the file.
+    std::function<void(Preset&)> prepare;
 };
 
 // Runs script commands until one has to wait for shown frames, or the script ends. Returns false
@@ -139,6 +147,13 @@ private:
             reload_wait_ = {true, targets.watcher->changes(), Clock::now(), c.where};
             std::printf("waiting for %s to change\n", targets.watcher->path().string().c_str());
             break;
+        case ScriptCommand::Kind::Set: {
+            Preset edited = targets.editor->set(c.text, c.value);
+            targets.prepare(edited);
+            session.replace_preset(edited);
+            std::printf("set %s = %s\n", c.text.c_str(), c.value.c_str());
+            break;
+        }
         case ScriptCommand::Kind::Orbit: session.set_user_camera(orbit_camera(session.camera(), c.x, c.y)); break;
         case ScriptCommand::Kind::Method: session.set_method(c.text); break;
         case ScriptCommand::Kind::Resize:
@@ -213,6 +228,20 @@ struct Timing {
     }
 };
 
+// The editor for `set`, over the text the preset was read from: the file, or the built-in's text.
+std::unique_ptr<PresetEditor> make_editor(const std::string& name_or_path) {
+    std::error_code ec;
+    if (fs::is_regular_file(name_or_path, ec)) {
+        std::ifstream in(name_or_path, std::ios::binary);
+        std::ostringstream text;
+        text << in.rdbuf();
+        return std::make_unique<PresetEditor>(text.str(), name_or_path);
+    }
+    const std::optional<std::string_view> text = builtin_preset_toml(name_or_path);
+    if (!text) throw std::invalid_argument("no preset text for " + name_or_path);
+    return std::make_unique<PresetEditor>(std::string(*text), "presets/" + name_or_path + ".toml");
+}
+
 }  // namespace
 
 void add_preview_command(CLI::App& app, PreviewArgs& args) {
@@ -278,7 +307,19 @@ int run_preview(const PreviewArgs& args) {
         commands = {shot, quit};
     }
     const bool scripted = !commands.empty();
+    std::unique_ptr<PresetEditor> editor = make_editor(args.preset.empty() ? default_preset_name() : args.preset);
     for (const VolumeReport& v : prepare_preset(preset)) print_volume_report(v);
+    // An edited preset is read from text: give it what load_preset_file and run_preview gave the first.
+    std::string base_dir;
+    if (std::error_code ec; fs::is_regular_file(args.preset, ec)) base_dir = fs::path(args.preset).parent_path().string();
+    const std::function<void(Preset&)> prepare_edit = [&](Preset& p) {
+        for (VdbVolume& v : p.scene.volumes) v.source.base_dir = base_dir;
+        for (EmitterDesc& e : p.emitters)
+            if (e.shape == EmitterShape::Density) e.density_source.base_dir = base_dir;
+        p.scene.camera.width = width;
+        p.scene.camera.height = height;
+        for (const VolumeReport& v : prepare_preset(p)) print_volume_report(v);
+    };
 
     PreviewWindow window(width, height, "brume preview: " + preset.name);
     vk::DeviceOptions device_options;
@@ -313,7 +354,8 @@ int run_preview(const PreviewArgs& args) {
             watcher.emplace(args.preset, width, height);
             panel.watched_file = args.preset;
         }
-        ScriptTargets targets{session, path, window, presenter, panel_visible, watcher ? &*watcher : nullptr};
+        ScriptTargets targets{session, path,      window, presenter, panel_visible, watcher ? &*watcher : nullptr,
+                              editor,  prepare_edit};
         // The method list starts at the method shown.
         for (const MethodEntry& m : method_catalogue()) {
             if (m.name == find_method(method).name) break;
@@ -344,6 +386,7 @@ int run_preview(const PreviewArgs& args) {
                 std::string error;
                 if (std::optional<Preset> reloaded = watcher->poll(seconds_since(run_start), error)) {
                     session.replace_preset(*reloaded);
+                    editor = make_editor(args.preset);  // edits start again from the file
                     quiet_frames = 0;
                     panel.reload_error.clear();
                     std::printf("reloaded %s\n", args.preset.c_str());

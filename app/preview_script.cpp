@@ -67,6 +67,15 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
         } else if (name == "wait-reload") {
             expect(0, "wait-reload");
             c.kind = ScriptCommand::Kind::WaitReload;
+        } else if (name == "set") {
+            if (w.size() < 3) throw ScriptError(c.where + ": 'set' takes KEY.PATH VALUE, e.g. set emitter[0].rate 400");
+            c.kind = ScriptCommand::Kind::Set;
+            c.text = w[1];
+            // The value is the rest of the line: arrays and strings may hold spaces.
+            const std::size_t key_at = line.find(w[1], line.find("set") + 3);
+            c.value = line.substr(key_at + w[1].size());
+            c.value.erase(0, c.value.find_first_not_of(" \t"));
+            c.value.erase(c.value.find_last_not_of(" \t\r") + 1);
         } else if (name == "orbit") {
             expect(2, "orbit DEG_X DEG_Y");
             c.kind = ScriptCommand::Kind::Orbit;
@@ -102,7 +111,7 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
             c.number = w[1] == "on";
         } else {
             throw ScriptError(c.where + ": unknown command '" + name +
-                              "'; known: frame, play, pause, wait, wait-reload, orbit, method, resize, screenshot, capture, panel, "
+                              "'; known: frame, play, pause, wait, wait-reload, set, orbit, method, resize, screenshot, capture, panel, "
                               "camera, quit");
         }
         commands.push_back(std::move(c));

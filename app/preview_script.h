@@ -4,6 +4,7 @@
 //   play | pause       start or stop playback (scripted playback advances one frame per shown frame)
 //   wait N             let N frames be shown before the next command
 //   wait-reload        wait (up to 30 s) until the watched file changed and was read or refused
+//   set KEY.PATH VALUE edit a preset value, as in the file (app/preview_edit.h)
 //   orbit DEG_X DEG_Y  orbit the camera (app/preview_camera.h); stops following the camera path
 //   method SPEC        switch the method (as --method takes it)
 //   resize W H         resize the window (the swapchain is recreated)
@@ -27,12 +28,13 @@ public:
 };
 
 struct ScriptCommand {
-    enum class Kind { Frame, Play, Pause, Wait, WaitReload, Orbit, Method, Resize, Screenshot, Capture, Panel, Camera, Quit };
+    enum class Kind { Frame, Play, Pause, Wait, WaitReload, Set, Orbit, Method, Resize, Screenshot, Capture, Panel, Camera, Quit };
     Kind kind = Kind::Quit;
     long long number = 0;      // frame, wait, resize width; panel: 1 on, 0 off
     long long number2 = 0;     // resize height
     double x = 0.0, y = 0.0;   // orbit degrees
-    std::string text;          // method spec, screenshot or capture path
+    std::string text;          // method spec, screenshot or capture path, set's key path
+    std::string value;         // set's value (the rest of the line)
     std::string where;         // "FILE:LINE", for errors found when the command runs
 };
 

@@ -9,6 +9,7 @@ set -u
 brume=$(realpath "$1")
 scratch=$2
 data=$(cd "$(dirname "$0")/data" && pwd)
+presets=$(cd "$(dirname "$0")/../presets" && pwd)
 lavapipe=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 export VK_DRIVER_FILES=$lavapipe VK_ICD_FILENAMES=$lavapipe
 mkdir -p "$scratch"
@@ -132,6 +133,25 @@ else ok resize_and_method_switch_validation_clean; fi
 # The scripted run's benchmark line: frames shown and the time of each part.
 if grep -q "^preview: [0-9]* frames shown; the last [0-9]* at internal resolution [0-9]*x[0-9]* of 80x60: [0-9.]* FPS, mean ms per frame: simulate" resize.log; then ok benchmark_line
 else fail benchmark_line "no summary in resize.log"; fi
+
+# Live edits: `set` of the emitter's rate changes the frame, and equals brume play of the file edited
+# the same way; a value the reader refuses is named with its key.
+sed 's/^rate = 220.0$/rate = 600.0/' "$presets/plume.toml" >plume-edited.toml
+"$brume" play plume-edited.toml -o play.edited --frames 12-12 --size 96x72 --format png >play.edited.log 2>&1
+printf 'frame 12\nwait 1\nscreenshot unedited.png\nset emitter[0].rate 600.0\nwait 1\nscreenshot edited.png\nquit\n' >set.script
+"$brume" preview plume --size 96x72 --script set.script --validate >set.log 2>&1
+rc=$?
+played=$(ls play.edited/*.0012.png 2>/dev/null | head -1)
+if [ "$rc" -ne 0 ]; then fail set "rc $rc: $(tail -1 set.log)"
+elif ! grep -q '^rate = 600.0$' plume-edited.toml; then fail set "the sed edit did not apply to plume.toml"
+elif cmp -s unedited.png edited.png; then fail set.changes "the rate did not change the frame"
+elif [ -z "$played" ] || ! cmp -s edited.png "$played"; then fail set.equals_play "differs from play of the edited file"
+else ok set_equals_play_of_edited_file; fi
+printf 'set emitter[0].rate -5\nquit\n' >setbad.script
+"$brume" preview plume --size 64x48 --script setbad.script >setbad.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && grep -q "setbad.script:1: emitter\[0\].rate: must not be negative" setbad.log; then ok set_refused_names_key
+else fail set_refused_names_key "rc $rc: $(tail -1 setbad.log)"; fi
 
 # Hot reload: a broken file is refused with its file:line error while the last good frame stays; the
 # fixed file is read and shown. The shell edits the file while the preview's script waits for it.

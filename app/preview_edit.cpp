@@ -1,0 +1,117 @@
+#include "app/preview_edit.h"
+
+#include "sim/preset_file.h"
+#include "sim/scene_file.h"
+
+#include <toml++/toml.h>
+
+#include <charconv>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace brume::app {
+
+struct PresetEditor::Document {
+    toml::table root;
+};
+
+namespace {
+
+struct Segment {
+    std::string name;
+    long long index = -1;  // name[index], or -1
+};
+
+std::vector<Segment> parse_key_path(const std::string& path) {
+    std::vector<Segment> out;
+    std::size_t start = 0;
+    while (start <= path.size()) {
+        const std::size_t dot = path.find('.', start);
+        std::string part = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+        Segment s;
+        if (const std::size_t open = part.find('['); open != std::string::npos) {
+            long long i = -1;
+            const auto [end, ec] = std::from_chars(part.data() + open + 1, part.data() + part.size(), i);
+            if (ec != std::errc() || i < 0 || end != part.data() + part.size() - 1 || part.back() != ']')
+                throw std::invalid_argument("set " + path + ": '" + part + "' is not NAME or NAME[INDEX]");
+            s.index = i;
+            part.resize(open);
+        }
+        if (part.empty()) throw std::invalid_argument("set " + path + ": an empty key in the path");
+        s.name = part;
+        out.push_back(s);
+        if (dot == std::string::npos) break;
+        start = dot + 1;
+    }
+    return out;
+}
+
+// The node the path names inside `root`, creating plain tables on the way; the last segment is
+// assigned `value`.
+template <typename Value>
+void assign(toml::table& root, const std::vector<Segment>& path, const std::string& text, Value&& value) {
+    toml::table* table = &root;
+    for (std::size_t k = 0; k < path.size(); ++k) {
+        const Segment& s = path[k];
+        const bool last = k + 1 == path.size();
+        if (s.index < 0) {
+            if (last) {
+                table->insert_or_assign(s.name, std::move(value));
+                return;
+            }
+            toml::node* next = table->get(s.name);
+            if (!next) next = &table->insert_or_assign(s.name, toml::table{}).first->second;
+            table = next->as_table();
+            if (!table) throw std::invalid_argument("set " + text + ": " + s.name + " is not a table");
+            continue;
+        }
+        toml::array* array = table->get_as<toml::array>(s.name);
+        if (!array) throw std::invalid_argument("set " + text + ": " + s.name + " is not an array");
+        if (std::size_t(s.index) >= array->size())
+            throw std::invalid_argument("set " + text + ": " + s.name + " has " + std::to_string(array->size()) +
+                                        " entries (0-based)");
+        if (last) {
+            array->replace(array->cbegin() + s.index, std::move(value));
+            return;
+        }
+        table = array->get(std::size_t(s.index))->as_table();
+        if (!table) throw std::invalid_argument("set " + text + ": " + s.name + "[" + std::to_string(s.index) +
+                                                "] is not a table");
+    }
+}
+
+}  // namespace
+
+PresetEditor::PresetEditor(const std::string& text, std::string source_name)
+    : doc_(std::make_unique<Document>()), source_name_(std::move(source_name)) {
+    doc_->root = toml::parse(text, std::string_view(source_name_));
+}
+
+PresetEditor::~PresetEditor() = default;
+
+Preset PresetEditor::set(const std::string& key_path, const std::string& value) {
+    toml::table holder;
+    try {
+        holder = toml::parse("value = " + value);
+    } catch (const toml::parse_error& e) {
+        throw std::invalid_argument("set " + key_path + ": '" + value + "' is not a TOML value (" +
+                                    std::string(e.description()) + ")");
+    }
+    toml::node* node = holder.get("value");
+    if (!node) throw std::invalid_argument("set " + key_path + ": no value");
+    toml::table edited = doc_->root;
+    node->visit([&](auto& v) { assign(edited, parse_key_path(key_path), key_path, std::move(v)); });
+    std::ostringstream text;
+    text << edited;
+    try {
+        Preset preset = parse_preset_toml(text.str(), source_name_);
+        doc_->root = std::move(edited);
+        return preset;
+    } catch (const SceneFileError& e) {
+        // The line would be the regenerated text's, not the file's: the key and the problem say it.
+        throw std::invalid_argument((e.key_path().empty() ? "set " + key_path : e.key_path()) + ": " + e.problem());
+    }
+}
+
+}  // namespace brume::app

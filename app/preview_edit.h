@@ -1,0 +1,31 @@
+// Live edits of the preset (`set KEY.PATH VALUE` in a script): the preset's TOML is edited in memory
+// and read again by the preset reader, so every value is validated exactly as in a file. KEY.PATH is
+// the key path the reader's errors use: `emitter[0].rate`, `lighting.sun`, `timeline.duration`,
+// `lighting.sun[1]`; VALUE is TOML (`2.5`, `[1.0, 0.9, 0.8]`, `"name"`). Edits accumulate; a hot
+// reload starts again from the file.
+#pragma once
+
+#include "sim/preset.h"
+
+#include <memory>
+#include <string>
+
+namespace brume::app {
+
+class PresetEditor {
+public:
+    // `text`: the preset's TOML as read; `source_name`: the file (or built-in name) for messages.
+    PresetEditor(const std::string& text, std::string source_name);
+    ~PresetEditor();
+
+    // Sets KEY.PATH to VALUE and returns the preset read back (not yet prepared). On any error the
+    // edit is not kept, and std::invalid_argument names the key and the problem.
+    Preset set(const std::string& key_path, const std::string& value);
+
+private:
+    struct Document;
+    std::unique_ptr<Document> doc_;
+    std::string source_name_;
+};
+
+}  // namespace brume::app

@@ -78,6 +78,7 @@ struct ScriptTargets {
     std::unique_ptr<PresetEditor>& editor;
     // The preset as `brume play` would prepare it: the viewport's size, the grid files beside the file.
     std::function<void(Preset&)> prepare;
+    bool& preset_edit_stale;  // the panel's list of values, read again after a scripted edit
 };
 
 // Runs script commands until one has to wait for shown frames, or the script ends. Returns false
@@ -152,6 +153,7 @@ private:
             targets.prepare(edited);
             session.replace_preset(edited);
             std::printf("set %s = %s\n", c.text.c_str(), c.value.c_str());
+            targets.preset_edit_stale = true;
             break;
         }
         case ScriptCommand::Kind::Orbit: session.set_user_camera(orbit_camera(session.camera(), c.x, c.y)); break;
@@ -355,7 +357,18 @@ int run_preview(const PreviewArgs& args) {
             panel.watched_file = args.preset;
         }
         ScriptTargets targets{session, path,      window, presenter, panel_visible, watcher ? &*watcher : nullptr,
-                              editor,  prepare_edit};
+                              editor,  prepare_edit, panel.preset_edit.stale};
+        panel.preset_edit.read = [&editor] { return editor->values(); };
+        panel.preset_edit.set = [&](const std::string& key, const std::string& value) -> std::string {
+            try {
+                Preset edited = editor->set(key, value);
+                prepare_edit(edited);
+                session.replace_preset(edited);
+                return {};
+            } catch (const std::exception& e) {
+                return e.what();
+            }
+        };
         // The method list starts at the method shown.
         for (const MethodEntry& m : method_catalogue()) {
             if (m.name == find_method(method).name) break;
@@ -387,6 +400,8 @@ int run_preview(const PreviewArgs& args) {
                 if (std::optional<Preset> reloaded = watcher->poll(seconds_since(run_start), error)) {
                     session.replace_preset(*reloaded);
                     editor = make_editor(args.preset);  // edits start again from the file
+                    panel.preset_edit.stale = true;
+                    panel.preset_edit.error.clear();
                     quiet_frames = 0;
                     panel.reload_error.clear();
                     std::printf("reloaded %s\n", args.preset.c_str());

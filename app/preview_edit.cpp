@@ -6,6 +6,9 @@
 #include <toml++/toml.h>
 
 #include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -81,7 +84,84 @@ void assign(toml::table& root, const std::vector<Segment>& path, const std::stri
     }
 }
 
+void collect(const toml::node& node, const std::string& path, std::vector<EditableValue>& out) {
+    EditableValue v;
+    v.path = path;
+    if (const toml::table* t = node.as_table()) {
+        for (const auto& [key, child] : *t)
+            collect(child, path.empty() ? std::string(key.str()) : path + "." + std::string(key.str()), out);
+        return;
+    }
+    if (const toml::array* a = node.as_array()) {
+        bool numeric = a->size() >= 2 && a->size() <= 4;
+        for (const toml::node& e : *a) numeric = numeric && (e.is_floating_point() || e.is_integer());
+        if (numeric) {
+            v.kind = EditableValue::Kind::Numbers;
+            v.integers = true;
+            for (const toml::node& e : *a) v.integers = v.integers && e.is_integer();
+            for (const toml::node& e : *a) v.numbers.push_back(e.value<double>().value_or(0.0));
+            out.push_back(v);
+            return;
+        }
+        for (std::size_t i = 0; i < a->size(); ++i) collect(*a->get(i), path + "[" + std::to_string(i) + "]", out);
+        return;
+    }
+    if (node.is_floating_point()) {
+        v.kind = EditableValue::Kind::Number;
+        v.numbers = {*node.value<double>()};
+    } else if (node.is_integer()) {
+        v.kind = EditableValue::Kind::Integer;
+        v.numbers = {double(*node.value<std::int64_t>())};
+    } else if (node.is_boolean()) {
+        v.kind = EditableValue::Kind::Bool;
+        v.flag = *node.value<bool>();
+    } else if (node.is_string()) {
+        v.kind = EditableValue::Kind::String;
+        v.text = *node.value<std::string>();
+    } else {
+        return;  // dates and times: no preset key uses them
+    }
+    out.push_back(v);
+}
+
+std::string float_text(double x) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    std::string s = buf;
+    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // "n": nan and inf stay as they are
+    return s;
+}
+
 }  // namespace
+
+std::string toml_value_text(const EditableValue& v) {
+    switch (v.kind) {
+    case EditableValue::Kind::Number: return float_text(v.numbers.at(0));
+    case EditableValue::Kind::Integer: return std::to_string(std::llround(v.numbers.at(0)));
+    case EditableValue::Kind::Bool: return v.flag ? "true" : "false";
+    case EditableValue::Kind::String: {
+        std::string out = "\"";
+        for (char c : v.text) {
+            if (c == '"' || c == '\\') out += '\\';
+            out += c;
+        }
+        return out + "\"";
+    }
+    case EditableValue::Kind::Numbers: {
+        std::string out = "[";
+        for (std::size_t i = 0; i < v.numbers.size(); ++i)
+            out += (i ? ", " : "") + (v.integers ? std::to_string(std::llround(v.numbers[i])) : float_text(v.numbers[i]));
+        return out + "]";
+    }
+    }
+    return {};
+}
+
+std::vector<EditableValue> PresetEditor::values() const {
+    std::vector<EditableValue> out;
+    collect(doc_->root, "", out);
+    return out;
+}
 
 PresetEditor::PresetEditor(const std::string& text, std::string source_name)
     : doc_(std::make_unique<Document>()), source_name_(std::move(source_name)) {

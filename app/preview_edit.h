@@ -9,8 +9,24 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace brume::app {
+
+// One value of the preset's TOML that the panel can edit: a number, an integer, a boolean, a string,
+// or a short array of numbers (a vector, a range).
+struct EditableValue {
+    enum class Kind { Number, Integer, Bool, String, Numbers };
+    std::string path;  // as set() takes it
+    Kind kind = Kind::Number;
+    std::vector<double> numbers;  // Number, Integer (one), Numbers (2 to 4)
+    bool integers = false;        // Numbers: every element was written as an integer
+    bool flag = false;
+    std::string text;
+};
+
+// VALUE text for set(): floats always with a point or an exponent, so they stay floats in TOML.
+std::string toml_value_text(const EditableValue& value);
 
 class PresetEditor {
 public:
@@ -21,6 +37,8 @@ public:
     // Sets KEY.PATH to VALUE and returns the preset read back (not yet prepared). On any error the
     // edit is not kept, and std::invalid_argument names the key and the problem.
     Preset set(const std::string& key_path, const std::string& value);
+    // Every editable value of the current text, by key path (sections sorted by name).
+    std::vector<EditableValue> values() const;
 
 private:
     struct Document;

@@ -150,6 +150,7 @@ void draw_panel(PanelState& s) {
     }
     if (ImGui::CollapsingHeader("Timeline", ImGuiTreeNodeFlags_DefaultOpen)) timeline_section(s);
     if (ImGui::CollapsingHeader("Camera")) camera_section(s);
+    if (ImGui::CollapsingHeader("Preset")) draw_preset_editor(s.preset_edit);
     if (ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) method_section(s);
     if (ImGui::CollapsingHeader("Figures", ImGuiTreeNodeFlags_DefaultOpen)) figures_section(s);
     ImGui::End();

@@ -1,11 +1,13 @@
 // The preview's ImGui panel: timeline (play, pause, loop, speed, step, scrub, the simulated and
-// checkpointed range), camera (follow the path, reset, exposure), method (every GPU method of the
+// checkpointed range), camera (follow the path, reset, exposure), the preset's values (live edits),
+// method (every GPU method of the
 // registry with its setting) and the live figures of the frame (FPS, CPU time per part, GPU ms per
 // pass, fragments, pool memory, list lengths, internal resolution). It only edits the session and
 // the flags below; the loop applies them.
 #pragma once
 
 #include "app/preview_adaptive.h"
+#include "app/preview_edit_panel.h"
 #include "app/preview_session.h"
 
 #include <string>
@@ -29,6 +31,7 @@ struct PanelState {
     std::string watched_file;    // empty: nothing is watched (a built-in preset)
     char method_setting[32] = {};  // the setting text being edited
     int method_index = 0;          // into the GPU methods of the catalogue
+    PresetEditPanel preset_edit;   // the "Preset" section's values and edits
 };
 
 // Draws the panel for this UI frame.

@@ -156,6 +156,10 @@ private:
             targets.preset_edit_stale = true;
             break;
         }
+        case ScriptCommand::Kind::Save:
+            write_file_atomically(c.text, targets.editor->saved_text());
+            std::printf("saved %s\n", c.text.c_str());
+            break;
         case ScriptCommand::Kind::Orbit: session.set_user_camera(orbit_camera(session.camera(), c.x, c.y)); break;
         case ScriptCommand::Kind::Method: session.set_method(c.text); break;
         case ScriptCommand::Kind::Resize:
@@ -364,6 +368,19 @@ int run_preview(const PreviewArgs& args) {
                 Preset edited = editor->set(key, value);
                 prepare_edit(edited);
                 session.replace_preset(edited);
+                return {};
+            } catch (const std::exception& e) {
+                return e.what();
+            }
+        };
+        // Save goes to the file opened, or for a built-in preset to NAME.toml here.
+        std::error_code exists_error;
+        panel.preset_edit.save_path = fs::is_regular_file(args.preset, exists_error)
+                                          ? args.preset
+                                          : (args.preset.empty() ? default_preset_name() : args.preset) + ".toml";
+        panel.preset_edit.save = [&]() -> std::string {
+            try {
+                write_file_atomically(panel.preset_edit.save_path, editor->saved_text());
                 return {};
             } catch (const std::exception& e) {
                 return e.what();

@@ -5,6 +5,7 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -16,7 +17,8 @@
 namespace brume::app {
 
 struct PresetEditor::Document {
-    toml::table root;
+    toml::table root;      // the current, edited values
+    toml::table original;  // as read, with the source positions of every value
 };
 
 namespace {
@@ -164,8 +166,9 @@ std::vector<EditableValue> PresetEditor::values() const {
 }
 
 PresetEditor::PresetEditor(const std::string& text, std::string source_name)
-    : doc_(std::make_unique<Document>()), source_name_(std::move(source_name)) {
-    doc_->root = toml::parse(text, std::string_view(source_name_));
+    : doc_(std::make_unique<Document>()), source_name_(std::move(source_name)), original_text_(text) {
+    doc_->original = toml::parse(text, std::string_view(source_name_));
+    doc_->root = doc_->original;
 }
 
 PresetEditor::~PresetEditor() = default;
@@ -187,11 +190,92 @@ Preset PresetEditor::set(const std::string& key_path, const std::string& value) 
     try {
         Preset preset = parse_preset_toml(text.str(), source_name_);
         doc_->root = std::move(edited);
+        record_edit(key_path, value);
         return preset;
     } catch (const SceneFileError& e) {
         // The line would be the regenerated text's, not the file's: the key and the problem say it.
         throw std::invalid_argument((e.key_path().empty() ? "set " + key_path : e.key_path()) + ": " + e.problem());
     }
+}
+
+}  // namespace brume::app
+
+namespace brume::app {
+namespace {
+
+bool is_inside(const std::string& path, const std::string& outer) {
+    return path.size() > outer.size() && path.compare(0, outer.size(), outer) == 0 &&
+           (path[outer.size()] == '.' || path[outer.size()] == '[');
+}
+
+// The node at `path` in `root`, or null; nothing is created.
+const toml::node* find(const toml::table& root, const std::vector<Segment>& path) {
+    const toml::node* node = &root;
+    for (const Segment& s : path) {
+        const toml::table* t = node->as_table();
+        node = t ? t->get(s.name) : nullptr;
+        if (!node) return nullptr;
+        if (s.index >= 0) {
+            const toml::array* a = node->as_array();
+            node = a ? a->get(std::size_t(s.index)) : nullptr;
+            if (!node) return nullptr;
+        }
+    }
+    return node;
+}
+
+}  // namespace
+
+void PresetEditor::record_edit(const std::string& key_path, const std::string& value) {
+    // A path inside one already edited (sun[1] after sun) changes that edit's text; a path around
+    // earlier ones (sun after sun[1]) replaces them.
+    for (auto& [path, text] : edits_) {
+        if (is_inside(key_path, path)) {
+            const std::vector<EditableValue> now = values();
+            for (const EditableValue& v : now)
+                if (v.path == path) text = toml_value_text(v);
+            return;
+        }
+    }
+    std::erase_if(edits_, [&](const auto& e) { return e.first == key_path || is_inside(e.first, key_path); });
+    edits_.emplace_back(key_path, value);
+}
+
+std::string PresetEditor::saved_text() const {
+    // Offsets of the original text's lines (toml++ positions are 1-based line and column).
+    std::vector<std::size_t> line_start{0, 0};
+    for (std::size_t i = 0; i < original_text_.size(); ++i)
+        if (original_text_[i] == '\n') line_start.push_back(i + 1);
+    struct Replacement {
+        std::size_t begin, end;
+        std::string text;
+    };
+    std::vector<Replacement> replacements;
+    for (const auto& [path, text] : edits_) {
+        const toml::node* node = find(doc_->original, parse_key_path(path));
+        if (!node || node->source().begin.line == 0)
+            throw std::invalid_argument("save: " + path + " is not in " + source_name_ +
+                                        ", so it cannot be written in place; add the key to the file");
+        const toml::source_region& r = node->source();
+        replacements.push_back({line_start.at(r.begin.line) + r.begin.column - 1,
+                                line_start.at(r.end.line) + r.end.column - 1, text});
+    }
+    std::sort(replacements.begin(), replacements.end(), [](const auto& a, const auto& b) { return a.begin > b.begin; });
+    std::string out = original_text_;
+    for (const Replacement& r : replacements) out.replace(r.begin, r.end - r.begin, r.text);
+
+    // What is written must read back as the preset the preview shows.
+    std::ostringstream current;
+    current << doc_->root;
+    const std::string want = preset_to_toml(parse_preset_toml(current.str(), source_name_));
+    std::string got;
+    try {
+        got = preset_to_toml(parse_preset_toml(out, source_name_));
+    } catch (const SceneFileError& e) {
+        throw std::invalid_argument(std::string("save: the edited file would not read: ") + e.what());
+    }
+    if (got != want) throw std::invalid_argument("save: the edited file would not read back as the preview shows it");
+    return out;
 }
 
 }  // namespace brume::app

@@ -62,6 +62,11 @@ void draw_preset_editor(PresetEditPanel& panel) {
         ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", panel.error.c_str());
         ImGui::PopTextWrapPos();
     }
+    if (panel.save && ImGui::Button(("Save " + panel.save_path).c_str())) {
+        panel.error = panel.save();
+        panel.saved = panel.error.empty() ? "saved " + panel.save_path : "";
+    }
+    if (!panel.saved.empty()) ImGui::TextDisabled("%s", panel.saved.c_str());
     std::string open_section;
     bool open = false;
     for (EditableValue& v : panel.values) {

@@ -76,6 +76,11 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
             c.value = line.substr(key_at + w[1].size());
             c.value.erase(0, c.value.find_first_not_of(" \t"));
             c.value.erase(c.value.find_last_not_of(" \t\r") + 1);
+        } else if (name == "save") {
+            expect(1, "save PATH (.toml)");
+            c.kind = ScriptCommand::Kind::Save;
+            c.text = w[1];
+            if (!c.text.ends_with(".toml")) throw ScriptError(c.where + ": save '" + c.text + "': the name must end in .toml");
         } else if (name == "orbit") {
             expect(2, "orbit DEG_X DEG_Y");
             c.kind = ScriptCommand::Kind::Orbit;
@@ -111,7 +116,7 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
             c.number = w[1] == "on";
         } else {
             throw ScriptError(c.where + ": unknown command '" + name +
-                              "'; known: frame, play, pause, wait, wait-reload, set, orbit, method, resize, screenshot, capture, panel, "
+                              "'; known: frame, play, pause, wait, wait-reload, set, save, orbit, method, resize, screenshot, capture, panel, "
                               "camera, quit");
         }
         commands.push_back(std::move(c));

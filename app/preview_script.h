@@ -5,6 +5,7 @@
 //   wait N             let N frames be shown before the next command
 //   wait-reload        wait (up to 30 s) until the watched file changed and was read or refused
 //   set KEY.PATH VALUE edit a preset value, as in the file (app/preview_edit.h)
+//   save PATH          write the edited preset, comments and layout kept (.toml)
 //   orbit DEG_X DEG_Y  orbit the camera (app/preview_camera.h); stops following the camera path
 //   method SPEC        switch the method (as --method takes it)
 //   resize W H         resize the window (the swapchain is recreated)
@@ -28,7 +29,7 @@ public:
 };
 
 struct ScriptCommand {
-    enum class Kind { Frame, Play, Pause, Wait, WaitReload, Set, Orbit, Method, Resize, Screenshot, Capture, Panel, Camera, Quit };
+    enum class Kind { Frame, Play, Pause, Wait, WaitReload, Set, Save, Orbit, Method, Resize, Screenshot, Capture, Panel, Camera, Quit };
     Kind kind = Kind::Quit;
     long long number = 0;      // frame, wait, resize width; panel: 1 on, 0 off
     long long number2 = 0;     // resize height

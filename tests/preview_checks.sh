@@ -147,6 +147,19 @@ elif ! grep -q '^rate = 600.0$' plume-edited.toml; then fail set "the sed edit d
 elif cmp -s unedited.png edited.png; then fail set.changes "the rate did not change the frame"
 elif [ -z "$played" ] || ! cmp -s edited.png "$played"; then fail set.equals_play "differs from play of the edited file"
 else ok set_equals_play_of_edited_file; fi
+# Save: the edited preset written where its values stand (only the edited line changes, comments
+# stay), and brume play of the saved file renders the frame the preview showed.
+printf 'frame 12\nset emitter[0].rate 600.0\nwait 1\nscreenshot before-save.png\nsave saved.toml\nquit\n' >save.script
+"$brume" preview plume --size 96x72 --script save.script --validate >save.log 2>&1
+rc=$?
+"$brume" play saved.toml -o play.saved --frames 12-12 --size 96x72 --format png >play.saved.log 2>&1
+saved_png=$(ls play.saved/*.0012.png 2>/dev/null | head -1)
+changed=$(diff "$presets/plume.toml" saved.toml 2>/dev/null | grep -c '^[<>]')
+if [ "$rc" -ne 0 ]; then fail save "rc $rc: $(tail -1 save.log)"
+elif [ "$changed" != 2 ] || ! grep -q '^rate = 600.0$' saved.toml; then fail save.in_place "$changed changed lines: $(diff "$presets/plume.toml" saved.toml | head -5)"
+elif [ -z "$saved_png" ] || ! cmp -s before-save.png "$saved_png"; then fail save.plays_back "play of the saved file differs"
+else ok save_keeps_comments_and_plays_back; fi
+
 printf 'set emitter[0].rate -5\nquit\n' >setbad.script
 "$brume" preview plume --size 64x48 --script setbad.script >setbad.log 2>&1
 rc=$?

@@ -64,5 +64,24 @@ TEST(PreviewEdit, RefusalsNameTheKeyAndAreNotKept) {
         if (v.path == "emitter[0].rate") EXPECT_EQ(v.numbers.at(0), 220.0);
 }
 
+TEST(PreviewEdit, SavedTextChangesOnlyTheEditedValues) {
+    const std::string text = "# a comment\n[lighting]\nsun = [1.0, 0.9, 0.8]  # warm\nambient = [0.2, 0.2, 0.2]\n";
+    PresetEditor editor(text, "t.toml");
+    EXPECT_FALSE(editor.edited());
+    editor.set("lighting.sun", "[2.0, 1.0, 0.5]");
+    editor.set("lighting.sun[1]", "0.75");  // inside the first edit: it changes that edit's text
+    editor.set("lighting.ambient[0]", "0.125");
+    EXPECT_EQ(editor.saved_text(),
+              "# a comment\n[lighting]\nsun = [2.0, 0.75, 0.5]  # warm\nambient = [0.125, 0.2, 0.2]\n");
+    // A key the file does not have cannot be written in place.
+    editor.set("lighting.background", "[0.0, 0.0, 0.0]");
+    try {
+        (void)editor.saved_text();
+        ADD_FAILURE() << "saved a key that is not in the file";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("lighting.background is not in t.toml"), std::string::npos);
+    }
+}
+
 }  // namespace
 }  // namespace brume::app

@@ -8,6 +8,7 @@
 #include "app/preview_edit.h"
 #include "app/preview_imgui.h"
 #include "app/preview_panel.h"
+#include "app/preview_reference.h"
 #include "app/preview_reload.h"
 #include "app/preview_script.h"
 #include "app/preview_session.h"
@@ -79,6 +80,8 @@ struct ScriptTargets {
     // The preset as `brume play` would prepare it: the viewport's size, the grid files beside the file.
     std::function<void(Preset&)> prepare;
     bool& preset_edit_stale;  // the panel's list of values, read again after a scripted edit
+    ReferenceCheck& reference;
+    std::function<void()> start_reference;
 };
 
 // Runs script commands until one has to wait for shown frames, or the script ends. Returns false
@@ -87,7 +90,7 @@ class ScriptRunner {
 public:
     explicit ScriptRunner(std::vector<ScriptCommand> commands) : commands_(commands.begin(), commands.end()) {}
 
-    bool active() const { return !commands_.empty() || reload_wait_.active; }
+    bool active() const { return !commands_.empty() || reload_wait_.active || reference_wait_; }
     // After each shown frame: counts down a wait, and writes a capture asked for by the last command.
     void frame_shown(SwapchainPresenter& presenter) {
         if (frames_to_wait_ > 0) --frames_to_wait_;
@@ -115,7 +118,21 @@ public:
             }
             reload_wait_.active = false;
         }
-        while (frames_to_wait_ == 0 && capture_.path.empty() && !reload_wait_.active && !commands_.empty()) {
+        if (reference_wait_) {
+            targets.reference.poll();
+            if (targets.reference.running()) return true;
+            reference_wait_ = false;
+            if (!targets.reference.error().empty())
+                throw std::runtime_error(reference_where_ + ": reference-error: " + targets.reference.error());
+            const ReferenceError& r = *targets.reference.last();
+            std::printf("reference error: frame %d, method %s at %dx%d: max %.6g of peak, rmse %.6g of peak, "
+                        "PSNR %.2f dB (reference %.2f s)\n",
+                        r.frame, r.method.c_str(), r.width, r.height, r.max_of_peak, r.rmse_of_peak, r.psnr_db,
+                        r.seconds);
+            std::fflush(stdout);
+        }
+        while (frames_to_wait_ == 0 && capture_.path.empty() && !reload_wait_.active && !reference_wait_ &&
+               !commands_.empty()) {
             const ScriptCommand c = commands_.front();
             commands_.pop_front();
             try {
@@ -179,6 +196,11 @@ private:
             capture_.path = c.text;
             capture_.where = c.where;
             break;
+        case ScriptCommand::Kind::ReferenceError:
+            targets.start_reference();
+            reference_wait_ = true;
+            reference_where_ = c.where;
+            break;
         case ScriptCommand::Kind::Panel: targets.panel_visible = c.number != 0; break;
         case ScriptCommand::Kind::Camera: {
             const Camera cam = session.camera();
@@ -193,6 +215,8 @@ private:
     }
 
     std::deque<ScriptCommand> commands_;
+    bool reference_wait_ = false;
+    std::string reference_where_;
     struct ReloadWait {
         bool active = false;
         int seen = 0;
@@ -360,8 +384,20 @@ int run_preview(const PreviewArgs& args) {
             watcher.emplace(args.preset, width, height);
             panel.watched_file = args.preset;
         }
+        ReferenceCheck reference;
+        const std::function<void()> start_reference = [&] {
+            if (reference.running()) return;
+            const VkExtent2D viewport = window.framebuffer_extent();
+            int w = 0, h = 0;
+            ReferenceCheck::reduced_size(int(std::max(1u, viewport.width)), int(std::max(1u, viewport.height)), w, h);
+            const Scene scene = session.scene(std::uint32_t(w), std::uint32_t(h));
+            reference.start(scene, path.render(session.method(), scene), session.timeline().frame(),
+                            session.method_spec());
+        };
+        panel.reference = &reference;
+        panel.start_reference = start_reference;
         ScriptTargets targets{session, path,      window, presenter, panel_visible, watcher ? &*watcher : nullptr,
-                              editor,  prepare_edit, panel.preset_edit.stale};
+                              editor,  prepare_edit, panel.preset_edit.stale, reference, start_reference};
         panel.preset_edit.read = [&editor] { return editor->values(); };
         panel.preset_edit.set = [&](const std::string& key, const std::string& value) -> std::string {
             try {
@@ -431,6 +467,10 @@ int run_preview(const PreviewArgs& args) {
                 std::fflush(stderr);
             }
             if (!script.run(targets)) break;
+            if (reference.running()) {
+                reference.poll();
+                quiet_frames = 0;  // the panel shows the result when it comes
+            }
 
             PartTimes part;
             const int frame_before = session.timeline().frame();

@@ -103,6 +103,18 @@ void method_section(PanelState& s) {
     ImGui::Text("showing %s (%s)", s.session.method_spec().c_str(),
                 find_method(s.session.method_spec()).exact ? "exact" : "approximate");
     if (!s.method_error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", s.method_error.c_str());
+    if (!s.reference) return;
+    if (s.reference->running()) {
+        ImGui::TextDisabled("reference rendering on a worker thread...");
+    } else if (ImGui::Button("error against the reference") && s.start_reference) {
+        s.start_reference();
+    }
+    if (const auto& r = s.reference->last())
+        ImGui::TextWrapped("frame %d, %s at %dx%d (reduced): max %.3g of peak, rmse %.3g, PSNR %.1f dB; reference %.2f s",
+                           r->frame, r->method.c_str(), r->width, r->height, r->max_of_peak, r->rmse_of_peak,
+                           r->psnr_db, r->seconds);
+    if (!s.reference->error().empty())
+        ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", s.reference->error().c_str());
 }
 
 void figures_section(PanelState& s) {

@@ -8,8 +8,10 @@
 
 #include "app/preview_adaptive.h"
 #include "app/preview_edit_panel.h"
+#include "app/preview_reference.h"
 #include "app/preview_session.h"
 
+#include <functional>
 #include <string>
 
 namespace brume::app {
@@ -32,6 +34,8 @@ struct PanelState {
     char method_setting[32] = {};  // the setting text being edited
     int method_index = 0;          // into the GPU methods of the catalogue
     PresetEditPanel preset_edit;   // the "Preset" section's values and edits
+    ReferenceCheck* reference = nullptr;       // the error against the reference, on a worker thread
+    std::function<void()> start_reference;     // starts a check of the frame shown
 };
 
 // Draws the panel for this UI frame.

@@ -54,6 +54,9 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
             expect(1, "frame N");
             c.kind = ScriptCommand::Kind::Frame;
             c.number = whole(w[1], "the frame", 0, c.where);
+        } else if (name == "reference-error") {
+            expect(0, "reference-error");
+            c.kind = ScriptCommand::Kind::ReferenceError;
         } else if (name == "play" || name == "pause" || name == "quit" || name == "camera") {
             expect(0, name.c_str());
             c.kind = name == "play"    ? ScriptCommand::Kind::Play
@@ -117,7 +120,7 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
         } else {
             throw ScriptError(c.where + ": unknown command '" + name +
                               "'; known: frame, play, pause, wait, wait-reload, set, save, orbit, method, resize, screenshot, capture, panel, "
-                              "camera, quit");
+                              "reference-error, camera, quit");
         }
         commands.push_back(std::move(c));
     }

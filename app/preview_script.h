@@ -12,6 +12,7 @@
 //   screenshot PATH    save the viewport without the panel: .png (exposed sRGB) or .exr (linear)
 //   capture PATH       save the window as it is shown, panel included (.png)
 //   panel on|off       show or hide the panel
+//   reference-error    compare the frame with the CPU reference (reduced size) and print the error
 //   camera             print the camera's position and look_at on stdout
 //   quit               close the preview
 // A malformed line is refused before the window opens, as "FILE:LINE: what is wrong".
@@ -29,7 +30,7 @@ public:
 };
 
 struct ScriptCommand {
-    enum class Kind { Frame, Play, Pause, Wait, WaitReload, Set, Save, Orbit, Method, Resize, Screenshot, Capture, Panel, Camera, Quit };
+    enum class Kind { Frame, Play, Pause, Wait, WaitReload, Set, Save, Orbit, Method, Resize, Screenshot, Capture, Panel, ReferenceError, Camera, Quit };
     Kind kind = Kind::Quit;
     long long number = 0;      // frame, wait, resize width; panel: 1 on, 0 off
     long long number2 = 0;     // resize height

@@ -120,6 +120,18 @@ else
     fi
 fi
 
+# Error against the reference, on a worker thread: the exact method matches it to float precision
+# (1e-4 of the peak, docs/accuracy.md), an approximate one does not.
+printf 'frame 10\nwait 1\nreference-error\nmethod wsum\nwait 1\nreference-error\nquit\n' >reference.script
+"$brume" preview plume --size 128x96 --script reference.script --validate >reference.log 2>&1
+rc=$?
+verdict=$(grep '^reference error:' reference.log | awk '{ for (i = 1; i <= NF; i++) if ($i == "max") v[NR] = $(i + 1) }
+    END { if (NR == 2 && v[1] < 1e-4 && v[2] > 1e-2) print "ok"; else printf "%d lines, ppll %s, wsum %s", NR, v[1], v[2] }')
+if [ "$rc" -ne 0 ]; then fail reference_error "rc $rc: $(tail -1 reference.log)"
+elif [ "$verdict" != ok ]; then fail reference_error "$verdict"
+elif ! grep -q "method ppll at 128x96" reference.log; then fail reference_error "not at the viewport's size: $(grep '^reference' reference.log | head -1)"
+else ok reference_error_exact_vs_approximate; fi
+
 # Validation stays clean across resizes (the swapchain is recreated) and method switches, and the
 # screenshot follows the new size.
 printf 'wait 2\nresize 120 90\nwait 2\nmethod soft\nwait 2\nmethod kbuf:4\nresize 80 60\nwait 2\nscreenshot resized.png\nquit\n' \

@@ -27,7 +27,7 @@ PreviewWindow::PreviewWindow(int width, int height, const std::string& title) {
         throw PreviewUnavailable("no X11 or Wayland display: set DISPLAY, or use brume play");
     if (!glfwInit()) throw PreviewUnavailable("cannot open the display " +
                                               std::string(has_env("DISPLAY") ? std::getenv("DISPLAY") : "") + ": " +
-                                              glfw_error() + " (use brume play for files)");
+                                              glfw_error() + " (check DISPLAY, or use brume play)");
     if (!glfwVulkanSupported()) {
         glfwTerminate();
         throw PreviewUnavailable("GLFW finds no Vulkan loader that can present to a window (use brume play)");

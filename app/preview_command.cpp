@@ -179,6 +179,11 @@ private:
             break;
         case ScriptCommand::Kind::Orbit: session.set_user_camera(orbit_camera(session.camera(), c.x, c.y)); break;
         case ScriptCommand::Kind::Method: session.set_method(c.text); break;
+        case ScriptCommand::Kind::Compare:
+            session.set_comparison(c.text, c.number == 0   ? CompareMode::Off
+                                           : c.number == 1 ? CompareMode::Split
+                                                           : CompareMode::Difference);
+            break;
         case ScriptCommand::Kind::Resize:
             window.set_size(int(c.number), int(c.number2));
             frames_to_wait_ = 1;  // the next frame is shown at the new size
@@ -384,6 +389,7 @@ int run_preview(const PreviewArgs& args) {
             watcher.emplace(args.preset, width, height);
             panel.watched_file = args.preset;
         }
+        ComparisonPresenter comparison(device);
         ReferenceCheck reference;
         const std::function<void()> start_reference = [&] {
             if (reference.running()) return;
@@ -501,8 +507,16 @@ int run_preview(const PreviewArgs& args) {
             internal = adaptive.internal_extent(viewport);
             presenter.set_exposure(session.exposure());
             t = Clock::now();
-            const bool shown = path.render_to(timed, session.method(), session.scene(internal.width, internal.height),
-                                              &session.last_stats(), panel.list_stats);
+            bool shown = false;
+            if (session.compare_mode() == CompareMode::Off) {
+                shown = path.render_to(timed, session.method(), session.scene(internal.width, internal.height),
+                                       &session.last_stats(), panel.list_stats);
+            } else {
+                const Image composite = session.frame_image(path, internal.width, internal.height, &session.last_stats());
+                const auto t_present = Clock::now();
+                shown = comparison.present(presenter, composite);
+                timed.last_seconds = seconds_since(t_present);
+            }
             part.present = timed.last_seconds * 1000.0;
             part.render = seconds_since(t) * 1000.0 - part.present;
             if (shown) {

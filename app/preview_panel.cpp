@@ -102,6 +102,39 @@ void method_section(PanelState& s) {
     }
     ImGui::Text("showing %s (%s)", s.session.method_spec().c_str(),
                 find_method(s.session.method_spec()).exact ? "exact" : "approximate");
+    // A second method: beside the first (split) or against it (difference, x8).
+    // The view as the session has it (a script may have changed it).
+    s.compare_mode = int(s.session.compare_mode());
+    for (std::size_t i = 0; i < methods.size(); ++i)
+        if (!s.session.compare_spec().empty() && methods[i]->name == find_method(s.session.compare_spec()).name)
+            s.compare_index = int(i);
+    s.compare_index = std::clamp(s.compare_index, 0, int(methods.size()) - 1);
+    bool compare_changed = false;
+    ImGui::SetNextItemWidth(140);
+    if (ImGui::BeginCombo("versus", methods[std::size_t(s.compare_index)]->name.c_str())) {
+        for (std::size_t i = 0; i < methods.size(); ++i)
+            if (ImGui::Selectable(methods[i]->name.c_str(), int(i) == s.compare_index)) {
+                s.compare_index = int(i);
+                compare_changed = true;
+            }
+        ImGui::EndCombo();
+    }
+    compare_changed |= ImGui::RadioButton("one", &s.compare_mode, 0);
+    ImGui::SameLine();
+    compare_changed |= ImGui::RadioButton("split", &s.compare_mode, 1);
+    ImGui::SameLine();
+    compare_changed |= ImGui::RadioButton("difference x8", &s.compare_mode, 2);
+    if (compare_changed) {
+        try {
+            s.session.set_comparison(methods[std::size_t(s.compare_index)]->name,
+                                     s.compare_mode == 0   ? CompareMode::Off
+                                     : s.compare_mode == 1 ? CompareMode::Split
+                                                           : CompareMode::Difference);
+            s.method_error.clear();
+        } catch (const std::exception& e) {
+            s.method_error = e.what();
+        }
+    }
     if (!s.method_error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", s.method_error.c_str());
     if (!s.reference) return;
     if (s.reference->running()) {

@@ -33,6 +33,8 @@ struct PanelState {
     std::string watched_file;    // empty: nothing is watched (a built-in preset)
     char method_setting[32] = {};  // the setting text being edited
     int method_index = 0;          // into the GPU methods of the catalogue
+    int compare_index = 0;         // the second method, for the split and difference views
+    int compare_mode = 0;          // 0 off, 1 split, 2 difference
     PresetEditPanel preset_edit;   // the "Preset" section's values and edits
     ReferenceCheck* reference = nullptr;       // the error against the reference, on a worker thread
     std::function<void()> start_reference;     // starts a check of the frame shown

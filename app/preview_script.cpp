@@ -93,6 +93,18 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
             expect(1, "method SPEC (see brume methods)");
             c.kind = ScriptCommand::Kind::Method;
             c.text = w[1];
+        } else if (name == "compare") {
+            if (w.size() == 2 && w[1] == "off") {
+                c.kind = ScriptCommand::Kind::Compare;
+                c.number = 0;
+            } else {
+                expect(2, "compare SPEC split|difference, or compare off");
+                c.kind = ScriptCommand::Kind::Compare;
+                c.text = w[1];
+                if (w[2] != "split" && w[2] != "difference")
+                    throw ScriptError(c.where + ": compare: the view is split or difference, got '" + w[2] + "'");
+                c.number = w[2] == "split" ? 1 : 2;
+            }
         } else if (name == "resize") {
             expect(2, "resize W H");
             c.kind = ScriptCommand::Kind::Resize;
@@ -119,7 +131,7 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
             c.number = w[1] == "on";
         } else {
             throw ScriptError(c.where + ": unknown command '" + name +
-                              "'; known: frame, play, pause, wait, wait-reload, set, save, orbit, method, resize, screenshot, capture, panel, "
+                              "'; known: frame, play, pause, wait, wait-reload, set, save, orbit, method, compare, resize, screenshot, capture, panel, "
                               "reference-error, camera, quit");
         }
         commands.push_back(std::move(c));

@@ -8,6 +8,7 @@
 //   save PATH          write the edited preset, comments and layout kept (.toml)
 //   orbit DEG_X DEG_Y  orbit the camera (app/preview_camera.h); stops following the camera path
 //   method SPEC        switch the method (as --method takes it)
+//   compare SPEC split|difference, compare off   a second method beside or against the first
 //   resize W H         resize the window (the swapchain is recreated)
 //   screenshot PATH    save the viewport without the panel: .png (exposed sRGB) or .exr (linear)
 //   capture PATH       save the window as it is shown, panel included (.png)
@@ -30,9 +31,9 @@ public:
 };
 
 struct ScriptCommand {
-    enum class Kind { Frame, Play, Pause, Wait, WaitReload, Set, Save, Orbit, Method, Resize, Screenshot, Capture, Panel, ReferenceError, Camera, Quit };
+    enum class Kind { Frame, Play, Pause, Wait, WaitReload, Set, Save, Orbit, Method, Resize, Compare, Screenshot, Capture, Panel, ReferenceError, Camera, Quit };
     Kind kind = Kind::Quit;
-    long long number = 0;      // frame, wait, resize width; panel: 1 on, 0 off
+    long long number = 0;      // frame, wait, resize width; panel: 1 on, 0 off; compare: 0 off, 1 split, 2 difference
     long long number2 = 0;     // resize height
     double x = 0.0, y = 0.0;   // orbit degrees
     std::string text;          // method spec, screenshot or capture path, set's key path

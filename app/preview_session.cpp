@@ -21,12 +21,37 @@ void PreviewSession::replace_preset(const Preset& preset) {
     timeline_.seek(frame);
 }
 
-void PreviewSession::set_method(const std::string& spec) {
+namespace {
+
+// A GPU method of the registry, or std::invalid_argument naming why not.
+std::unique_ptr<Method> make_gpu_method(vk::Device& device, const std::string& spec, const MethodOptions& options) {
     if (!find_method(spec).needs_device)
         throw std::invalid_argument("method '" + spec + "' runs on the CPU; the preview shows GPU methods "
                                     "(render it with brume play --method " + spec + ")");
-    std::unique_ptr<Method> next = make_method(&device_, spec, options_);
+    std::unique_ptr<Method> next = make_method(&device, spec, options);
     if (!next->gpu()) throw std::invalid_argument("method '" + spec + "' has no GPU frame path to preview");
+    return next;
+}
+
+}  // namespace
+
+void PreviewSession::set_comparison(const std::string& spec, CompareMode mode) {
+    std::unique_ptr<Method> next = mode == CompareMode::Off ? nullptr : make_gpu_method(device_, spec, options_);
+    device_.wait_idle();  // the old method's buffers may still be in use
+    compare_method_ = std::move(next);
+    compare_mode_ = mode;
+    compare_spec_ = mode == CompareMode::Off ? "" : spec;
+}
+
+Image PreviewSession::frame_image(FramePath& path, std::uint32_t width, std::uint32_t height, FrameStats* stats) {
+    const Scene s = scene(width, height);
+    const Image image = path.render(method(), s, stats);
+    if (compare_mode_ == CompareMode::Off) return image;
+    return compose_comparison(image, path.render(compare_method(), s), compare_mode_);
+}
+
+void PreviewSession::set_method(const std::string& spec) {
+    std::unique_ptr<Method> next = make_gpu_method(device_, spec, options_);
     // The old method's buffers may only go once no frame that used them is still on the GPU.
     device_.wait_idle();
     method_ = std::move(next);
@@ -79,7 +104,7 @@ Scene PreviewSession::scene(std::uint32_t width, std::uint32_t height) const {
 void PreviewSession::screenshot(FramePath& path, VkExtent2D viewport, const std::string& file) {
     if (viewport.width == 0 || viewport.height == 0)
         throw std::runtime_error("screenshot " + file + ": the window is minimised, there is no viewport");
-    const Image image = path.render(method(), scene(viewport.width, viewport.height));
+    const Image image = frame_image(path, viewport.width, viewport.height);
     refuse_non_finite(image, "the screenshot");
     if (file.ends_with(".exr"))
         write_exr(image, file);

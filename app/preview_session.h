@@ -4,6 +4,7 @@
 // --size` writes.
 #pragma once
 
+#include "app/preview_compare.h"
 #include "app/preview_timeline.h"
 #include "render/frame/frame_path.h"
 #include "render/frame/frame_stats.h"
@@ -47,6 +48,16 @@ public:
     const std::string& method_spec() const { return method_spec_; }
     GpuMethod& method() { return *method_->gpu(); }
 
+    // A second method beside or against the first (app/preview_compare.h); Off drops it. Throws
+    // std::invalid_argument as set_method does.
+    void set_comparison(const std::string& spec, CompareMode mode);
+    CompareMode compare_mode() const { return compare_mode_; }
+    const std::string& compare_spec() const { return compare_spec_; }
+    GpuMethod& compare_method() { return *compare_method_->gpu(); }
+    // The current frame at width x height as the view shows it: the method's, or the comparison.
+    // `stats`: the first method's figures.
+    Image frame_image(FramePath& path, std::uint32_t width, std::uint32_t height, FrameStats* stats = nullptr);
+
     // The camera now: the camera path's (following) or the user's.
     Camera camera() const;
     bool following_path() const { return follow_path_; }
@@ -73,6 +84,9 @@ private:
     Playback playback_;
     std::string method_spec_;
     std::unique_ptr<Method> method_;
+    CompareMode compare_mode_ = CompareMode::Off;
+    std::string compare_spec_;
+    std::unique_ptr<Method> compare_method_;
     bool follow_path_ = true;
     Camera user_camera_;
     double exposure_;

@@ -4,10 +4,13 @@
 // (tests/test_gpu_frame_path.cpp ToneMapMatchesThePngWriter bounds the same difference). With the panel
 // on, the panel's pixels differ from the frame: the UI is drawn in the same pass. Runs `brume`
 // (BRUME_EXECUTABLE) under the X server that ctest's xvfb-run provides, with validation on.
+#include "render/image_io.h"
+
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -108,6 +111,38 @@ TEST_F(WindowPreview, PanelIsDrawnOverTheFrameAndScreenshotsLeaveItOut) {
                 worst = std::max(worst, std::abs(int(window.rgb[i]) - int(shot.rgb[i])));
             }
     EXPECT_LE(worst, 1);
+}
+
+// The split view is the method's frame left of the middle column and the other's right of it; the
+// difference view is |method - other| x 8; both exactly, read from the linear EXR screenshots.
+TEST_F(WindowPreview, SplitAndDifferenceViewsComposeTheTwoMethods) {
+    write("compare.script",
+          "frame 8\nwait 1\nscreenshot ppll.exr\nmethod soft\nscreenshot soft.exr\nmethod ppll\n"
+          "compare soft split\nwait 1\nscreenshot split.exr\ncompare soft difference\nwait 1\n"
+          "screenshot difference.exr\ncompare off\nwait 1\nscreenshot again.exr\nquit\n");
+    ASSERT_EQ(brume("preview crossing --size 96x72 --validate --script compare.script"), 0) << dir_ / "log.txt";
+    const brume::Image a = brume::read_exr(dir_ / "ppll.exr");
+    const brume::Image b = brume::read_exr(dir_ / "soft.exr");
+    const brume::Image split = brume::read_exr(dir_ / "split.exr");
+    const brume::Image difference = brume::read_exr(dir_ / "difference.exr");
+    const brume::Image again = brume::read_exr(dir_ / "again.exr");
+    ASSERT_EQ(a.width, 96);
+    ASSERT_EQ(split.rgb.size(), a.rgb.size());
+    ASSERT_EQ(difference.rgb.size(), a.rgb.size());
+    EXPECT_EQ(again.rgb, a.rgb);  // off: the method alone again
+    int differing = 0, split_bad = 0, difference_bad = 0;
+    for (int j = 0; j < 72; ++j)
+        for (int i = 0; i < 96; ++i)
+            for (int c = 0; c < 3; ++c) {
+                const float va = a.pixel(i, j)[c], vb = b.pixel(i, j)[c];
+                differing += va != vb;
+                const float want_split = i < 48 ? va : i == 48 ? 1.0f : vb;
+                split_bad += split.pixel(i, j)[c] != want_split;
+                difference_bad += difference.pixel(i, j)[c] != std::abs(va - vb) * 8.0f;
+            }
+    EXPECT_GT(differing, 100);  // the methods disagree somewhere, so the halves are told apart
+    EXPECT_EQ(split_bad, 0);
+    EXPECT_EQ(difference_bad, 0);
 }
 
 }  // namespace

@@ -30,6 +30,10 @@ void SwapchainPresenter::ensure_targets() {
 }
 
 bool SwapchainPresenter::present(const FrameResources& frame, vk::FrameRing& ring) {
+    return present_view(frame.hdr_view(), frame.extent(), ring);
+}
+
+bool SwapchainPresenter::present_view(VkImageView hdr, VkExtent2D hdr_extent, vk::FrameRing& ring) {
     if (recreate_ || !swapchain_.valid()) {
         framebuffers_.clear();
         swapchain_.recreate(window_extent_);
@@ -43,8 +47,7 @@ bool SwapchainPresenter::present(const FrameResources& frame, vk::FrameRing& rin
         recreate_ = true;
         return false;
     }
-    tone_map_->record(slot.cmd, framebuffers_[*index], swapchain_.extent(), frame.hdr_view(), frame.extent(),
-                      exposure_stops_, overlay_);
+    tone_map_->record(slot.cmd, framebuffers_[*index], swapchain_.extent(), hdr, hdr_extent, exposure_stops_, overlay_);
     const bool capture = capture_requested_ && swapchain_.can_copy();
     const VkExtent2D extent = swapchain_.extent();
     if (capture) {

@@ -30,6 +30,10 @@ public:
     void set_overlay(std::function<void(VkCommandBuffer)> overlay) { overlay_ = std::move(overlay); }
 
     bool present(const FrameResources& frame, vk::FrameRing& ring) override;
+    // As present(), for an HDR image other than a frame's target (the preview's side-by-side of two
+    // methods), sampled in SHADER_READ_ONLY_OPTIMAL. Switching between views must wait for the device:
+    // the tone-map pass has one descriptor set.
+    bool present_view(VkImageView hdr, VkExtent2D hdr_extent, vk::FrameRing& ring);
 
     // Copies the next frame shown, overlay included, exactly as the window shows it. False when the
     // swapchain's images cannot be copied from (the surface does not allow it).

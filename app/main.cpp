@@ -2,6 +2,8 @@
 // Every failure reaches the user as one line naming the problem and a non-zero exit status.
 #include "app/bench_command.h"
 #include "app/play_command.h"
+#include "app/preview_command.h"
+#include "app/preview_window.h"
 #include "app/render_command.h"
 #include "app/vdb_command.h"
 #include "render/atomic_file.h"
@@ -56,6 +58,8 @@ int main(int argc, char** argv) {
     brume::app::add_render_command(app, render_args);
     brume::app::PlayArgs play_args;
     brume::app::add_play_command(app, play_args);
+    brume::app::PreviewArgs preview_args;
+    brume::app::add_preview_command(app, preview_args);
     brume::app::BenchArgs bench_args;
     brume::app::add_bench_command(app, bench_args);
     brume::app::VdbInfoArgs vdb_info_args;
@@ -86,6 +90,7 @@ int main(int argc, char** argv) {
     try {
         if (app.got_subcommand("render")) return brume::app::run_render(render_args);
         if (app.got_subcommand("play")) return brume::app::run_play(play_args);
+        if (app.got_subcommand("preview")) return brume::app::run_preview(preview_args);
         if (app.got_subcommand("bench")) return brume::app::run_bench(bench_args);
         if (app.got_subcommand("vdb-info")) return brume::app::run_vdb_info(vdb_info_args);
         if (app.got_subcommand("vdb-import")) return brume::app::run_vdb_import(vdb_import_args);
@@ -93,6 +98,8 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("vdb-sample")) return brume::app::run_vdb_sample(vdb_sample_args);
         if (app.got_subcommand("devices")) return list_devices();
         if (app.got_subcommand("methods")) return list_methods();
+    } catch (const brume::app::PreviewUnavailable& e) {
+        return fail(e.what());
     } catch (const brume::SceneFileError& e) {
         return fail(e.what());
     } catch (const brume::ImageIoError& e) {

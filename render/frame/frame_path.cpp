@@ -16,8 +16,9 @@ Image FramePath::render(GpuMethod& method, const Scene& scene, FrameStats* stats
     return resources_.read_hdr();
 }
 
-bool FramePath::render_to(Presenter& presenter, GpuMethod& method, const Scene& scene, FrameStats* stats) {
-    run(method, scene, stats, false, Output::Sampled);
+bool FramePath::render_to(Presenter& presenter, GpuMethod& method, const Scene& scene, FrameStats* stats,
+                          bool list_stats) {
+    run(method, scene, stats, list_stats, Output::Sampled);
     ring_.begin_again();
     return presenter.present(resources_, ring_);
 }

@@ -35,7 +35,9 @@ public:
     // per-pixel lists for their list-length figures (extra atomics).
     Image render(GpuMethod& method, const Scene& scene, FrameStats* stats = nullptr, bool list_stats = true);
     // Renders one frame with `method` and hands it to `presenter`. Returns what present() returned.
-    bool render_to(Presenter& presenter, GpuMethod& method, const Scene& scene, FrameStats* stats = nullptr);
+    // `list_stats` as for render(), off by default: a window shows frames, the preview's panel asks.
+    bool render_to(Presenter& presenter, GpuMethod& method, const Scene& scene, FrameStats* stats = nullptr,
+                   bool list_stats = false);
 
     const FrameResources& resources() const { return resources_; }
     vk::Device& device() const { return device_; }

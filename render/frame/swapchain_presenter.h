@@ -6,7 +6,10 @@
 
 #include "render/frame/presenter.h"
 #include "render/frame/tone_map.h"
+#include "render/vk/resources.h"
 #include "render/vk/swapchain.h"
+
+#include <cstdint>
 
 #include <functional>
 #include <memory>
@@ -27,6 +30,17 @@ public:
     void set_overlay(std::function<void(VkCommandBuffer)> overlay) { overlay_ = std::move(overlay); }
 
     bool present(const FrameResources& frame, vk::FrameRing& ring) override;
+    // As present(), for an HDR image other than a frame's target (the preview's side-by-side of two
+    // methods), sampled in SHADER_READ_ONLY_OPTIMAL. Switching between views must wait for the device:
+    // the tone-map pass has one descriptor set.
+    bool present_view(VkImageView hdr, VkExtent2D hdr_extent, vk::FrameRing& ring);
+
+    // Copies the next frame shown, overlay included, exactly as the window shows it. False when the
+    // swapchain's images cannot be copied from (the surface does not allow it).
+    bool capture_next_frame();
+    // The copy, once a present() after capture_next_frame() returned true: RGBA, 8 bits a channel,
+    // top row first, in `extent`. Empty before that; taking it clears it.
+    std::vector<std::uint8_t> take_capture(VkExtent2D& extent);
 
     const vk::Swapchain& swapchain() const { return swapchain_; }
     VkRenderPass render_pass() const { return tone_map_->render_pass(); }
@@ -43,6 +57,10 @@ private:
     bool recreate_ = false;
     double exposure_stops_ = 0.0;
     std::function<void(VkCommandBuffer)> overlay_;
+    bool capture_requested_ = false;
+    vk::Buffer capture_buffer_;
+    std::vector<std::uint8_t> capture_;
+    VkExtent2D capture_extent_{};
 };
 
 }  // namespace brume

@@ -95,6 +95,7 @@ bool Swapchain::recreate(VkExtent2D wanted) {
         device_.set_name(VK_OBJECT_TYPE_IMAGE_VIEW, view, ("swapchain.view[" + std::to_string(i) + "]").c_str());
     }
     format_ = format.format;
+    usage_ = info.imageUsage;
     color_space_ = format.colorSpace;
     extent_ = extent;
     ++generation_;

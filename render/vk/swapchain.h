@@ -35,6 +35,8 @@ public:
     std::uint32_t image_count() const { return std::uint32_t(images_.size()); }
     VkImage image(std::uint32_t i) const { return images_[i]; }
     VkImageView view(std::uint32_t i) const { return views_[i]; }
+    // Whether the images can be copied from (a capture of what the window shows).
+    bool can_copy() const { return (usage_ & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0; }
     // Bumped by every recreation: what depends on the images (framebuffers) is made again.
     std::uint64_t generation() const { return generation_; }
 
@@ -44,6 +46,7 @@ private:
     std::vector<VkImage> images_;
     std::vector<UniqueImageView> views_;
     VkFormat format_ = VK_FORMAT_UNDEFINED;
+    VkImageUsageFlags usage_ = 0;
     VkColorSpaceKHR color_space_ = VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;
     VkExtent2D extent_{};
     std::uint64_t generation_ = 0;

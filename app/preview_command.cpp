@@ -1,0 +1,548 @@
+#include "app/preview_command.h"
+
+#include "app/cli_util.h"
+#include "app/preview_adaptive.h"
+#include "app/preview_camera.h"
+#include "app/preview_capture.h"
+#include "app/preview_controls.h"
+#include "app/preview_edit.h"
+#include "app/preview_imgui.h"
+#include "app/preview_panel.h"
+#include "app/preview_reference.h"
+#include "app/preview_reload.h"
+#include "app/preview_script.h"
+#include "app/preview_session.h"
+#include "app/preview_window.h"
+#include "render/atomic_file.h"
+#include "render/frame/frame_path.h"
+#include "render/frame/swapchain_presenter.h"
+#include "render/methods/registry.h"
+#include "render/vk/device.h"
+#include "sim/builtin_presets.h"
+#include "sim/vdb/volume_loader.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <optional>
+
+namespace brume::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+namespace fs = std::filesystem;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Measures the presenter's own work (acquire, tone map and UI recording, submit, queue present).
+class TimedPresenter : public Presenter {
+public:
+    explicit TimedPresenter(SwapchainPresenter& inner) : inner_(inner) {}
+    bool present(const FrameResources& frame, vk::FrameRing& ring) override {
+        const auto t0 = Clock::now();
+        const bool shown = inner_.present(frame, ring);
+        last_seconds = seconds_since(t0);
+        return shown;
+    }
+    double last_seconds = 0.0;
+
+private:
+    SwapchainPresenter& inner_;
+};
+
+// Without --size the window is the preset's resolution, enlarged by a whole factor to be at least 800
+// pixels wide: what `brume play` renders, shown at a size one can work with.
+void default_viewport(const Preset& preset, int& width, int& height) {
+    const int w = preset.scene.camera.width, h = preset.scene.camera.height;
+    const int factor = std::max(1, (800 + w - 1) / w);
+    width = w * factor;
+    height = h * factor;
+}
+
+// What a script command reaches besides the session.
+struct ScriptTargets {
+    PreviewSession& session;
+    FramePath& path;
+    const PreviewWindow& window;
+    SwapchainPresenter& presenter;
+    bool& panel_visible;
+    const PresetWatcher* watcher;  // null: a built-in preset, nothing to reload
+    std::unique_ptr<PresetEditor>& editor;
+    // The preset as `brume play` would prepare it: the viewport's size, the grid files beside the file.
+    std::function<void(Preset&)> prepare;
+    bool& preset_edit_stale;  // the panel's list of values, read again after a scripted edit
+    ReferenceCheck& reference;
+    std::function<void()> start_reference;
+};
+
+// Runs script commands until one has to wait for shown frames, or the script ends. Returns false
+// once `quit` ran.
+class ScriptRunner {
+public:
+    explicit ScriptRunner(std::vector<ScriptCommand> commands) : commands_(commands.begin(), commands.end()) {}
+
+    bool active() const { return !commands_.empty() || reload_wait_.active || reference_wait_; }
+    // After each shown frame: counts down a wait, and writes a capture asked for by the last command.
+    void frame_shown(SwapchainPresenter& presenter) {
+        if (frames_to_wait_ > 0) --frames_to_wait_;
+        if (capture_.path.empty()) return;
+        VkExtent2D extent{};
+        const std::vector<std::uint8_t> pixels = presenter.take_capture(extent);
+        if (pixels.empty()) return;  // not this frame (an out-of-date swapchain): the next one
+        try {
+            write_capture_png(pixels, extent, capture_.path);
+        } catch (const std::exception& e) {
+            throw std::runtime_error(capture_.where + ": " + e.what());
+        }
+        std::printf("capture %s: the window at %ux%u\n", capture_.path.c_str(), extent.width, extent.height);
+        std::fflush(stdout);
+        capture_ = {};
+    }
+    // Executes what can run now. Throws std::runtime_error prefixed with "FILE:LINE: ".
+    bool run(ScriptTargets& targets) {
+        if (reload_wait_.active) {
+            if (targets.watcher->changes() == reload_wait_.seen) {
+                if (seconds_since(reload_wait_.since) > 30.0)
+                    throw std::runtime_error(reload_wait_.where + ": wait-reload: " + targets.watcher->path().string() +
+                                             " did not change within 30 s");
+                return true;
+            }
+            reload_wait_.active = false;
+        }
+        if (reference_wait_) {
+            targets.reference.poll();
+            if (targets.reference.running()) return true;
+            reference_wait_ = false;
+            if (!targets.reference.error().empty())
+                throw std::runtime_error(reference_where_ + ": reference-error: " + targets.reference.error());
+            const ReferenceError& r = *targets.reference.last();
+            std::printf("reference error: frame %d, method %s at %dx%d: max %.6g of peak, rmse %.6g of peak, "
+                        "PSNR %.2f dB (reference %.2f s)\n",
+                        r.frame, r.method.c_str(), r.width, r.height, r.max_of_peak, r.rmse_of_peak, r.psnr_db,
+                        r.seconds);
+            std::fflush(stdout);
+        }
+        while (frames_to_wait_ == 0 && capture_.path.empty() && !reload_wait_.active && !reference_wait_ &&
+               !commands_.empty()) {
+            const ScriptCommand c = commands_.front();
+            commands_.pop_front();
+            try {
+                if (!execute(c, targets)) return false;
+            } catch (const std::exception& e) {
+                throw std::runtime_error(c.where + ": " + e.what());
+            }
+        }
+        return true;
+    }
+
+private:
+    bool execute(const ScriptCommand& c, ScriptTargets& targets) {
+        PreviewSession& session = targets.session;
+        FramePath& path = targets.path;
+        const PreviewWindow& window = targets.window;
+        PreviewTimeline& timeline = session.timeline();
+        switch (c.kind) {
+        case ScriptCommand::Kind::Frame:
+            if (c.number >= timeline.frame_count())
+                throw std::invalid_argument("frame " + std::to_string(c.number) + " is outside the preset's frames 0-" +
+                                            std::to_string(timeline.frame_count() - 1));
+            timeline.seek(int(c.number));
+            break;
+        case ScriptCommand::Kind::Play: session.playback().playing = true; break;
+        case ScriptCommand::Kind::Pause: session.playback().playing = false; break;
+        case ScriptCommand::Kind::Wait: frames_to_wait_ = c.number; break;
+        case ScriptCommand::Kind::WaitReload:
+            if (!targets.watcher) throw std::runtime_error("wait-reload: a built-in preset is not watched; open a file");
+            reload_wait_ = {true, targets.watcher->changes(), Clock::now(), c.where};
+            std::printf("waiting for %s to change\n", targets.watcher->path().string().c_str());
+            break;
+        case ScriptCommand::Kind::Set: {
+            Preset edited = targets.editor->set(c.text, c.value);
+            targets.prepare(edited);
+            session.replace_preset(edited);
+            std::printf("set %s = %s\n", c.text.c_str(), c.value.c_str());
+            targets.preset_edit_stale = true;
+            break;
+        }
+        case ScriptCommand::Kind::Save:
+            write_file_atomically(c.text, targets.editor->saved_text());
+            std::printf("saved %s\n", c.text.c_str());
+            break;
+        case ScriptCommand::Kind::Orbit: session.set_user_camera(orbit_camera(session.camera(), c.x, c.y)); break;
+        case ScriptCommand::Kind::Method: session.set_method(c.text); break;
+        case ScriptCommand::Kind::Compare:
+            session.set_comparison(c.text, c.number == 0   ? CompareMode::Off
+                                           : c.number == 1 ? CompareMode::Split
+                                                           : CompareMode::Difference);
+            break;
+        case ScriptCommand::Kind::Resize:
+            window.set_size(int(c.number), int(c.number2));
+            frames_to_wait_ = 1;  // the next frame is shown at the new size
+            break;
+        case ScriptCommand::Kind::Screenshot:
+            session.screenshot(path, window.framebuffer_extent(), c.text);
+            std::printf("screenshot %s: frame %d at %ux%u, method %s\n", c.text.c_str(), timeline.frame(),
+                        window.framebuffer_extent().width, window.framebuffer_extent().height,
+                        session.method_spec().c_str());
+            break;
+        case ScriptCommand::Kind::Capture:
+            check_writable_path(c.text);
+            if (!targets.presenter.capture_next_frame())
+                throw std::runtime_error("capture: this window's swapchain images cannot be copied from");
+            capture_.path = c.text;
+            capture_.where = c.where;
+            break;
+        case ScriptCommand::Kind::ReferenceError:
+            targets.start_reference();
+            reference_wait_ = true;
+            reference_where_ = c.where;
+            break;
+        case ScriptCommand::Kind::Panel: targets.panel_visible = c.number != 0; break;
+        case ScriptCommand::Kind::Camera: {
+            const Camera cam = session.camera();
+            std::printf("camera position %.17g %.17g %.17g look_at %.17g %.17g %.17g\n", cam.position.x, cam.position.y,
+                        cam.position.z, cam.look_at.x, cam.look_at.y, cam.look_at.z);
+            break;
+        }
+        case ScriptCommand::Kind::Quit: return false;
+        }
+        std::fflush(stdout);
+        return true;
+    }
+
+    std::deque<ScriptCommand> commands_;
+    bool reference_wait_ = false;
+    std::string reference_where_;
+    struct ReloadWait {
+        bool active = false;
+        int seen = 0;
+        Clock::time_point since;
+        std::string where;
+    } reload_wait_;
+    struct PendingCapture {
+        std::string path, where;
+    } capture_;
+    // The script starts once the first frame is on the screen, so every run shows the window working.
+    long long frames_to_wait_ = 1;
+};
+
+// Smoothed per-part wall-clock times for the panel, and for the summary a scripted run prints, a
+// tally of the frames since the internal resolution last changed (the figures it settled on).
+struct Timing {
+    PartTimes smoothed;
+    PartTimes total;
+    int frames = 0;
+    VkExtent2D tallied_extent{};
+    void add(const PartTimes& t, VkExtent2D internal) {
+        if (internal.width != tallied_extent.width || internal.height != tallied_extent.height) {
+            total = {};
+            frames = 0;
+            tallied_extent = internal;
+        }
+        auto blend = [](double& s, double v) { s = s == 0.0 ? v : 0.9 * s + 0.1 * v; };
+        blend(smoothed.simulate, t.simulate);
+        blend(smoothed.render, t.render);
+        blend(smoothed.ui, t.ui);
+        blend(smoothed.present, t.present);
+        blend(smoothed.frame, t.frame);
+        total.simulate += t.simulate;
+        total.render += t.render;
+        total.ui += t.ui;
+        total.present += t.present;
+        total.frame += t.frame;
+        ++frames;
+    }
+};
+
+// The editor for `set`, over the text the preset was read from: the file, or the built-in's text.
+std::unique_ptr<PresetEditor> make_editor(const std::string& name_or_path) {
+    std::error_code ec;
+    if (fs::is_regular_file(name_or_path, ec)) {
+        std::ifstream in(name_or_path, std::ios::binary);
+        std::ostringstream text;
+        text << in.rdbuf();
+        return std::make_unique<PresetEditor>(text.str(), name_or_path);
+    }
+    const std::optional<std::string_view> text = builtin_preset_toml(name_or_path);
+    if (!text) throw std::invalid_argument("no preset text for " + name_or_path);
+    return std::make_unique<PresetEditor>(std::string(*text), "presets/" + name_or_path + ".toml");
+}
+
+}  // namespace
+
+void add_preview_command(CLI::App& app, PreviewArgs& args) {
+    CLI::App* cmd = app.add_subcommand("preview", "Open a window that plays a preset, with a timeline and a panel");
+    cmd->add_option("preset", args.preset, "Preset or scene file, or built-in name (brume play --list); none: the default");
+    cmd->add_option("--size", args.size, "Viewport size WxH (default: the preset's resolution, enlarged)");
+    cmd->add_option("--method", args.method, "NAME[:SETTING] of a GPU method (default: the preset's)");
+    cmd->add_option("--exposure", args.exposure, "Exposure in stops (default: the preset's)")
+        ->each([&args](const std::string&) { args.exposure_set = true; });
+    cmd->add_option("--frame", args.frame, "Open at frame N (0-based)");
+    cmd->add_option("--screenshot", args.screenshot,
+                    "With --frame: save that frame's viewport (.png as brume play writes it, or .exr linear) and exit");
+    cmd->add_option("--script", args.script, "Run the commands of FILE (docs/preview.md), then stay open unless it quits");
+    cmd->add_flag("--fixed-resolution", args.fixed_resolution, "Always render at the full viewport size");
+    cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
+    cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers; any message fails the run");
+    cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M");
+}
+
+int run_preview(const PreviewArgs& args) {
+    // Everything that can be refused is refused before a window opens.
+    Preset preset = resolve_preset(args.preset.empty() ? default_preset_name() : args.preset);
+    int width = 0, height = 0;
+    if (!args.size.empty())
+        parse_size(args.size, width, height);
+    else
+        default_viewport(preset, width, height);
+    preset.scene.camera.width = width;
+    preset.scene.camera.height = height;
+    const std::string method = args.method.empty() ? preset.render.method : args.method;
+    const double exposure = args.exposure_set ? args.exposure : preset.render.exposure;
+    if (!std::isfinite(exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");
+    MethodOptions options;
+    unsigned given = 0;
+    if (!args.max_memory.empty()) {
+        options.max_pool_bytes = parse_bytes(args.max_memory);
+        given |= kHonoursMaxMemory;
+    }
+    check_method_options(method, given);
+    if (!find_method(method).needs_device)
+        throw std::invalid_argument("--method " + method + " runs on the CPU; the preview shows GPU methods "
+                                    "(render it with brume play --method " + method + ")");
+    if (args.frame >= preset.timeline.frame_count())
+        throw std::invalid_argument("--frame " + std::to_string(args.frame) + " is outside the preset's frames 0-" +
+                                    std::to_string(preset.timeline.frame_count() - 1));
+    if (args.frame < -1) throw std::invalid_argument("--frame must be 0 or more");
+    if (!args.screenshot.empty()) {
+        if (args.frame < 0) throw std::invalid_argument("--screenshot needs --frame N (the frame to save)");
+        if (!args.screenshot.ends_with(".png") && !args.screenshot.ends_with(".exr"))
+            throw std::invalid_argument("--screenshot " + args.screenshot + ": the name must end in .png or .exr");
+        if (!args.script.empty()) throw std::invalid_argument("--screenshot and --script: put the screenshot in the script");
+        check_writable_path(args.screenshot);
+    }
+    std::vector<ScriptCommand> commands;
+    if (!args.script.empty()) commands = load_script(args.script);
+    if (!args.screenshot.empty()) {
+        ScriptCommand shot;
+        shot.kind = ScriptCommand::Kind::Screenshot;
+        shot.text = args.screenshot;
+        shot.where = "--screenshot";
+        ScriptCommand quit;
+        quit.where = "--screenshot";
+        commands = {shot, quit};
+    }
+    const bool scripted = !commands.empty();
+    std::unique_ptr<PresetEditor> editor = make_editor(args.preset.empty() ? default_preset_name() : args.preset);
+    for (const VolumeReport& v : prepare_preset(preset)) print_volume_report(v);
+    // An edited preset is read from text: give it what load_preset_file and run_preview gave the first.
+    std::string base_dir;
+    if (std::error_code ec; fs::is_regular_file(args.preset, ec)) base_dir = fs::path(args.preset).parent_path().string();
+    const std::function<void(Preset&)> prepare_edit = [&](Preset& p) {
+        for (VdbVolume& v : p.scene.volumes) v.source.base_dir = base_dir;
+        for (EmitterDesc& e : p.emitters)
+            if (e.shape == EmitterShape::Density) e.density_source.base_dir = base_dir;
+        p.scene.camera.width = width;
+        p.scene.camera.height = height;
+        for (const VolumeReport& v : prepare_preset(p)) print_volume_report(v);
+    };
+
+    PreviewWindow window(width, height, "brume preview: " + preset.name);
+    vk::DeviceOptions device_options;
+    device_options.device_name = args.device;
+    device_options.validate = args.validate;
+    device_options.instance_extensions = window.required_instance_extensions();
+    device_options.device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+    device_options.create_surface = [&window](VkInstance instance) { return window.create_surface(instance); };
+    vk::Device device(device_options);
+
+    int shown_frames = 0;
+    AdaptiveResolution adaptive;
+    adaptive.set_enabled(!args.fixed_resolution);
+    Timing timing;
+    VkExtent2D internal{};
+    VkExtent2D last_viewport{};
+    {
+        PreviewSession session(device, preset, method, options, exposure);
+        if (args.frame >= 0) session.timeline().seek(int(args.frame));
+        session.playback().one_frame_per_view = scripted;
+        FramePath path(device);
+        SwapchainPresenter presenter(device, window.framebuffer_extent());
+        TimedPresenter timed(presenter);
+        PreviewImgui ui(window.handle(), device, presenter.render_pass(), vk::FrameRing::kDefaultSlots);
+        presenter.set_overlay([&ui](VkCommandBuffer cmd) { ui.record(cmd); });
+        ScriptRunner script(std::move(commands));
+        bool panel_visible = true;
+        PanelState panel{session, adaptive, timing.smoothed};
+        // A file given on the command line is watched; a built-in preset cannot change.
+        std::optional<PresetWatcher> watcher;
+        if (std::error_code ec; !args.preset.empty() && fs::is_regular_file(args.preset, ec)) {
+            watcher.emplace(args.preset, width, height);
+            panel.watched_file = args.preset;
+        }
+        ComparisonPresenter comparison(device);
+        ReferenceCheck reference;
+        const std::function<void()> start_reference = [&] {
+            if (reference.running()) return;
+            const VkExtent2D viewport = window.framebuffer_extent();
+            int w = 0, h = 0;
+            ReferenceCheck::reduced_size(int(std::max(1u, viewport.width)), int(std::max(1u, viewport.height)), w, h);
+            const Scene scene = session.scene(std::uint32_t(w), std::uint32_t(h));
+            reference.start(scene, path.render(session.method(), scene), session.timeline().frame(),
+                            session.method_spec());
+        };
+        panel.reference = &reference;
+        panel.start_reference = start_reference;
+        ScriptTargets targets{session, path,      window, presenter, panel_visible, watcher ? &*watcher : nullptr,
+                              editor,  prepare_edit, panel.preset_edit.stale, reference, start_reference};
+        panel.preset_edit.read = [&editor] { return editor->values(); };
+        panel.preset_edit.set = [&](const std::string& key, const std::string& value) -> std::string {
+            try {
+                Preset edited = editor->set(key, value);
+                prepare_edit(edited);
+                session.replace_preset(edited);
+                return {};
+            } catch (const std::exception& e) {
+                return e.what();
+            }
+        };
+        // Save goes to the file opened, or for a built-in preset to NAME.toml here.
+        std::error_code exists_error;
+        panel.preset_edit.save_path = fs::is_regular_file(args.preset, exists_error)
+                                          ? args.preset
+                                          : (args.preset.empty() ? default_preset_name() : args.preset) + ".toml";
+        panel.preset_edit.save = [&]() -> std::string {
+            try {
+                write_file_atomically(panel.preset_edit.save_path, editor->saved_text());
+                return {};
+            } catch (const std::exception& e) {
+                return e.what();
+            }
+        };
+        // The method list starts at the method shown.
+        for (const MethodEntry& m : method_catalogue()) {
+            if (m.name == find_method(method).name) break;
+            if (m.needs_device) ++panel.method_index;
+        }
+        const std::size_t colon = method.find(':');
+        std::snprintf(panel.method_setting, sizeof panel.method_setting, "%s",
+                      colon == std::string::npos ? find_method(method).default_setting.c_str()
+                                                 : method.substr(colon + 1).c_str());
+
+        int quiet_frames = 0;
+        std::uint64_t events_seen = 0;
+        const auto run_start = Clock::now();
+        auto last = run_start;
+        while (!window.should_close()) {
+            const auto frame_start = Clock::now();
+            const double dt = std::chrono::duration<double>(frame_start - last).count();
+            last = frame_start;
+            window.poll_events();
+            const VkExtent2D viewport = window.framebuffer_extent();
+            presenter.set_window_extent(viewport);
+            last_viewport = viewport;
+            if (viewport.width == 0 || viewport.height == 0) {
+                window.wait_events();  // minimised: no swapchain, nothing to draw
+                continue;
+            }
+            if (watcher) {
+                std::string error;
+                if (std::optional<Preset> reloaded = watcher->poll(seconds_since(run_start), error)) {
+                    session.replace_preset(*reloaded);
+                    editor = make_editor(args.preset);  // edits start again from the file
+                    panel.preset_edit.stale = true;
+                    panel.preset_edit.error.clear();
+                    quiet_frames = 0;
+                    panel.reload_error.clear();
+                    std::printf("reloaded %s\n", args.preset.c_str());
+                } else if (!error.empty()) {
+                    std::fprintf(stderr, "brume: reload refused, still playing the last good version: %s\n", error.c_str());
+                    panel.reload_error = error;
+                    quiet_frames = 0;
+                }
+                std::fflush(stdout);
+                std::fflush(stderr);
+            }
+            if (!script.run(targets)) break;
+            if (reference.running()) {
+                reference.poll();
+                quiet_frames = 0;  // the panel shows the result when it comes
+            }
+
+            PartTimes part;
+            const int frame_before = session.timeline().frame();
+            const WindowInput input = window.take_input();
+            bool moved = apply_controls(input, ui.wants_mouse(), ui.wants_keyboard(), dt, window, session);
+            auto t = Clock::now();
+            session.advance(dt);
+            part.simulate = seconds_since(t) * 1000.0;
+            moved = moved || session.playback().playing || session.timeline().frame() != frame_before;
+            if (window.event_count() != events_seen || moved || script.active()) quiet_frames = 0;
+            events_seen = window.event_count();
+            // A still view with nothing to do waits for input instead of redrawing the same frame; a few
+            // frames after the last event still run, for the UI's hover and click states to settle.
+            if (quiet_frames >= 3 && adaptive.internal_extent(viewport).width == viewport.width) {
+                window.wait_events();
+                continue;
+            }
+            ++quiet_frames;
+
+            t = Clock::now();
+            ui.new_frame();
+            panel.viewport = viewport;
+            panel.internal = internal;
+            if (panel_visible) draw_panel(panel);
+            ui.render();
+            part.ui = seconds_since(t) * 1000.0;
+
+            internal = adaptive.internal_extent(viewport);
+            presenter.set_exposure(session.exposure());
+            t = Clock::now();
+            bool shown = false;
+            if (session.compare_mode() == CompareMode::Off) {
+                shown = path.render_to(timed, session.method(), session.scene(internal.width, internal.height),
+                                       &session.last_stats(), panel.list_stats);
+            } else {
+                const Image composite = session.frame_image(path, internal.width, internal.height, &session.last_stats());
+                const auto t_present = Clock::now();
+                shown = comparison.present(presenter, composite);
+                timed.last_seconds = seconds_since(t_present);
+            }
+            part.present = timed.last_seconds * 1000.0;
+            part.render = seconds_since(t) * 1000.0 - part.present;
+            if (shown) {
+                ++shown_frames;
+                script.frame_shown(presenter);
+            }
+            part.frame = seconds_since(frame_start) * 1000.0;
+            timing.add(part, internal);
+            adaptive.frame_done(part.frame / 1000.0, moved);
+        }
+    }
+
+    if (device.validation_message_count() > 0) {
+        for (const std::string& m : device.take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
+        std::fprintf(stderr, "brume: error: the Vulkan validation layer reported problems (above)\n");
+        return 3;
+    }
+    if (scripted && timing.frames > 0) {
+        const double n = timing.frames;
+        std::printf("preview: %d frames shown; the last %d at internal resolution %ux%u of %ux%u: %.1f FPS, mean ms "
+                    "per frame: simulate %.2f, render %.2f, ui %.2f, present %.2f\n",
+                    shown_frames, timing.frames, timing.tallied_extent.width, timing.tallied_extent.height,
+                    last_viewport.width, last_viewport.height, 1000.0 * n / timing.total.frame,
+                    timing.total.simulate / n, timing.total.render / n, timing.total.ui / n, timing.total.present / n);
+    }
+    return 0;
+}
+
+}  // namespace brume::app

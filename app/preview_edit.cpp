@@ -1,0 +1,281 @@
+#include "app/preview_edit.h"
+
+#include "sim/preset_file.h"
+#include "sim/scene_file.h"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace brume::app {
+
+struct PresetEditor::Document {
+    toml::table root;      // the current, edited values
+    toml::table original;  // as read, with the source positions of every value
+};
+
+namespace {
+
+struct Segment {
+    std::string name;
+    long long index = -1;  // name[index], or -1
+};
+
+std::vector<Segment> parse_key_path(const std::string& path) {
+    std::vector<Segment> out;
+    std::size_t start = 0;
+    while (start <= path.size()) {
+        const std::size_t dot = path.find('.', start);
+        std::string part = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+        Segment s;
+        if (const std::size_t open = part.find('['); open != std::string::npos) {
+            long long i = -1;
+            const auto [end, ec] = std::from_chars(part.data() + open + 1, part.data() + part.size(), i);
+            if (ec != std::errc() || i < 0 || end != part.data() + part.size() - 1 || part.back() != ']')
+                throw std::invalid_argument("set " + path + ": '" + part + "' is not NAME or NAME[INDEX]");
+            s.index = i;
+            part.resize(open);
+        }
+        if (part.empty()) throw std::invalid_argument("set " + path + ": an empty key in the path");
+        s.name = part;
+        out.push_back(s);
+        if (dot == std::string::npos) break;
+        start = dot + 1;
+    }
+    return out;
+}
+
+// The node the path names inside `root`, creating plain tables on the way; the last segment is
+// assigned `value`.
+template <typename Value>
+void assign(toml::table& root, const std::vector<Segment>& path, const std::string& text, Value&& value) {
+    toml::table* table = &root;
+    for (std::size_t k = 0; k < path.size(); ++k) {
+        const Segment& s = path[k];
+        const bool last = k + 1 == path.size();
+        if (s.index < 0) {
+            if (last) {
+                table->insert_or_assign(s.name, std::move(value));
+                return;
+            }
+            toml::node* next = table->get(s.name);
+            if (!next) next = &table->insert_or_assign(s.name, toml::table{}).first->second;
+            table = next->as_table();
+            if (!table) throw std::invalid_argument("set " + text + ": " + s.name + " is not a table");
+            continue;
+        }
+        toml::array* array = table->get_as<toml::array>(s.name);
+        if (!array) throw std::invalid_argument("set " + text + ": " + s.name + " is not an array");
+        if (std::size_t(s.index) >= array->size())
+            throw std::invalid_argument("set " + text + ": " + s.name + " has " + std::to_string(array->size()) +
+                                        " entries (0-based)");
+        if (last) {
+            array->replace(array->cbegin() + s.index, std::move(value));
+            return;
+        }
+        table = array->get(std::size_t(s.index))->as_table();
+        if (!table) throw std::invalid_argument("set " + text + ": " + s.name + "[" + std::to_string(s.index) +
+                                                "] is not a table");
+    }
+}
+
+void collect(const toml::node& node, const std::string& path, std::vector<EditableValue>& out) {
+    EditableValue v;
+    v.path = path;
+    if (const toml::table* t = node.as_table()) {
+        for (const auto& [key, child] : *t)
+            collect(child, path.empty() ? std::string(key.str()) : path + "." + std::string(key.str()), out);
+        return;
+    }
+    if (const toml::array* a = node.as_array()) {
+        bool numeric = a->size() >= 2 && a->size() <= 4;
+        for (const toml::node& e : *a) numeric = numeric && (e.is_floating_point() || e.is_integer());
+        if (numeric) {
+            v.kind = EditableValue::Kind::Numbers;
+            v.integers = true;
+            for (const toml::node& e : *a) v.integers = v.integers && e.is_integer();
+            for (const toml::node& e : *a) v.numbers.push_back(e.value<double>().value_or(0.0));
+            out.push_back(v);
+            return;
+        }
+        for (std::size_t i = 0; i < a->size(); ++i) collect(*a->get(i), path + "[" + std::to_string(i) + "]", out);
+        return;
+    }
+    if (node.is_floating_point()) {
+        v.kind = EditableValue::Kind::Number;
+        v.numbers = {*node.value<double>()};
+    } else if (node.is_integer()) {
+        v.kind = EditableValue::Kind::Integer;
+        v.numbers = {double(*node.value<std::int64_t>())};
+    } else if (node.is_boolean()) {
+        v.kind = EditableValue::Kind::Bool;
+        v.flag = *node.value<bool>();
+    } else if (node.is_string()) {
+        v.kind = EditableValue::Kind::String;
+        v.text = *node.value<std::string>();
+    } else {
+        return;  // dates and times: no preset key uses them
+    }
+    out.push_back(v);
+}
+
+std::string float_text(double x) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    std::string s = buf;
+    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // "n": nan and inf stay as they are
+    return s;
+}
+
+}  // namespace
+
+std::string toml_value_text(const EditableValue& v) {
+    switch (v.kind) {
+    case EditableValue::Kind::Number: return float_text(v.numbers.at(0));
+    case EditableValue::Kind::Integer: return std::to_string(std::llround(v.numbers.at(0)));
+    case EditableValue::Kind::Bool: return v.flag ? "true" : "false";
+    case EditableValue::Kind::String: {
+        std::string out = "\"";
+        for (char c : v.text) {
+            if (c == '"' || c == '\\') out += '\\';
+            out += c;
+        }
+        return out + "\"";
+    }
+    case EditableValue::Kind::Numbers: {
+        std::string out = "[";
+        for (std::size_t i = 0; i < v.numbers.size(); ++i)
+            out += (i ? ", " : "") + (v.integers ? std::to_string(std::llround(v.numbers[i])) : float_text(v.numbers[i]));
+        return out + "]";
+    }
+    }
+    return {};
+}
+
+std::vector<EditableValue> PresetEditor::values() const {
+    std::vector<EditableValue> out;
+    collect(doc_->root, "", out);
+    return out;
+}
+
+PresetEditor::PresetEditor(const std::string& text, std::string source_name)
+    : doc_(std::make_unique<Document>()), source_name_(std::move(source_name)), original_text_(text) {
+    doc_->original = toml::parse(text, std::string_view(source_name_));
+    doc_->root = doc_->original;
+}
+
+PresetEditor::~PresetEditor() = default;
+
+Preset PresetEditor::set(const std::string& key_path, const std::string& value) {
+    toml::table holder;
+    try {
+        holder = toml::parse("value = " + value);
+    } catch (const toml::parse_error& e) {
+        throw std::invalid_argument("set " + key_path + ": '" + value + "' is not a TOML value (" +
+                                    std::string(e.description()) + ")");
+    }
+    toml::node* node = holder.get("value");
+    if (!node) throw std::invalid_argument("set " + key_path + ": no value");
+    toml::table edited = doc_->root;
+    node->visit([&](auto& v) { assign(edited, parse_key_path(key_path), key_path, std::move(v)); });
+    std::ostringstream text;
+    text << edited;
+    try {
+        Preset preset = parse_preset_toml(text.str(), source_name_);
+        doc_->root = std::move(edited);
+        record_edit(key_path, value);
+        return preset;
+    } catch (const SceneFileError& e) {
+        // The line would be the regenerated text's, not the file's: the key and the problem say it.
+        throw std::invalid_argument((e.key_path().empty() ? "set " + key_path : e.key_path()) + ": " + e.problem());
+    }
+}
+
+}  // namespace brume::app
+
+namespace brume::app {
+namespace {
+
+bool is_inside(const std::string& path, const std::string& outer) {
+    return path.size() > outer.size() && path.compare(0, outer.size(), outer) == 0 &&
+           (path[outer.size()] == '.' || path[outer.size()] == '[');
+}
+
+// The node at `path` in `root`, or null; nothing is created.
+const toml::node* find(const toml::table& root, const std::vector<Segment>& path) {
+    const toml::node* node = &root;
+    for (const Segment& s : path) {
+        const toml::table* t = node->as_table();
+        node = t ? t->get(s.name) : nullptr;
+        if (!node) return nullptr;
+        if (s.index >= 0) {
+            const toml::array* a = node->as_array();
+            node = a ? a->get(std::size_t(s.index)) : nullptr;
+            if (!node) return nullptr;
+        }
+    }
+    return node;
+}
+
+}  // namespace
+
+void PresetEditor::record_edit(const std::string& key_path, const std::string& value) {
+    // A path inside one already edited (sun[1] after sun) changes that edit's text; a path around
+    // earlier ones (sun after sun[1]) replaces them.
+    for (auto& [path, text] : edits_) {
+        if (is_inside(key_path, path)) {
+            const std::vector<EditableValue> now = values();
+            for (const EditableValue& v : now)
+                if (v.path == path) text = toml_value_text(v);
+            return;
+        }
+    }
+    std::erase_if(edits_, [&](const auto& e) { return e.first == key_path || is_inside(e.first, key_path); });
+    edits_.emplace_back(key_path, value);
+}
+
+std::string PresetEditor::saved_text() const {
+    // Offsets of the original text's lines (toml++ positions are 1-based line and column).
+    std::vector<std::size_t> line_start{0, 0};
+    for (std::size_t i = 0; i < original_text_.size(); ++i)
+        if (original_text_[i] == '\n') line_start.push_back(i + 1);
+    struct Replacement {
+        std::size_t begin, end;
+        std::string text;
+    };
+    std::vector<Replacement> replacements;
+    for (const auto& [path, text] : edits_) {
+        const toml::node* node = find(doc_->original, parse_key_path(path));
+        if (!node || node->source().begin.line == 0)
+            throw std::invalid_argument("save: " + path + " is not in " + source_name_ +
+                                        ", so it cannot be written in place; add the key to the file");
+        const toml::source_region& r = node->source();
+        replacements.push_back({line_start.at(r.begin.line) + r.begin.column - 1,
+                                line_start.at(r.end.line) + r.end.column - 1, text});
+    }
+    std::sort(replacements.begin(), replacements.end(), [](const auto& a, const auto& b) { return a.begin > b.begin; });
+    std::string out = original_text_;
+    for (const Replacement& r : replacements) out.replace(r.begin, r.end - r.begin, r.text);
+
+    // What is written must read back as the preset the preview shows.
+    std::ostringstream current;
+    current << doc_->root;
+    const std::string want = preset_to_toml(parse_preset_toml(current.str(), source_name_));
+    std::string got;
+    try {
+        got = preset_to_toml(parse_preset_toml(out, source_name_));
+    } catch (const SceneFileError& e) {
+        throw std::invalid_argument(std::string("save: the edited file would not read: ") + e.what());
+    }
+    if (got != want) throw std::invalid_argument("save: the edited file would not read back as the preview shows it");
+    return out;
+}
+
+}  // namespace brume::app

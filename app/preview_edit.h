@@ -1,0 +1,59 @@
+// Live edits of the preset (`set KEY.PATH VALUE` in a script): the preset's TOML is edited in memory
+// and read again by the preset reader, so every value is validated exactly as in a file. KEY.PATH is
+// the key path the reader's errors use: `emitter[0].rate`, `lighting.sun`, `timeline.duration`,
+// `lighting.sun[1]`; VALUE is TOML (`2.5`, `[1.0, 0.9, 0.8]`, `"name"`). Edits accumulate; a hot
+// reload starts again from the file. Saving writes the edited values into the original text in place.
+#pragma once
+
+#include "sim/preset.h"
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace brume::app {
+
+// One value of the preset's TOML that the panel can edit: a number, an integer, a boolean, a string,
+// or a short array of numbers (a vector, a range).
+struct EditableValue {
+    enum class Kind { Number, Integer, Bool, String, Numbers };
+    std::string path;  // as set() takes it
+    Kind kind = Kind::Number;
+    std::vector<double> numbers;  // Number, Integer (one), Numbers (2 to 4)
+    bool integers = false;        // Numbers: every element was written as an integer
+    bool flag = false;
+    std::string text;
+};
+
+// VALUE text for set(): floats always with a point or an exponent, so they stay floats in TOML.
+std::string toml_value_text(const EditableValue& value);
+
+class PresetEditor {
+public:
+    // `text`: the preset's TOML as read; `source_name`: the file (or built-in name) for messages.
+    PresetEditor(const std::string& text, std::string source_name);
+    ~PresetEditor();
+
+    // Sets KEY.PATH to VALUE and returns the preset read back (not yet prepared). On any error the
+    // edit is not kept, and std::invalid_argument names the key and the problem.
+    Preset set(const std::string& key_path, const std::string& value);
+    // Every editable value of the current text, by key path (sections sorted by name).
+    std::vector<EditableValue> values() const;
+    // The original text with each edited value replaced where it stands, so comments, order and
+    // layout stay; checked to read back as the edited preset. Throws std::invalid_argument when an
+    // edited key is not in the original text (it cannot be written in place) or the check fails.
+    std::string saved_text() const;
+    bool edited() const { return !edits_.empty(); }
+
+private:
+    void record_edit(const std::string& key_path, const std::string& value);
+
+    struct Document;
+    std::unique_ptr<Document> doc_;
+    std::string source_name_;
+    std::string original_text_;
+    std::vector<std::pair<std::string, std::string>> edits_;  // key path, value text; no path inside another
+};
+
+}  // namespace brume::app

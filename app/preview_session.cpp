@@ -1,0 +1,115 @@
+#include "app/preview_session.h"
+
+#include "app/cli_util.h"
+#include "render/image_io.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace brume::app {
+
+PreviewSession::PreviewSession(vk::Device& device, const Preset& preset, const std::string& method,
+                               const MethodOptions& options, double exposure)
+    : device_(device), options_(options), timeline_(preset), exposure_(exposure) {
+    set_method(method);
+    user_camera_ = timeline_.scene().camera;
+}
+
+void PreviewSession::replace_preset(const Preset& preset) {
+    const int frame = timeline_.frame();
+    timeline_ = PreviewTimeline(preset);
+    timeline_.seek(frame);
+}
+
+namespace {
+
+// A GPU method of the registry, or std::invalid_argument naming why not.
+std::unique_ptr<Method> make_gpu_method(vk::Device& device, const std::string& spec, const MethodOptions& options) {
+    if (!find_method(spec).needs_device)
+        throw std::invalid_argument("method '" + spec + "' runs on the CPU; the preview shows GPU methods "
+                                    "(render it with brume play --method " + spec + ")");
+    std::unique_ptr<Method> next = make_method(&device, spec, options);
+    if (!next->gpu()) throw std::invalid_argument("method '" + spec + "' has no GPU frame path to preview");
+    return next;
+}
+
+}  // namespace
+
+void PreviewSession::set_comparison(const std::string& spec, CompareMode mode) {
+    std::unique_ptr<Method> next = mode == CompareMode::Off ? nullptr : make_gpu_method(device_, spec, options_);
+    device_.wait_idle();  // the old method's buffers may still be in use
+    compare_method_ = std::move(next);
+    compare_mode_ = mode;
+    compare_spec_ = mode == CompareMode::Off ? "" : spec;
+}
+
+Image PreviewSession::frame_image(FramePath& path, std::uint32_t width, std::uint32_t height, FrameStats* stats) {
+    const Scene s = scene(width, height);
+    const Image image = path.render(method(), s, stats);
+    if (compare_mode_ == CompareMode::Off) return image;
+    return compose_comparison(image, path.render(compare_method(), s), compare_mode_);
+}
+
+void PreviewSession::set_method(const std::string& spec) {
+    std::unique_ptr<Method> next = make_gpu_method(device_, spec, options_);
+    // The old method's buffers may only go once no frame that used them is still on the GPU.
+    device_.wait_idle();
+    method_ = std::move(next);
+    method_spec_ = spec;
+}
+
+void PreviewSession::advance(double seconds) {
+    if (!playback_.playing) return;
+    if (playback_.one_frame_per_view) {
+        playback_.pending_frames += 1.0;
+    } else {
+        playback_.pending_frames += seconds * timeline_.fps() * playback_.speed;
+    }
+    const int steps = int(std::floor(playback_.pending_frames));
+    if (steps <= 0) return;
+    playback_.pending_frames -= steps;
+    int next = timeline_.frame() + steps;
+    const int last = timeline_.frame_count() - 1;
+    if (next > last) {
+        if (playback_.loop) {
+            next %= timeline_.frame_count();
+        } else {
+            next = last;
+            playback_.playing = false;
+        }
+    }
+    timeline_.seek(next);
+}
+
+Camera PreviewSession::camera() const { return follow_path_ ? timeline_.scene().camera : user_camera_; }
+
+void PreviewSession::set_following_path(bool follow) {
+    if (!follow && follow_path_) user_camera_ = camera();
+    follow_path_ = follow;
+}
+
+void PreviewSession::set_user_camera(const Camera& camera) {
+    user_camera_ = camera;
+    follow_path_ = false;
+}
+
+Scene PreviewSession::scene(std::uint32_t width, std::uint32_t height) const {
+    Scene scene = timeline_.scene();
+    if (!follow_path_) scene.camera = user_camera_;
+    scene.camera.width = int(width);
+    scene.camera.height = int(height);
+    return scene;
+}
+
+void PreviewSession::screenshot(FramePath& path, VkExtent2D viewport, const std::string& file) {
+    if (viewport.width == 0 || viewport.height == 0)
+        throw std::runtime_error("screenshot " + file + ": the window is minimised, there is no viewport");
+    const Image image = frame_image(path, viewport.width, viewport.height);
+    refuse_non_finite(image, "the screenshot");
+    if (file.ends_with(".exr"))
+        write_exr(image, file);
+    else
+        write_png(image, file, exposure_);
+}
+
+}  // namespace brume::app

@@ -1,0 +1,96 @@
+// What the preview shows, apart from the window: the preset's timeline, playback, the camera (the
+// preset's camera path, or the user's once they move it) and the method. It builds each frame's
+// Scene the way `brume play` does, so a screenshot at the viewport's size is the frame `brume play
+// --size` writes.
+#pragma once
+
+#include "app/preview_compare.h"
+#include "app/preview_timeline.h"
+#include "render/frame/frame_path.h"
+#include "render/frame/frame_stats.h"
+#include "render/methods/method.h"
+#include "render/methods/registry.h"
+#include "render/vk/device.h"
+#include "sim/preset.h"
+
+#include <memory>
+#include <string>
+
+namespace brume::app {
+
+struct Playback {
+    bool playing = false;
+    bool loop = true;
+    double speed = 1.0;             // times real time
+    bool one_frame_per_view = false;  // scripted runs: one timeline frame per shown frame, whatever the clock
+    double pending_frames = 0.0;    // timeline frames owed to the clock, not yet stepped
+};
+
+class PreviewSession {
+public:
+    // `preset` as `brume play` prepares it; `method`: a GPU method spec.
+    PreviewSession(vk::Device& device, const Preset& preset, const std::string& method, const MethodOptions& options,
+                   double exposure);
+
+    PreviewTimeline& timeline() { return timeline_; }
+    const PreviewTimeline& timeline() const { return timeline_; }
+    Playback& playback() { return playback_; }
+    // Advances playback by `seconds` of wall-clock time (or one frame in scripted runs); at the end
+    // it loops or stops.
+    void advance(double seconds);
+
+    // A reloaded preset: a new timeline at the same frame (clamped to its frames); the method, the
+    // user's camera and the exposure stay.
+    void replace_preset(const Preset& preset);
+
+    // Throws std::invalid_argument naming the method when it is unknown or has no GPU frame path.
+    void set_method(const std::string& spec);
+    const std::string& method_spec() const { return method_spec_; }
+    GpuMethod& method() { return *method_->gpu(); }
+
+    // A second method beside or against the first (app/preview_compare.h); Off drops it. Throws
+    // std::invalid_argument as set_method does.
+    void set_comparison(const std::string& spec, CompareMode mode);
+    CompareMode compare_mode() const { return compare_mode_; }
+    const std::string& compare_spec() const { return compare_spec_; }
+    GpuMethod& compare_method() { return *compare_method_->gpu(); }
+    // The current frame at width x height as the view shows it: the method's, or the comparison.
+    // `stats`: the first method's figures.
+    Image frame_image(FramePath& path, std::uint32_t width, std::uint32_t height, FrameStats* stats = nullptr);
+
+    // The camera now: the camera path's (following) or the user's.
+    Camera camera() const;
+    bool following_path() const { return follow_path_; }
+    void set_following_path(bool follow);
+    // Replaces the camera with the user's (orbit, pan, zoom); stops following the path.
+    void set_user_camera(const Camera& camera);
+    void reset_camera() { set_following_path(true); }
+
+    // The current frame at `width` x `height` with the current camera.
+    Scene scene(std::uint32_t width, std::uint32_t height) const;
+    double exposure() const { return exposure_; }
+    void set_exposure(double stops) { exposure_ = stops; }
+
+    // Renders the current frame at the viewport's size and writes it: PNG as `brume play` writes it
+    // (exposed sRGB), EXR linear. Throws ImageIoError and friends on failure.
+    void screenshot(FramePath& path, VkExtent2D viewport, const std::string& file);
+
+    FrameStats& last_stats() { return stats_; }
+
+private:
+    vk::Device& device_;
+    MethodOptions options_;
+    PreviewTimeline timeline_;
+    Playback playback_;
+    std::string method_spec_;
+    std::unique_ptr<Method> method_;
+    CompareMode compare_mode_ = CompareMode::Off;
+    std::string compare_spec_;
+    std::unique_ptr<Method> compare_method_;
+    bool follow_path_ = true;
+    Camera user_camera_;
+    double exposure_;
+    FrameStats stats_;
+};
+
+}  // namespace brume::app

@@ -1,0 +1,55 @@
+#include "app/preview_timeline.h"
+
+#include "sim/camera_path.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace brume::app {
+namespace {
+
+// What one live particle costs in a checkpoint: fourteen floats, its emitter and its id (sim/particles.h).
+constexpr std::uint64_t kParticleBytes = 14 * sizeof(float) + sizeof(std::uint32_t) + sizeof(std::uint64_t);
+
+}  // namespace
+
+PreviewTimeline::PreviewTimeline(const Preset& preset, int checkpoint_every, std::uint64_t checkpoint_budget_bytes)
+    : preset_(preset), sim_(preset_), every_(checkpoint_every), budget_bytes_(checkpoint_budget_bytes) {
+    if (every_ < 1) throw std::invalid_argument("checkpoint interval must be at least 1 frame");
+    if (frame_count() < 1) throw std::invalid_argument(preset_.name + ": the timeline has no frames");
+    checkpoints_.emplace(0, sim_);
+}
+
+void PreviewTimeline::step_and_checkpoint() {
+    sim_.step_frame();
+    const int f = sim_.frame();
+    simulated_until_ = std::max(simulated_until_, f);
+    if (f % every_ != 0 || checkpoints_.count(f)) return;
+    // A checkpoint holds a copy of every live particle; past the budget, scrubbing replays further.
+    const std::uint64_t bytes = std::uint64_t(sim_.size()) * kParticleBytes;
+    if (checkpoint_bytes_ + bytes > budget_bytes_) return;
+    checkpoint_bytes_ += bytes;
+    checkpoints_.emplace(f, sim_);
+}
+
+void PreviewTimeline::seek(int frame) {
+    frame = std::clamp(frame, 0, frame_count() - 1);
+    if (frame == sim_.frame()) return;
+    // Backwards, or forwards past a checkpoint nearer than the current frame: start from the nearest
+    // checkpoint at or before the target.
+    auto at = checkpoints_.upper_bound(frame);
+    --at;  // frame 0 is always there
+    if (frame < sim_.frame() || at->first > sim_.frame()) sim_ = at->second;
+    while (sim_.frame() < frame) step_and_checkpoint();
+}
+
+Scene PreviewTimeline::scene() const {
+    Scene scene = preset_.scene;
+    sim_.append_spheres(scene.spheres);
+    scene.camera = camera_at(preset_, sim_.time());
+    scene.camera.width = preset_.scene.camera.width;
+    scene.camera.height = preset_.scene.camera.height;
+    return scene;
+}
+
+}  // namespace brume::app

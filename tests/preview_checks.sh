@@ -1,0 +1,218 @@
+#!/usr/bin/env bash
+# End-to-end checks of `brume preview` with a real window (ctest runs this under xvfb-run): its
+# screenshots are the frames `brume play` writes, byte for byte, for three presets and two methods;
+# scrubbing backwards equals playing forwards; a scripted orbit puts the camera where the closed form
+# does and renders what `brume render` renders from there; the validation layer stays silent across
+# resizes and method switches; bad scripts and a missing display are refused in one clear line.
+# Usage: preview_checks.sh BRUME SCRATCH_DIR
+set -u
+brume=$(realpath "$1")
+scratch=$2
+data=$(cd "$(dirname "$0")/data" && pwd)
+presets=$(cd "$(dirname "$0")/../presets" && pwd)
+lavapipe=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json
+export VK_DRIVER_FILES=$lavapipe VK_ICD_FILENAMES=$lavapipe
+mkdir -p "$scratch"
+work=$(mktemp -d "$scratch/preview_checks.XXXXXX")
+cd "$work" || exit 2
+passed=0
+failed=0
+ok() { echo "ok $1"; passed=$((passed + 1)); }
+fail() { echo "FAIL $1: $2"; failed=$((failed + 1)); }
+# Width and height from a PNG's IHDR chunk.
+png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{printf "%dx%d", $3 * 256 + $4, $7 * 256 + $8}'; }
+
+if [ -z "${DISPLAY:-}" ]; then echo "FAIL setup: no DISPLAY (run under xvfb-run, as ctest does)"; exit 1; fi
+
+# No display: one line naming the problem, non-zero exit, no window attempted.
+env -u DISPLAY -u WAYLAND_DISPLAY "$brume" preview plume >nodisplay.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && [ "$(wc -l <nodisplay.log)" -eq 1 ] && grep -q "no X11 or Wayland display" nodisplay.log; then
+    ok no_display_refused
+else
+    fail no_display_refused "rc $rc: $(cat nodisplay.log)"
+fi
+
+# A bad script line is refused as FILE:LINE before any window opens.
+printf 'frame 2\n# a comment\nwait 0\n' >bad.script
+"$brume" preview plume --script bad.script >badscript.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && grep -q "bad.script:3: the number of frames must be at least 1" badscript.log; then
+    ok bad_script_line
+else
+    fail bad_script_line "rc $rc: $(cat badscript.log)"
+fi
+printf 'wait 1\nmethod nosuch\nquit\n' >badmethod.script
+"$brume" preview plume --size 64x48 --script badmethod.script >badmethod.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && grep -q "badmethod.script:2: unknown method 'nosuch'" badmethod.log; then
+    ok bad_script_method
+else
+    fail bad_script_method "rc $rc: $(cat badmethod.log)"
+fi
+
+# Screenshots equal `brume play` byte for byte: three presets, two methods, a frame past the first.
+frame=5
+size=96x72
+for preset in plume campfire crossing; do
+    for method in ppll soft; do
+        tag=$preset.$method
+        "$brume" play "$preset" -o "play.$tag" --frames $frame-$frame --size $size --method $method --format png \
+            >"play.$tag.log" 2>&1 || { fail "screenshot.$tag" "play failed: $(tail -1 "play.$tag.log")"; continue; }
+        "$brume" preview "$preset" --size $size --method $method --frame $frame --screenshot "shot.$tag.png" \
+            --validate >"shot.$tag.log" 2>&1
+        rc=$?
+        want=$(printf 'play.%s/%s.%04d.png' "$tag" "$preset" $frame)
+        if [ "$rc" -ne 0 ]; then fail "screenshot.$tag" "rc $rc: $(tail -1 "shot.$tag.log")"
+        elif ! cmp -s "shot.$tag.png" "$want"; then fail "screenshot.$tag" "differs from $want"
+        else ok "screenshot.$tag"; fi
+    done
+done
+# The frames differ between methods and presets, so the comparisons above can fail.
+if [ ! -s shot.plume.ppll.png ] || [ ! -s shot.plume.soft.png ] || [ ! -s shot.crossing.ppll.png ]; then
+    fail screenshots_differ "screenshots missing"
+elif cmp -s shot.plume.ppll.png shot.plume.soft.png || cmp -s shot.plume.ppll.png shot.crossing.ppll.png; then
+    fail screenshots_differ "two different renders gave the same file"
+else
+    ok screenshots_differ
+fi
+
+# Scrubbing backwards (past two checkpoints) and playing forwards both reach frame 6 as play renders it.
+"$brume" play crossing -o play.scrub --frames 6-6 --size 80x60 --format png >play.scrub.log 2>&1
+printf 'frame 20\nwait 1\nscreenshot f20.png\nframe 6\nwait 1\nscreenshot back.png\nframe 0\nwait 1\nplay\nwait 6\npause\nscreenshot forward.png\nquit\n' \
+    >scrub.script
+"$brume" preview crossing --size 80x60 --script scrub.script --validate >scrub.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ]; then fail scrub "rc $rc: $(tail -1 scrub.log)"
+elif ! cmp -s back.png play.scrub/crossing.0006.png; then fail scrub.backwards "frame 6 after scrubbing back differs from play"
+elif ! cmp -s forward.png play.scrub/crossing.0006.png; then fail scrub.forwards "frame 6 after playing 6 frames differs from play"
+elif cmp -s f20.png back.png; then fail scrub.frames_move "frame 20 looks like frame 6"
+else ok scrub_backwards_equals_forwards; fi
+
+# Orbit: the camera lands where the closed form puts it (spherical coordinates about look_at, not the
+# preview's rotation formula), and the screenshot equals brume render of a scene with that camera.
+printf 'wait 1\norbit 30 15\ncamera\nscreenshot orbit.png\nquit\n' >orbit.script
+"$brume" preview "$data/small.toml" --size 64x48 --script orbit.script --validate >orbit.log 2>&1
+rc=$?
+cam=$(grep '^camera position' orbit.log)
+if [ "$rc" -ne 0 ] || [ -z "$cam" ]; then
+    fail orbit "rc $rc: $(tail -1 orbit.log)"
+else
+    # small.toml: eye (0, 0.5, 5), look_at (0, 0.3, 0), up +y.
+    verdict=$(echo "$cam" | awk '{
+        pi = atan2(0, -1); dx = 0; dy = 0.2; dz = 5; L = sqrt(dx*dx + dy*dy + dz*dz)
+        az = atan2(dx, dz) + 30 * pi / 180; el = atan2(dy, sqrt(dx*dx + dz*dz)) + 15 * pi / 180
+        ex = L * cos(el) * sin(az); ey = 0.3 + L * sin(el); ez = L * cos(el) * cos(az)
+        err = sqrt(($3 - ex)^2 + ($4 - ey)^2 + ($5 - ez)^2)
+        if (err < 1e-9 && $7 == 0 && $8 == 0.3 && $9 == 0) print "ok"; else printf "off by %g: got %s %s %s, want %.12g %.12g %.12g", err, $3, $4, $5, ex, ey, ez }')
+    if [ "$verdict" != "ok" ]; then
+        fail orbit.closed_form "$verdict"
+    else
+        ok orbit.closed_form
+        read -r _ _ px py pz _ <<<"$cam"
+        sed "s/^position = .*/position = [$px, $py, $pz]/" "$data/small.toml" >orbited.toml
+        "$brume" render orbited.toml --png rendered.png >render.log 2>&1
+        if cmp -s orbit.png rendered.png; then ok orbit.equals_render
+        else fail orbit.equals_render "differs from brume render of the orbited camera: $(tail -1 render.log)"; fi
+        "$brume" render "$data/small.toml" --png unorbited.png >unorbited.log 2>&1
+        if cmp -s orbit.png unorbited.png; then fail orbit.moves "the orbited view equals the unorbited one"
+        else ok orbit.moves; fi
+    fi
+fi
+
+# Error against the reference, on a worker thread: the exact method matches it to float precision
+# (1e-4 of the peak, docs/accuracy.md), an approximate one does not.
+printf 'frame 10\nwait 1\nreference-error\nmethod wsum\nwait 1\nreference-error\nquit\n' >reference.script
+"$brume" preview plume --size 128x96 --script reference.script --validate >reference.log 2>&1
+rc=$?
+verdict=$(grep '^reference error:' reference.log | awk '{ for (i = 1; i <= NF; i++) if ($i == "max") v[NR] = $(i + 1) }
+    END { if (NR == 2 && v[1] < 1e-4 && v[2] > 1e-2) print "ok"; else printf "%d lines, ppll %s, wsum %s", NR, v[1], v[2] }')
+if [ "$rc" -ne 0 ]; then fail reference_error "rc $rc: $(tail -1 reference.log)"
+elif [ "$verdict" != ok ]; then fail reference_error "$verdict"
+elif ! grep -q "method ppll at 128x96" reference.log; then fail reference_error "not at the viewport's size: $(grep '^reference' reference.log | head -1)"
+else ok reference_error_exact_vs_approximate; fi
+
+# Validation stays clean across resizes (the swapchain is recreated) and method switches, and the
+# screenshot follows the new size.
+printf 'wait 2\nresize 120 90\nwait 2\nmethod soft\nwait 2\nmethod kbuf:4\nresize 80 60\nwait 2\nscreenshot resized.png\nquit\n' \
+    >resize.script
+"$brume" preview plume --size 96x72 --script resize.script --validate >resize.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ]; then fail resize "rc $rc: $(tail -3 resize.log)"
+elif [ "$(png_size resized.png)" != "80x60" ]; then fail resize "screenshot is $(png_size resized.png), want 80x60"
+else ok resize_and_method_switch_validation_clean; fi
+
+# The scripted run's benchmark line: frames shown and the time of each part.
+if grep -q "^preview: [0-9]* frames shown; the last [0-9]* at internal resolution [0-9]*x[0-9]* of 80x60: [0-9.]* FPS, mean ms per frame: simulate" resize.log; then ok benchmark_line
+else fail benchmark_line "no summary in resize.log"; fi
+
+# Live edits: `set` of the emitter's rate changes the frame, and equals brume play of the file edited
+# the same way; a value the reader refuses is named with its key.
+sed 's/^rate = 220.0$/rate = 600.0/' "$presets/plume.toml" >plume-edited.toml
+"$brume" play plume-edited.toml -o play.edited --frames 12-12 --size 96x72 --format png >play.edited.log 2>&1
+printf 'frame 12\nwait 1\nscreenshot unedited.png\nset emitter[0].rate 600.0\nwait 1\nscreenshot edited.png\nquit\n' >set.script
+"$brume" preview plume --size 96x72 --script set.script --validate >set.log 2>&1
+rc=$?
+played=$(ls play.edited/*.0012.png 2>/dev/null | head -1)
+if [ "$rc" -ne 0 ]; then fail set "rc $rc: $(tail -1 set.log)"
+elif ! grep -q '^rate = 600.0$' plume-edited.toml; then fail set "the sed edit did not apply to plume.toml"
+elif cmp -s unedited.png edited.png; then fail set.changes "the rate did not change the frame"
+elif [ -z "$played" ] || ! cmp -s edited.png "$played"; then fail set.equals_play "differs from play of the edited file"
+else ok set_equals_play_of_edited_file; fi
+# Save: the edited preset written where its values stand (only the edited line changes, comments
+# stay), and brume play of the saved file renders the frame the preview showed.
+printf 'frame 12\nset emitter[0].rate 600.0\nwait 1\nscreenshot before-save.png\nsave saved.toml\nquit\n' >save.script
+"$brume" preview plume --size 96x72 --script save.script --validate >save.log 2>&1
+rc=$?
+"$brume" play saved.toml -o play.saved --frames 12-12 --size 96x72 --format png >play.saved.log 2>&1
+saved_png=$(ls play.saved/*.0012.png 2>/dev/null | head -1)
+changed=$(diff "$presets/plume.toml" saved.toml 2>/dev/null | grep -c '^[<>]')
+if [ "$rc" -ne 0 ]; then fail save "rc $rc: $(tail -1 save.log)"
+elif [ "$changed" != 2 ] || ! grep -q '^rate = 600.0$' saved.toml; then fail save.in_place "$changed changed lines: $(diff "$presets/plume.toml" saved.toml | head -5)"
+elif [ -z "$saved_png" ] || ! cmp -s before-save.png "$saved_png"; then fail save.plays_back "play of the saved file differs"
+else ok save_keeps_comments_and_plays_back; fi
+
+printf 'set emitter[0].rate -5\nquit\n' >setbad.script
+"$brume" preview plume --size 64x48 --script setbad.script >setbad.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && grep -q "setbad.script:1: emitter\[0\].rate: must not be negative" setbad.log; then ok set_refused_names_key
+else fail set_refused_names_key "rc $rc: $(tail -1 setbad.log)"; fi
+
+# Hot reload: a broken file is refused with its file:line error while the last good frame stays; the
+# fixed file is read and shown. The shell edits the file while the preview's script waits for it.
+wait_for() {  # wait_for FILE PATTERN [N]: up to 60 s for N (default 1) lines matching in FILE
+    for _ in $(seq 1 600); do
+        [ "$(grep -c "$2" "$1" 2>/dev/null)" -ge "${3:-1}" ] && return 0
+        sleep 0.1
+    done
+    return 1
+}
+cp "$data/small.toml" live.toml
+printf 'wait 1\nscreenshot good.png\nwait-reload\nwait 1\nscreenshot broken.png\nwait-reload\nwait 1\nscreenshot fixed.png\nquit\n' \
+    >reload.script
+"$brume" preview live.toml --size 64x48 --script reload.script --validate >reload.log 2>&1 &
+reload_pid=$!
+if wait_for reload.log "waiting for live.toml to change"; then
+    printf '\n[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = -1.0\nextinction = 1.0\n' >>live.toml
+    # The preview waits again only after it refused the broken file: then the fix is a change it sees.
+    if wait_for reload.log "reload refused" && wait_for reload.log "waiting for live.toml to change" 2; then
+        sed 's/extinction = 2.0/extinction = 6.0/' "$data/small.toml" >live.toml.new && mv live.toml.new live.toml
+    fi
+fi
+wait "$reload_pid"
+rc=$?
+sed 's/extinction = 2.0/extinction = 6.0/' "$data/small.toml" >edited.toml
+"$brume" render edited.toml --png edited.png >edited.log 2>&1
+if [ "$rc" -ne 0 ]; then fail hot_reload "rc $rc: $(tail -2 reload.log)"
+elif ! grep -q "reload refused, still playing the last good version: live.toml:[0-9]*:" reload.log; then
+    fail hot_reload.error "no file:line error: $(grep -i reload reload.log)"
+elif ! cmp -s good.png broken.png; then fail hot_reload.keeps_last_good "the broken file changed the frame"
+elif cmp -s good.png fixed.png; then fail hot_reload.recovers "the fixed file was not shown"
+elif ! cmp -s fixed.png edited.png; then fail hot_reload.recovers "the reloaded frame differs from brume render of the file"
+else ok hot_reload; fi
+
+echo "$passed passed, $failed failed"
+cd "$scratch" || exit 1
+if [ "$failed" -ne 0 ]; then echo "outputs kept in $work"; exit 1; fi
+rm -rf -- "$work"
+exit 0

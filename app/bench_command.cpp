@@ -49,6 +49,7 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
     add_bench_methods_options(*cmd, args);
     cmd->add_option("--spheres", args.spheres, "bench scale: sphere counts of the smoke clouds, e.g. 1000,10000,100000")
         ->capture_default_str();
+    cmd->add_flag("--no-presets", args.no_presets, "bench scale: skip the table of shipped presets");
     cmd->add_option("--particles", args.particles, "bench sim: live particles")->check(CLI::Range(std::size_t(1), std::size_t(10000000)));
     cmd->add_option("--steps", args.steps, "bench sim: steps timed (median reported)")->check(CLI::Range(1, 100000));
     cmd->add_option("--vdb-sample", args.vdb_sample, "bench vdb: built-in volumes, comma-separated (cloud, fog-sphere, sheet)")->capture_default_str();

@@ -16,6 +16,7 @@ struct BenchArgs {
     std::string device;
     int frames = 9;
     std::string spheres = "1000,10000,100000";  // bench scale
+    bool no_presets = false;                     // bench scale: skip the shipped presets' table
     std::size_t particles = 100000;  // bench sim
     int steps = 50;                   // bench sim
     int reference_frames = 1;

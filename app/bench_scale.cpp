@@ -6,7 +6,11 @@
 #include "render/methods/ppll.h"
 #include "render/methods/registry.h"
 #include "render/vk/device.h"
+#include "sim/builtin_presets.h"
+#include "sim/camera_path.h"
+#include "sim/simulator.h"
 #include "sim/smoke_cloud_scene.h"
+#include "sim/vdb/volume_loader.h"
 
 #include <chrono>
 #include <cstdio>
@@ -36,6 +40,40 @@ std::vector<std::string> split_list(const std::string& text) {
     for (std::string item; std::getline(in, item, ',');)
         if (!item.empty()) out.push_back(item);
     return out;
+}
+
+// A shipped preset's frame a third of the way in (emitters have filled the view), at w x h.
+Scene preset_frame(const std::string& name, int w, int h) {
+    std::optional<Preset> preset = builtin_preset(name);
+    prepare_preset(*preset);
+    Simulator sim(*preset);
+    sim.advance_to_frame(preset->timeline.frame_count() / 3);
+    Scene scene = preset->scene;
+    sim.append_spheres(scene.spheres);
+    scene.camera = camera_at(*preset, sim.time());
+    scene.camera.width = w;
+    scene.camera.height = h;
+    return scene;
+}
+
+// Median frame time of `method` on `scene` (GPU time for GPU methods, wall time otherwise), after
+// one warm-up frame; the last frame's image and passes.
+double time_method(Method& method, const Scene& scene, int frames, Image& image, std::string& passes) {
+    image = method.render(scene);
+    std::vector<double> times;
+    for (int f = 0; f < frames; ++f) {
+        FrameStats stats;
+        const auto t0 = std::chrono::steady_clock::now();
+        image = method.render(scene, &stats);
+        const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        times.push_back(method.gpu() ? stats.total_ms : wall);
+        if (f + 1 == frames) {
+            std::ostringstream text;
+            for (const PassTime& p : stats.passes) text << " " << p.name << "=" << int(p.ms + 0.5);
+            passes = text.str();
+        }
+    }
+    return median(times);
 }
 
 struct Row {
@@ -88,22 +126,8 @@ int run_bench_scale(const BenchArgs& args) {
         std::vector<std::pair<std::string, Image>> images;
         for (const std::string& spec : specs) {
             std::unique_ptr<Method> method = make_method(&device, spec);
-            Image image = method->render(scene);  // warm-up: pipelines, pool sizing, first sort
-            std::vector<double> times;
-            for (int f = 0; f < args.frames; ++f) {
-                FrameStats stats;
-                const auto t0 = std::chrono::steady_clock::now();
-                image = method->render(scene, &stats);
-                const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-                // GPU methods: GPU time plus the CPU passes they list (the sort); the reference: wall time.
-                times.push_back(method->gpu() ? stats.total_ms : wall);
-                if (f + 1 == args.frames) {  // the passes of the last frame, for where the time goes
-                    std::ostringstream passes;
-                    for (const PassTime& p : stats.passes) passes << " " << p.name << "=" << int(p.ms + 0.5);
-                    passes_of[spec] = passes.str();
-                }
-            }
-            ms_of[spec] = median(times);
+            Image image;
+            ms_of[spec] = time_method(*method, scene, args.frames, image, passes_of[spec]);
             if (spec == "reference") reference_image = image;
             images.emplace_back(spec, std::move(image));
         }
@@ -122,6 +146,32 @@ int run_bench_scale(const BenchArgs& args) {
             rows.push_back({n, spec, ms});
         }
         std::fflush(stdout);
+    }
+
+    // The shipped presets, a third of the way in, with every method of the run: frame time and FPS.
+    if (!args.no_presets) {
+        std::printf("\n# shipped presets at %dx%d, frame at a third of the timeline: ms (fps) per method\n", w, h);
+        std::printf("%-12s %9s %9s", "preset", "spheres", "fragments");
+        for (const std::string& spec : specs) std::printf(" %16s", spec.c_str());
+        std::printf("\n");
+        for (const std::string& name : builtin_preset_names()) {
+            const Scene scene = preset_frame(name, w, h);
+            PpllMethod probe(device);
+            FrameStats stats;
+            probe.render(scene, &stats, true);
+            std::printf("%-12s %9zu %9llu", name.c_str(), scene.spheres.size(), (unsigned long long)stats.fragments);
+            for (const std::string& spec : specs) {
+                std::unique_ptr<Method> method = make_method(&device, spec);
+                Image image;
+                std::string passes;
+                const double ms = time_method(*method, scene, args.frames, image, passes);
+                char cell[48];
+                std::snprintf(cell, sizeof cell, "%.1f (%.1f)", ms, 1000.0 / ms);
+                std::printf(" %16s", cell);
+            }
+            std::printf("\n");
+            std::fflush(stdout);
+        }
     }
 
     if (!args.output_dir.empty()) {

@@ -10,15 +10,16 @@
 #ifndef BRUME_EVENT_WINDOW_GLSL
 #define BRUME_EVENT_WINDOW_GLSL
 
-const uint WINDOW = 16;
+const uint WINDOW = 8;
 const uint ORDERED_WINDOW = 32;
 const uvec2 NO_KEY = uvec2(0xffffffffu);
 
 bool key_less(uvec2 a, uvec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }
 
 // The general path's window: whole keys, so that "the keys after the last one taken" is exact
-// even among equal distances.
-#define BRUME_WINDOW_CLEAR w[0] = w[1] = w[2] = w[3] = w[4] = w[5] = w[6] = w[7] = w[8] = w[9] = w[10] = w[11] = w[12] = w[13] = w[14] = w[15] = NO_KEY;
+// even among equal distances. Small, because every pixel runs its code once (a list of up to 4
+// nodes needs nothing else), and lavapipe runs code under empty lane masks too.
+#define BRUME_WINDOW_CLEAR w[0] = w[1] = w[2] = w[3] = w[4] = w[5] = w[6] = w[7] = NO_KEY;
 
 // Inserts k in order; when the window is full, the largest key falls off the end. With
 // c_i = (k sorts before slot i), slot i takes its left neighbour if c_(i-1), else k if c_i, else
@@ -28,15 +29,7 @@ bool key_less(uvec2 a, uvec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y);
         uvec2 key = k;                                                                                      \
         bool c0 = key_less(key, w[0]); bool c1 = key_less(key, w[1]); bool c2 = key_less(key, w[2]);        \
         bool c3 = key_less(key, w[3]); bool c4 = key_less(key, w[4]); bool c5 = key_less(key, w[5]);        \
-        bool c6 = key_less(key, w[6]); bool c7 = key_less(key, w[7]); bool c8 = key_less(key, w[8]);        \
-        bool c9 = key_less(key, w[9]); bool c10 = key_less(key, w[10]);                                     \
-        bool c11 = key_less(key, w[11]); bool c12 = key_less(key, w[12]);                                   \
-        bool c13 = key_less(key, w[13]); bool c14 = key_less(key, w[14]);                                   \
-        bool c15 = key_less(key, w[15]);                                                                    \
-        w[15] = c14 ? w[14] : (c15 ? key : w[15]); w[14] = c13 ? w[13] : (c14 ? key : w[14]);               \
-        w[13] = c12 ? w[12] : (c13 ? key : w[13]); w[12] = c11 ? w[11] : (c12 ? key : w[12]);               \
-        w[11] = c10 ? w[10] : (c11 ? key : w[11]); w[10] = c9 ? w[9] : (c10 ? key : w[10]);                 \
-        w[9] = c8 ? w[8] : (c9 ? key : w[9]); w[8] = c7 ? w[7] : (c8 ? key : w[8]);                         \
+        bool c6 = key_less(key, w[6]); bool c7 = key_less(key, w[7]);                                       \
         w[7] = c6 ? w[6] : (c7 ? key : w[7]); w[6] = c5 ? w[5] : (c6 ? key : w[6]);                         \
         w[5] = c4 ? w[4] : (c5 ? key : w[5]); w[4] = c3 ? w[3] : (c4 ? key : w[4]);                         \
         w[3] = c2 ? w[2] : (c3 ? key : w[3]); w[2] = c1 ? w[1] : (c2 ? key : w[2]);                         \
@@ -47,8 +40,7 @@ bool key_less(uvec2 a, uvec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y);
 #define BRUME_WINDOW_SHIFT_LEFT                                                                             \
     {                                                                                                       \
         w[0] = w[1]; w[1] = w[2]; w[2] = w[3]; w[3] = w[4]; w[4] = w[5]; w[5] = w[6]; w[6] = w[7];          \
-        w[7] = w[8]; w[8] = w[9]; w[9] = w[10]; w[10] = w[11]; w[11] = w[12]; w[12] = w[13];                \
-        w[13] = w[14]; w[14] = w[15]; w[15] = NO_KEY;                                                       \
+        w[7] = NO_KEY;                                                                                      \
     }
 
 // The ordered path's window compares distances only: equal distances keep their arrival order,

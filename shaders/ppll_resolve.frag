@@ -2,7 +2,8 @@
 // ppll, pass 2: sort each pixel's events and integrate the intersecting homogeneous media exactly
 // (the light model of docs/accuracy.md), front to back from the eye.
 //
-// Short lists (at most WINDOW / 2 nodes) are taken whole by one walk into a sorted register window.
+// Short lists are resolved by the general path below: up to 4 nodes in its first walk, up to 12 in
+// at most three.
 //
 // The ordered path, one walk of the list. The host draws the spheres far to near by a lower bound
 // of every distance at which a sphere's ray events can lie (its nearest possible distance, less a
@@ -61,15 +62,11 @@ layout(location = 0) out vec4 out_radiance;
     }
 
 // One walk of the general path over the list from `head`: the WINDOW smallest keys after last_key
-// (walk 0: of all keys) into w, counting the nodes. Two nodes per iteration: half the iterations
-// of lavapipe's loop budget.
+// (walk 0: of all keys) into w, counting the nodes.
 #define BRUME_GENERAL_WALK                                                                        \
     BRUME_WINDOW_CLEAR                                                                            \
     uint count = 0u;                                                                              \
-    for (node = head; node != LIST_END;) {                                                        \
-        BRUME_GENERAL_TAKE_NODE                                                                   \
-        if (node != LIST_END) BRUME_GENERAL_TAKE_NODE                                             \
-    }
+    for (node = head; node != LIST_END;) BRUME_GENERAL_TAKE_NODE
 
 void main() {
     if (gl_HelperInvocation) return;
@@ -94,7 +91,8 @@ void main() {
     bool cut = node != LIST_END;
     bool general = true, in_order = true;
 
-    bool take_ordered = ORDERED_PATH != 0u && !cut && 2u * list_length > WINDOW;
+    // Up to 12 nodes, at most three walks of the general path cost less than the ordered one.
+    bool take_ordered = ORDERED_PATH != 0u && !cut && list_length > 12u;
     // A uniform branch (every lane agrees): lavapipe jumps over it, where a divergent `if` runs its
     // body under an empty lane mask. Most subgroups of light smoke have no long list at all.
     if (subgroupBallot(take_ordered) != uvec4(0u)) if (take_ordered) {

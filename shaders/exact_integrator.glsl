@@ -2,6 +2,13 @@
 // (a sphere's entry or exit, keyed by distance and sphere * 2 + is_exit) in increasing order, and
 // between two events the media are homogeneous, so each segment has a closed form. Shared by every
 // exact resolve, so that each one differs only in how it orders the events.
+//
+// `source` is the ray's unshadowed L_s (medium.glsl's source_radiance). Emission and the per-sphere
+// shadow technique live here, in running sums beside sigma_t and sigma_s, so a resolve needs no
+// change for them: a segment adds T (sigma_s L_ambient + sigma_sun L_sun P + sigma_e) l phi(sigma_t l),
+// sigma_sun = sum tau_k albedo_k T_sun(centre_k), sigma_e = sum tau_k e_k. Without shadows
+// sigma_sun == sigma_s bit for bit and without emission sigma_e == 0, and the segment is the
+// sigma_s * source of the unextended model exactly.
 #ifndef BRUME_EXACT_INTEGRATOR_GLSL
 #define BRUME_EXACT_INTEGRATOR_GLSL
 
@@ -11,6 +18,8 @@ struct Integrator {
     float transmittance;
     float sigma_t;   // running extinction of the media the ray is in
     vec3 sigma_s;    // running scattering coefficient (tau * albedo summed)
+    vec3 sigma_sun;  // the same, each term dimmed by its sphere's T_sun (= sigma_s without shadows)
+    vec3 sigma_e;    // running emission (tau * emission summed)
     int inside;      // how many media the ray is in
     float t_prev;
     bool stopped;    // transmittance fell below the scene's threshold
@@ -23,30 +32,44 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
     if (len > 0.0) {
         float x = it.sigma_t * len;
         float segment_transmittance = exp(-x);
-        it.radiance += it.transmittance * it.sigma_s * source * (len * one_minus_exp_over_x(x, segment_transmittance));
+        // T sigma_s source, less the sun light the shadows take away (sun P = source - L_ambient), plus
+        // emission; grouped so that with neither the sum is T * sigma_s * source, rounded as it always was.
+        vec3 lost = (it.sigma_s - it.sigma_sun) * (source - frame.ambient.rgb) - it.sigma_e;
+        it.radiance += (it.transmittance * it.sigma_s * source - it.transmittance * lost) *
+                       (len * one_minus_exp_over_x(x, segment_transmittance));
         it.transmittance *= segment_transmittance;
         if (it.transmittance < frame.params.x) {
             it.stopped = true;
             return;
         }
     }
-    vec4 medium = spheres[key.y >> 1u].albedo_extinction;
-    float tau = medium.w;
-    vec3 tau_albedo = tau * medium.rgb;
+    GpuSphere g = spheres[key.y >> 1u];
+    float tau = g.albedo_extinction.w;
+    vec3 tau_albedo = tau * g.albedo_extinction.rgb;
+    vec3 tau_albedo_sun = tau_albedo * g.emission_sun.w;
+    vec3 tau_emission = tau * g.emission_sun.rgb;
     if ((key.y & 1u) == 0u) {
         it.sigma_t += tau;
         it.sigma_s += tau_albedo;
+        it.sigma_sun += tau_albedo_sun;
+        it.sigma_e += tau_emission;
         ++it.inside;
     } else if (--it.inside == 0) {
         it.sigma_t = 0.0;  // back in free space: drop the rounding left by add/subtract
         it.sigma_s = vec3(0.0);
+        it.sigma_sun = vec3(0.0);
+        it.sigma_e = vec3(0.0);
     } else {
         it.sigma_t = max(it.sigma_t - tau, 0.0);
         it.sigma_s = max(it.sigma_s - tau_albedo, vec3(0.0));
+        it.sigma_sun = max(it.sigma_sun - tau_albedo_sun, vec3(0.0));
+        it.sigma_e = max(it.sigma_e - tau_emission, vec3(0.0));
     }
     it.t_prev = t;
 }
 
-Integrator start_integrator() { return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), 0, 0.0, false); }
+Integrator start_integrator() {
+    return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), vec3(0.0), vec3(0.0), 0, 0.0, false);
+}
 
 #endif

@@ -42,7 +42,7 @@ void main() {
         vec4 medium = spheres[sphere].albedo_extinction;
         float x = medium.w * (exits[base + i] - entry);
         float e = exp(-x);
-        radiance += transmittance * (x * one_minus_exp_over_x(x, e)) * medium.rgb * source;
+        radiance += transmittance * (x * one_minus_exp_over_x(x, e)) * sphere_color(sphere, source);
         transmittance *= e;
         if (transmittance < frame.params.x) {
             stopped = true;

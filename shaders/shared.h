@@ -90,18 +90,23 @@ struct FrameUniforms {
     vec4 background;  // rgb: radiance where a ray meets no opaque surface
     uvec4 counts;     // x: width, y: height, z: sphere count, w: box count
     uvec4 pool;       // x: node capacity, y: log2(nodes per pool part), z: pool parts, w: FRAME_* flags
-    vec4 params;      // x: min transmittance; y: peel's depth scale 2^-k (peel only); zw: unused
+    vec4 params;      // x: min transmittance; y: peel's depth scale 2^-k (peel only); z: 1 with shadows, else 0;
+                      // w: unused
 };
 
 struct GpuSphere {
     vec4 center_radius;      // xyz centre, w radius
     vec4 albedo_extinction;  // rgb albedo, w extinction tau
+    // rgb: emission (the radiance the medium alone shows when optically thick); w: T_sun at the centre
+    // (render/sun_light.h, the per-sphere shadow technique), 1 without shadows.
+    vec4 emission_sun;
 };
 
 struct GpuBox {
     vec4 min_corner;  // xyz
     vec4 max_corner;  // xyz
     vec4 radiance;    // rgb
+    vec4 diffuse;     // rgb: reflectance of the sun and ambient light
 };
 
 // Written by the particle pass (allocated) and the resolve pass (statistics); read back every frame.

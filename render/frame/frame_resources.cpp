@@ -2,6 +2,7 @@
 
 #include "opaque_boxes.frag.h"
 #include "opaque_boxes.vert.h"
+#include "render/sun_light.h"
 #include "render/vk/pipelines.h"
 #include "render/vk/vk_check.h"
 
@@ -66,8 +67,11 @@ void FrameResources::upload(const Scene& scene) {
     // Storage buffers hold at least one element: Vulkan has no empty buffers.
     if (new_spheres)
         sphere_buffer_ = Buffer(device_, sphere_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.spheres");
+    // The per-sphere shadow technique: T_sun at each centre, computed in double by the same code as the
+    // reference's per-sphere mode, so the GPU differs from it by float rounding alone.
+    const std::vector<double> sun = sun_transmittance_at_centres(scene);
     auto* spheres = sphere_buffer_.as<gpu::GpuSphere>();
-    for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i]);
+    for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i], sun[i]);
 
     if (new_boxes)
         box_buffer_ = Buffer(device_, box_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.boxes");

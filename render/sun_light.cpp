@@ -66,12 +66,16 @@ SunLight::SunLight(const Scene& scene) : shadows_(scene.lighting.shadows), boxes
     grid_v0_ = v_lo - margin;
     cell_ = (extent + 2.0 * margin) / grid_n_;
 
+    // Each disc is listed in the cells its square overlaps, grown by a sliver: the GPU projects points in
+    // float, and one a rounding error outside a cell must still find the discs that reach it.
+    // (Extra candidates cost a test each and add exactly 0 to the optical depth.)
     const auto cell_range = [&](const Sphere& s, int& i0, int& i1, int& j0, int& j1) {
         const double cu = glm::dot(s.center, u_), cv = glm::dot(s.center, v_);
-        i0 = std::clamp(int(std::floor((cu - s.radius - grid_u0_) / cell_)), 0, grid_n_ - 1);
-        i1 = std::clamp(int(std::floor((cu + s.radius - grid_u0_) / cell_)), 0, grid_n_ - 1);
-        j0 = std::clamp(int(std::floor((cv - s.radius - grid_v0_) / cell_)), 0, grid_n_ - 1);
-        j1 = std::clamp(int(std::floor((cv + s.radius - grid_v0_) / cell_)), 0, grid_n_ - 1);
+        const double r = s.radius + 1e-3 * cell_ + 1e-6 * (std::abs(cu) + std::abs(cv) + s.radius);
+        i0 = std::clamp(int(std::floor((cu - r - grid_u0_) / cell_)), 0, grid_n_ - 1);
+        i1 = std::clamp(int(std::floor((cu + r - grid_u0_) / cell_)), 0, grid_n_ - 1);
+        j0 = std::clamp(int(std::floor((cv - r - grid_v0_) / cell_)), 0, grid_n_ - 1);
+        j1 = std::clamp(int(std::floor((cv + r - grid_v0_) / cell_)), 0, grid_n_ - 1);
     };
     // Two passes: count, then fill (a compact list per cell, in sphere order).
     const std::size_t cells = std::size_t(grid_n_) * std::size_t(grid_n_);

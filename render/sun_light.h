@@ -38,6 +38,18 @@ public:
     // Appended to `out`, unsorted; a few more than strictly needed do no harm.
     void kinks(const glm::dvec3& o, const glm::dvec3& d, double t0, double t1, std::vector<double>& out) const;
 
+    // The light-space grid, for the GPU's copy (shaders/shared.h SunGridHeader). grid_side() is 0 without
+    // shadows or spheres. Cell (i, j) covers u in grid_u0 + cell * [i, i + 1), v likewise, and lists
+    // cell_items()[cell_start()[j * side + i] ...  cell_start()[j * side + i + 1]).
+    const glm::dvec3& grid_u() const { return u_; }
+    const glm::dvec3& grid_v() const { return v_; }
+    double grid_u0() const { return grid_u0_; }
+    double grid_v0() const { return grid_v0_; }
+    double grid_cell() const { return cell_; }
+    int grid_side() const { return grid_n_; }
+    const std::vector<std::uint32_t>& cell_start() const { return cell_start_; }
+    const std::vector<std::uint32_t>& cell_items() const { return cell_items_; }
+
 private:
     struct Disc {
         glm::dvec3 center;

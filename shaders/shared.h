@@ -39,7 +39,9 @@ BRUME_CONST BINDING_METHOD_BUFFER_FIRST = 7;
 BRUME_CONST METHOD_BUFFERS = 4;
 BRUME_CONST BINDING_METHOD_IMAGE_FIRST = 11;
 BRUME_CONST METHOD_IMAGES = 4;
-BRUME_CONST BINDING_COUNT = BINDING_METHOD_IMAGE_FIRST + METHOD_IMAGES;
+// The light's, written by the frame path into every method's set like bindings 0..3.
+BRUME_CONST BINDING_SUN_GRID = BINDING_METHOD_IMAGE_FIRST + METHOD_IMAGES;  // buffer SunGridHeader, uint[]
+BRUME_CONST BINDING_COUNT = BINDING_SUN_GRID + 1;
 
 // sorted, soft, auto's power-sorted frames
 BRUME_CONST BINDING_SORT_ORDER = 7;      // buffer uint[]: draw i shows sphere order[i]
@@ -107,6 +109,17 @@ struct GpuBox {
     vec4 max_corner;  // xyz
     vec4 radiance;    // rgb
     vec4 diffuse;     // rgb: reflectance of the sun and ambient light
+};
+
+// The light-space grid of render/sun_light.h: the plane perpendicular to the sun split into size.x^2
+// square cells, each listing the spheres whose shadow disc overlaps it, so that T_sun at a point tests
+// only the spheres whose shadow cylinder can hold it. In its buffer the header is followed by
+// size.x^2 + 1 cell offsets into the sphere list, then the list.
+struct SunGridHeader {
+    vec4 u_axis;  // xyz: unit u of the plane; w: u of the grid's first cell edge
+    vec4 v_axis;  // xyz: unit v; w: v of the grid's first cell edge
+    vec4 cell;    // x: cell side; yzw: unused
+    uvec4 size;   // x: cells per side (0: no grid, no sphere casts a shadow); y: entries in the sphere list
 };
 
 // Written by the particle pass (allocated) and the resolve pass (statistics); read back every frame.

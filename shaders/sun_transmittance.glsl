@@ -1,7 +1,8 @@
 // T_sun at a point (docs/accuracy.md, "Light through the smoke"), the float twin of render/sun_light.h:
-// 0 if the ray x + s l (s > 0, l toward the sun) meets a box, else exp(-sum_k tau_k len_k(x)). A loop
-// over every box and sphere: the opaque pass evaluates it once per lit box pixel, where its cost is the
-// price of exact box shading (the media use the per-sphere values in GpuSphere.emission_sun.w).
+// 0 if the ray x + s l (s > 0, l toward the sun) meets a box, else exp(-sum_k tau_k len_k(x)). The
+// spheres come from the light-space grid (SunGridHeader in shared.h): only those whose shadow disc
+// overlaps x's cell. The opaque pass evaluates it once per lit box fragment; the media use the
+// per-sphere values in GpuSphere.emission_sun.w.
 // Needs bindings.glsl and rays.glsl.
 #ifndef BRUME_SUN_TRANSMITTANCE_GLSL
 #define BRUME_SUN_TRANSMITTANCE_GLSL
@@ -27,9 +28,17 @@ float sun_transmittance(vec3 x, uint skip_box) {
         float t;
         if (b != skip_box && intersect_box(x, l, boxes[b].min_corner.xyz, boxes[b].max_corner.xyz, t)) return 0.0;
     }
+    uint side = sun_grid.size.x;
+    if (side == 0u) return 1.0;
+    ivec2 cell = ivec2(floor((vec2(dot(x, sun_grid.u_axis.xyz), dot(x, sun_grid.v_axis.xyz)) -
+                              vec2(sun_grid.u_axis.w, sun_grid.v_axis.w)) / sun_grid.cell.x));
+    if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, ivec2(int(side))))) return 1.0;
+    uint c = uint(cell.y) * side + uint(cell.x);
+    uint first = sun_grid_data[c], last = sun_grid_data[c + 1u];
+    uint items = side * side + 1u;  // the sphere list follows the offsets
     float depth = 0.0;
-    for (uint k = 0u; k < frame.counts.z; ++k) {
-        GpuSphere g = spheres[k];
+    for (uint n = first; n < last; ++n) {
+        GpuSphere g = spheres[sun_grid_data[items + n]];
         float tau = g.albedo_extinction.w;
         if (tau > 0.0) depth += tau * sun_ray_length_inside(x, l, g.center_radius.xyz, g.center_radius.w * g.center_radius.w);
     }

@@ -137,13 +137,13 @@ double adaptive_gauss(const F& f, double a, double b, double whole, double tol, 
 // The scene reduced to what a ray needs.
 class Tracer {
 public:
-    Tracer(const Scene& scene, ShadowTechnique technique)
+    Tracer(const Scene& scene, ReferenceShadows technique)
         : boxes_(scene.boxes),
           lighting_(scene.lighting),
           min_transmittance_(scene.render.min_transmittance),
           sun_light_(scene),
-          exact_shadows_(sun_light_.shadows() && technique == ShadowTechnique::Exact) {
-        const std::vector<double> centre_sun = technique == ShadowTechnique::PerSphere
+          exact_shadows_(sun_light_.shadows() && technique == ReferenceShadows::Exact) {
+        const std::vector<double> centre_sun = technique == ReferenceShadows::PerSphere
                                                    ? sun_transmittance_at_centres(scene)
                                                    : std::vector<double>(scene.spheres.size(), 1.0);
         media_.reserve(scene.spheres.size());

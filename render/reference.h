@@ -13,7 +13,7 @@
 namespace brume {
 
 // How the sun term is shadowed when the scene has shadows (render/sun_light.h).
-enum class ShadowTechnique {
+enum class ReferenceShadows {
     Exact,      // T_sun at every point, integrated by adaptive quadrature between its kinks (the model)
     PerSphere,  // T_sun once per sphere at its centre: what the GPU's per-sphere technique computes
 };
@@ -21,7 +21,7 @@ enum class ShadowTechnique {
 struct ReferenceOptions {
     int threads = 0;           // 0: std::thread::hardware_concurrency()
     bool brute_force = false;  // test every sphere against every pixel (checks the screen-tile binning)
-    ShadowTechnique shadows = ShadowTechnique::Exact;
+    ReferenceShadows shadows = ReferenceShadows::Exact;
 };
 
 // One ray per pixel centre (sim/camera_rays.h), or the mean of camera.supersample^2 sub-pixel rays. Bit-identical for any thread count, sphere order and

@@ -93,7 +93,7 @@ struct FrameUniforms {
     uvec4 counts;     // x: width, y: height, z: sphere count, w: box count
     uvec4 pool;       // x: node capacity, y: log2(nodes per pool part), z: pool parts, w: FRAME_* flags
     vec4 params;      // x: min transmittance; y: peel's depth scale 2^-k (peel only); z: 1 with shadows, else 0;
-                      // w: unused
+                      // w: 1 with shadows by the accurate technique (exact_integrator.glsl), else 0
 };
 
 struct GpuSphere {

@@ -87,9 +87,18 @@ struct VdbVolume {
     VolumeTransform transform;
 };
 
+// How the GPU methods approximate T_sun in the media when the scene has shadows (docs/accuracy.md). The CPU
+// reference always computes the exact model.
+enum class ShadowTechnique {
+    Accurate,   // T_sun sampled by quadrature along each view segment (ppll; others fall back to PerSphere)
+    PerSphere,  // T_sun once per sphere, at its centre: the sun term piecewise constant, closed form
+};
+inline constexpr const char* kShadowTechniqueNames[] = {"accurate", "per-sphere"};
+
 struct RenderSettings {
     // Integration stops once transmittance falls below this (docs/decisions.md); 0 integrates everything.
     double min_transmittance = 1e-4;
+    ShadowTechnique shadow_technique = ShadowTechnique::Accurate;
 };
 
 struct Scene {

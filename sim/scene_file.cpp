@@ -182,6 +182,8 @@ void append_scene_sections(std::string& out, const Scene& scene) {
 
     out += "\n[render]\n";
     append_number(out, "min_transmittance", scene.render.min_transmittance);
+    if (scene.render.shadow_technique != ShadowTechnique::Accurate)
+        out += std::string("shadow_technique = \"") + kShadowTechniqueNames[int(scene.render.shadow_technique)] + "\"\n";
 
     for (const Box& b : scene.boxes) {
         out += "\n[[box]]\n";

@@ -22,7 +22,8 @@ namespace {
 constexpr std::array<std::string_view, 7> kCameraKeys{"position", "look_at", "up",         "fov_y_deg",
                                                      "width",    "height",  "supersample"};
 constexpr std::array<std::string_view, 5> kLightingKeys{"ambient", "sun", "sun_direction", "background", "shadows"};
-constexpr std::array<std::string_view, 1> kRenderKeys{"min_transmittance"};
+constexpr std::array<std::string_view, 2> kRenderKeys{"min_transmittance", "shadow_technique"};
+constexpr std::array<std::string_view, 2> kShadowTechniques{kShadowTechniqueNames[0], kShadowTechniqueNames[1]};
 constexpr std::array<std::string_view, 4> kBoxKeys{"min", "max", "radiance", "diffuse"};
 // Required in every [[box]]; the rest are optional.
 constexpr std::array<std::string_view, 3> kBoxRequiredKeys{"min", "max", "radiance"};
@@ -82,6 +83,8 @@ void read_render(const Reader& in, const toml::node& node, const KeyPath& path, 
         if (!(r.min_transmittance >= 0.0 && r.min_transmittance < 1.0))
             in.fail(*n, p, "must be in [0, 1) (got " + shortest(r.min_transmittance) + ")");
     }
+    if (const toml::node* n = t.get("shadow_technique"))
+        r.shadow_technique = ShadowTechnique(in.choice(*n, path / "shadow_technique", kShadowTechniques));
 }
 
 Box read_box(const Reader& in, const toml::table& t, const KeyPath& path) {

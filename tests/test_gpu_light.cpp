@@ -65,11 +65,12 @@ constexpr double kPerSphereP999 = 0.02;
 TEST_F(GpuLight, PerSphereShadowsStayWithinTheirStatedError) {
     PpllMethod ppll(device());
     for (const bool inside : {false, true}) {
-        const Scene s = shadowed_cloud(inside);
+        Scene s = shadowed_cloud(inside);
+        s.render.shadow_technique = ShadowTechnique::PerSphere;
         const Image img = ppll.render(s);
         // Exact for its own approximation...
         ReferenceOptions per_sphere;
-        per_sphere.shadows = ShadowTechnique::PerSphere;
+        per_sphere.shadows = ReferenceShadows::PerSphere;
         const ImageDiff own = testing::compare_with_reference(img, testing::ReferenceImage(s, per_sphere));
         EXPECT_EQ(own.pixels_over, 0u) << describe(own);
         // ... and within its stated error of the exact model.
@@ -84,6 +85,36 @@ TEST_F(GpuLight, PerSphereShadowsStayWithinTheirStatedError) {
         off.lighting.shadows = false;
         const ShadowError unshadowed = shadow_error(render_reference(off), exact);
         EXPECT_GT(unshadowed.mean, 2.0 * e.mean) << "the technique should be much nearer the model than no shadows";
+    }
+}
+
+// The accurate technique samples T_sun along each view segment (2 x 3-point Gauss-Legendre through the
+// light-space grid): its error against the exact model, and its cost beside the frame without shadows.
+constexpr double kAccurateMean = 1e-3;
+constexpr double kAccurateP999 = 1e-2;
+
+TEST_F(GpuLight, AccurateShadowsMeetTheirTarget) {
+    PpllMethod ppll(device());
+    for (const bool inside : {false, true}) {
+        Scene s = shadowed_cloud(inside);
+        ASSERT_EQ(s.render.shadow_technique, ShadowTechnique::Accurate);  // the default
+        FrameStats on, off, cheap_stats;
+        ppll.render(s);  // the first frame of a pipeline pays for its shader compilation: not timed
+        const Image img = ppll.render(s, &on);
+        const ShadowError e = shadow_error(img, render_reference(s));
+        Scene plain = s;
+        plain.lighting.shadows = false;
+        ppll.render(plain, &off);
+        Scene per_sphere = s;
+        per_sphere.render.shadow_technique = ShadowTechnique::PerSphere;
+        const ShadowError cheap = shadow_error(ppll.render(per_sphere, &cheap_stats), render_reference(s));
+        std::printf("  accurate shadows, eye %s: mean %.3g, p99.9 %.3g of the peak (per-sphere: %.3g, %.3g); "
+                    "GPU %.1f ms, per-sphere %.1f ms, without shadows %.1f ms\n",
+                    inside ? "inside the smoke" : "outside", e.mean, e.p999, cheap.mean, cheap.p999, on.total_ms,
+                    cheap_stats.total_ms, off.total_ms);
+        EXPECT_LT(e.mean, kAccurateMean);
+        EXPECT_LT(e.p999, kAccurateP999);
+        EXPECT_LT(e.mean, cheap.mean) << "the accurate technique should beat the per-sphere one";
     }
 }
 

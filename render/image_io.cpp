@@ -15,6 +15,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -83,7 +84,12 @@ std::string encode_png(const Image& image, double exposure_stops, const fs::path
     if (image.width > std::numeric_limits<int>::max() / 3) fail_write(path, "the image is too wide for PNG");
     const double scale = std::exp2(exposure_stops);
     std::vector<unsigned char> pixels(image.rgb.size());
-    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = png_code(image.rgb[i], scale);
+    for (int j = 0; j < image.height; ++j)
+        for (int i = 0; i < image.width; ++i)
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t k = (std::size_t(j) * std::size_t(image.width) + std::size_t(i)) * 3 + std::size_t(c);
+                pixels[k] = png_code(image.rgb[k], scale, png_dither(i, j, c));
+            }
     std::string bytes;
     const auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
@@ -98,12 +104,24 @@ std::string encode_png(const Image& image, double exposure_stops, const fs::path
 float srgb_encode(float linear) { return static_cast<float>(srgb_encode_exact(linear)); }
 
 // Written so that NaN lands on 0 and +Inf on 255.
-unsigned char png_code(float linear, double exposure_scale) {
+unsigned char png_code(float linear, double exposure_scale, double dither) {
     const double v = double(linear) * exposure_scale;
     if (!(v > 0.0)) return 0;
     if (!(v < 1.0)) return 255;
-    const long code = std::lround(srgb_encode_exact(v) * 255.0);
-    return static_cast<unsigned char>(code < 255 ? code : 255);
+    const double code = std::floor(srgb_encode_exact(v) * 255.0 + 0.5 + dither);
+    return static_cast<unsigned char>(std::clamp(code, 0.0, 255.0));
+}
+
+double png_dither(int i, int j, int c) {
+    // A 64-bit mix (the splitmix64 finaliser) of the position: no visible pattern, no state.
+    std::uint64_t x = (std::uint64_t(std::uint32_t(i)) << 34) ^ (std::uint64_t(std::uint32_t(j)) << 2) ^
+                      std::uint64_t(c) ^ 0x9e3779b97f4a7c15ull;
+    x ^= x >> 30;
+    x *= 0xbf58476d1ce4e5b9ull;
+    x ^= x >> 27;
+    x *= 0x94d049bb133111ebull;
+    x ^= x >> 31;
+    return double(x >> 11) * 0x1.0p-53 - 0.5;
 }
 
 void write_exr(const Image& image, const fs::path& path) {

@@ -1,13 +1,19 @@
-// The CPU reference renderer: the light model of docs/methods.md, computed in double precision:
-// exact chords, running sums of extinction and scattering, -expm1 for the segment opacity.
+// The CPU reference renderer: the light model of docs/accuracy.md, computed in double precision:
+// exact chords, running sums of extinction, scattering and emission, -expm1 for the segment opacity.
+// With shadows, the sun term of a segment is integrated by adaptive quadrature between the closed-form
+// points where T_sun along the ray is not smooth (render/sun_light.h), unless the per-sphere technique is
+// asked for, which is closed form again.
 //
 // Speed comes from binning spheres into 16x16 screen tiles by angular cones seen from the eye. The bins are
 // conservative (they may hold spheres a pixel misses, never the reverse), and a pixel's answer depends only
 // on the multiset of its events, so binning, sphere order and thread count cannot change a single bit.
 #include "render/reference.h"
 
+#include "render/ray_box.h"
+#include "render/sun_light.h"
 #include "sim/camera_rays.h"
 #include "sim/parallel_for.h"
+#include "sim/scene_file.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -31,13 +37,15 @@ constexpr int kTile = 16;
 // Angular slack for the tile bins: far above double rounding in the directions and the chord test.
 constexpr double kConeMargin = 1e-6;
 
-// A sphere as the integrator sees it: entry adds (tau, tau * albedo), exit subtracts the same numbers.
+// A sphere as the integrator sees it: entry adds (tau, tau * albedo, ...), exit subtracts the same numbers.
 struct Medium {
     dvec3 center;
     double radius;
     double radius2;
     double tau;
-    dvec3 scatter;  // tau * albedo
+    dvec3 scatter;      // tau * albedo
+    dvec3 emission;     // tau * emission
+    dvec3 sun_scatter;  // tau * albedo * T_sun at the centre (per-sphere shadows); scatter otherwise
 };
 
 struct Event {
@@ -45,7 +53,20 @@ struct Event {
     bool entry;
     double tau;
     dvec3 scatter;
+    dvec3 emission;
+    dvec3 sun_scatter;
 };
+
+bool vec_before(const dvec3& a, const dvec3& b, bool& decided) {
+    for (int c = 0; c < 3; ++c) {
+        if (a[c] != b[c]) {
+            decided = true;
+            return a[c] < b[c];
+        }
+    }
+    decided = false;
+    return false;
+}
 
 // A total order on event contents: equal distances are ordered by what the events carry, so the running
 // sums are accumulated in the same order whatever order the spheres were listed or binned in.
@@ -53,35 +74,17 @@ bool event_before(const Event& a, const Event& b) {
     if (a.t != b.t) return a.t < b.t;
     if (a.entry != b.entry) return !a.entry;  // exits first: the sums return to exactly 0 sooner
     if (a.tau != b.tau) return a.tau < b.tau;
-    if (a.scatter.x != b.scatter.x) return a.scatter.x < b.scatter.x;
-    if (a.scatter.y != b.scatter.y) return a.scatter.y < b.scatter.y;
-    return a.scatter.z < b.scatter.z;
+    bool decided = false;
+    bool before = vec_before(a.scatter, b.scatter, decided);
+    if (decided) return before;
+    before = vec_before(a.emission, b.emission, decided);
+    if (decided) return before;
+    return vec_before(a.sun_scatter, b.sun_scatter, decided);
 }
 bool event_after(const Event& a, const Event& b) { return event_before(b, a); }
 
 // (1 - exp(-x)) / x without cancellation for small x; 1 at x = 0.
 double phi(double x) { return x == 0.0 ? 1.0 : -std::expm1(-x) / x; }
-
-// Distance to a solid box along the ray, or +inf. A slab parallel to the ray is all-or-nothing: testing
-// the origin avoids the 0 * inf = NaN of the reciprocal form.
-double box_hit(const Box& box, const dvec3& o, const dvec3& d) {
-    double tn = -kInf;
-    double tf = kInf;
-    for (int a = 0; a < 3; ++a) {
-        if (d[a] == 0.0) {
-            if (o[a] < box.min[a] || o[a] > box.max[a]) return kInf;
-            continue;
-        }
-        double t1 = (box.min[a] - o[a]) / d[a];
-        double t2 = (box.max[a] - o[a]) / d[a];
-        if (t1 > t2) std::swap(t1, t2);
-        tn = std::max(tn, t1);
-        tf = std::min(tf, t2);
-    }
-    const double t_near = tn > 0.0 ? tn : 0.0;
-    if (tf < t_near || tn > tf) return kInf;
-    return t_near;
-}
 
 // Chord [t0, t1] of the line o + t d (d unit) through a sphere; false on a miss or a tangent (a zero-length
 // chord adds nothing). The discriminant from the perpendicular offset avoids b^2 - c cancellation far from
@@ -105,16 +108,51 @@ bool sphere_chord(const Medium& m, const dvec3& o, const dvec3& d, double& t0, d
 struct Scratch {
     std::vector<std::uint32_t> candidates;
     std::vector<Event> events;
+    std::vector<double> kinks;  // where T_sun along the current ray is not smooth, sorted
 };
+
+// Gauss-Legendre, 5 points on [-1, 1].
+constexpr double kGaussNode[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                                  0.9061798459386640};
+constexpr double kGaussWeight[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
+                                    0.2369268850561891};
+
+template <class F>
+double gauss5(const F& f, double a, double b) {
+    const double h = 0.5 * (b - a), m = 0.5 * (a + b);
+    double sum = 0.0;
+    for (int k = 0; k < 5; ++k) sum += kGaussWeight[k] * f(m + h * kGaussNode[k]);
+    return sum * h;
+}
+
+// Adaptive Gauss-Legendre: a panel is accepted when it agrees with its two halves to `tol`.
+template <class F>
+double adaptive_gauss(const F& f, double a, double b, double whole, double tol, int depth) {
+    const double m = 0.5 * (a + b);
+    const double left = gauss5(f, a, m), right = gauss5(f, m, b);
+    if (depth <= 0 || std::abs(left + right - whole) <= tol) return left + right;
+    return adaptive_gauss(f, a, m, left, 0.5 * tol, depth - 1) + adaptive_gauss(f, m, b, right, 0.5 * tol, depth - 1);
+}
 
 // The scene reduced to what a ray needs.
 class Tracer {
 public:
-    explicit Tracer(const Scene& scene)
-        : boxes_(scene.boxes), lighting_(scene.lighting), min_transmittance_(scene.render.min_transmittance) {
+    Tracer(const Scene& scene, ReferenceShadows technique)
+        : boxes_(scene.boxes),
+          lighting_(scene.lighting),
+          min_transmittance_(scene.render.min_transmittance),
+          sun_light_(scene),
+          exact_shadows_(sun_light_.shadows() && technique == ReferenceShadows::Exact) {
+        const std::vector<double> centre_sun = technique == ReferenceShadows::PerSphere
+                                                   ? sun_transmittance_at_centres(scene)
+                                                   : std::vector<double>(scene.spheres.size(), 1.0);
         media_.reserve(scene.spheres.size());
-        for (const Sphere& s : scene.spheres)
-            media_.push_back({s.center, s.radius, s.radius * s.radius, s.extinction, s.extinction * s.albedo});
+        for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+            const Sphere& s = scene.spheres[k];
+            const dvec3 scatter = s.extinction * s.albedo;
+            media_.push_back({s.center, s.radius, s.radius * s.radius, s.extinction, scatter, s.extinction * s.emission,
+                              scatter * centre_sun[k]});
+        }
         const double sun_len = glm::length(lighting_.sun_direction);
         // A zero sun direction has no angle to the view; treat it as perpendicular rather than return NaN.
         sun_unit_ = sun_len > 0.0 ? lighting_.sun_direction / sun_len : dvec3(0.0);
@@ -126,14 +164,33 @@ public:
     double opaque_hit(const dvec3& o, const dvec3& d, dvec3& behind) const {
         double t_opaque = kInf;
         behind = lighting_.background;
-        for (const Box& box : boxes_) {
-            const double t = box_hit(box, o, d);
+        int hit_box = -1, hit_axis = -1;
+        for (std::size_t k = 0; k < boxes_.size(); ++k) {
+            int axis = -1;
+            const double t = ray_box_distance(boxes_[k], o, d, &axis);
             if (t < t_opaque) {
                 t_opaque = t;
-                behind = box.radiance;
+                hit_box = int(k);
+                hit_axis = axis;
             }
         }
+        if (hit_box >= 0) behind = box_radiance(hit_box, hit_axis, o, d, t_opaque);
         return t_opaque;
+    }
+
+    // radiance + diffuse * (L_ambient + L_sun max(0, n.l) T_sun(hit)); from inside the box no face is
+    // crossed, so only the ambient term is reflected.
+    dvec3 box_radiance(int k, int axis, const dvec3& o, const dvec3& d, double t) const {
+        const Box& box = boxes_[std::size_t(k)];
+        if (box.diffuse == dvec3(0.0)) return box.radiance;
+        dvec3 irradiance = lighting_.ambient;
+        if (axis >= 0) {
+            // The face met is the one whose outward normal opposes the ray along that axis.
+            const double toward_sun = -lighting_.sun_direction[axis] / glm::length(lighting_.sun_direction);
+            const double n_dot_l = d[axis] > 0.0 ? -toward_sun : toward_sun;
+            if (n_dot_l > 0.0) irradiance += lighting_.sun * (n_dot_l * sun_light_.transmittance(o + t * d, k));
+        }
+        return box.radiance + box.diffuse * irradiance;
     }
 
     // Entry and exit events of the candidate spheres' clipped intervals, unsorted.
@@ -147,20 +204,22 @@ public:
             const double start = t0 > 0.0 ? t0 : 0.0;  // media containing the eye count from the eye
             const double end = std::min(t1, t_opaque);
             if (!(end > start)) continue;
-            events.push_back({start, true, m.tau, m.scatter});
-            events.push_back({end, false, m.tau, m.scatter});
+            events.push_back({start, true, m.tau, m.scatter, m.emission, m.sun_scatter});
+            events.push_back({end, false, m.tau, m.scatter, m.emission, m.sun_scatter});
         }
     }
 
     // Radiance toward o along unit direction d, from the spheres listed in candidates (indices into media()).
-    dvec3 radiance(const dvec3& o, const dvec3& d, const std::vector<std::uint32_t>& candidates,
-                   std::vector<Event>& events) const {
+    dvec3 radiance(const dvec3& o, const dvec3& d, const std::vector<std::uint32_t>& candidates, Scratch& scratch) const {
+        std::vector<Event>& events = scratch.events;
         dvec3 behind;
         const double t_opaque = opaque_hit(o, d, behind);
         collect_events(o, d, t_opaque, candidates, events);
 
         const double cos_theta = glm::dot(sun_unit_, d);
-        const dvec3 ls = lighting_.ambient + lighting_.sun * (3.0 / (16.0 * kPi) * (1.0 + cos_theta * cos_theta));
+        const dvec3 sun_phase = lighting_.sun * (3.0 / (16.0 * kPi) * (1.0 + cos_theta * cos_theta));
+        const dvec3 ls = lighting_.ambient + sun_phase;
+        bool kinks_found = false;
 
         // A min-heap rather than a full sort: dense media usually stop early on transmittance.
         std::make_heap(events.begin(), events.end(), event_after);
@@ -168,6 +227,8 @@ public:
         double transmittance = 1.0;
         double sigma_t = 0.0;
         dvec3 sigma_s(0.0);
+        dvec3 sigma_e(0.0);
+        dvec3 sigma_sun(0.0);
         int active = 0;
         double t_prev = 0.0;
         for (auto last = events.end(); last != events.begin(); --last) {
@@ -176,7 +237,18 @@ public:
             const double l = e.t - t_prev;
             if (l > 0.0) {
                 const double x = sigma_t * l;
-                const dvec3 c = sigma_s * ls * l * phi(x);
+                dvec3 c;
+                if (exact_shadows_ && active > 0) {
+                    if (!kinks_found) {
+                        find_kinks(o, d, t_opaque, scratch.kinks);
+                        kinks_found = true;
+                    }
+                    c = (sigma_s * lighting_.ambient + sigma_e) * l * phi(x) +
+                        sigma_s * sun_phase * sun_integral(o, d, t_prev, e.t, sigma_t, scratch.kinks);
+                } else {
+                    // Without shadows sigma_sun == sigma_s bit for bit, and this is sigma_s * ls exactly.
+                    c = (sigma_s * ls - (sigma_s - sigma_sun) * sun_phase + sigma_e) * l * phi(x);
+                }
                 radiance += transmittance * c;
                 transmittance *= std::exp(-x);
                 if (transmittance < min_transmittance_) return radiance;
@@ -184,17 +256,25 @@ public:
             if (e.entry) {
                 sigma_t += e.tau;
                 sigma_s += e.scatter;
+                sigma_e += e.emission;
+                sigma_sun += e.sun_scatter;
                 ++active;
             } else {
                 sigma_t -= e.tau;
                 sigma_s -= e.scatter;
+                sigma_e -= e.emission;
+                sigma_sun -= e.sun_scatter;
                 --active;
                 if (active == 0) {
                     sigma_t = 0.0;
                     sigma_s = dvec3(0.0);
+                    sigma_e = dvec3(0.0);
+                    sigma_sun = dvec3(0.0);
                 } else {
                     sigma_t = std::max(sigma_t, 0.0);
                     sigma_s = glm::max(sigma_s, dvec3(0.0));
+                    sigma_e = glm::max(sigma_e, dvec3(0.0));
+                    sigma_sun = glm::max(sigma_sun, dvec3(0.0));
                 }
             }
             t_prev = e.t;
@@ -203,11 +283,46 @@ public:
     }
 
 private:
+    void find_kinks(const dvec3& o, const dvec3& d, double t_end, std::vector<double>& kinks) const {
+        kinks.clear();
+        sun_light_.kinks(o, d, 0.0, t_end, kinks);
+        std::sort(kinks.begin(), kinks.end());
+    }
+
+    // integral over [a, b] of exp(-sigma_t (t - a)) T_sun(o + t d) dt. Between kinks the integrand is smooth
+    // except for square-root behaviour at the ends (a chord through a shadow cylinder starts as sqrt), which
+    // the substitution t = p + (q - p)(3 s^2 - 2 s^3) makes smooth before the adaptive quadrature.
+    double sun_integral(const dvec3& o, const dvec3& d, double a, double b, double sigma_t,
+                        const std::vector<double>& kinks) const {
+        double total = 0.0;
+        double p = a;
+        auto it = std::upper_bound(kinks.begin(), kinks.end(), a);
+        for (;; ++it) {
+            const double q = (it != kinks.end() && *it < b) ? *it : b;
+            if (q > p) {
+                const double width = q - p;
+                const auto f = [&](double s) {
+                    const double t = p + width * (s * s * (3.0 - 2.0 * s));
+                    return std::exp(-sigma_t * (t - a)) * sun_light_.transmittance(o + t * d) *
+                           (width * 6.0 * s * (1.0 - s));
+                };
+                // The integral is at most width and at most about 1 / sigma_t; ask for 1e-10 of the smaller.
+                const double scale = sigma_t > 0.0 ? std::min(width, 1.0 / sigma_t) : width;
+                total += adaptive_gauss(f, 0.0, 1.0, gauss5(f, 0.0, 1.0), 1e-10 * scale, 24);
+            }
+            if (q >= b) break;
+            p = q;
+        }
+        return total;
+    }
+
     std::vector<Medium> media_;
     std::vector<Box> boxes_;
     Lighting lighting_;
     dvec3 sun_unit_;
     double min_transmittance_;
+    SunLight sun_light_;
+    bool exact_shadows_;
 };
 
 // A screen tile and the cone (around axis, half angle beta) holding all its pixel-centre directions.
@@ -223,7 +338,10 @@ double angle_between(const dvec3& a, const dvec3& b) {
     return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
 }
 
-std::vector<Tile> make_tiles(const CameraRays& rays) {
+// `k`: the supersampling factor. The cone must hold every sub-pixel ray, the outermost of which lie 0.5 / k
+// from the corner pixels' edges (at k = 1, the corner pixels' centres).
+std::vector<Tile> make_tiles(const CameraRays& rays, int k) {
+    const double inset = 0.5 / k;
     std::vector<Tile> tiles;
     for (int j0 = 0; j0 < rays.height; j0 += kTile) {
         for (int i0 = 0; i0 < rays.width; i0 += kTile) {
@@ -236,9 +354,9 @@ std::vector<Tile> make_tiles(const CameraRays& rays) {
             // Pixel directions meet the image plane in a rectangle; a solid cone narrower than a half space
             // meets that plane in a convex set, so covering the four corner pixels covers the tile.
             t.beta = 0.0;
-            for (const int i : {t.i0, t.i1 - 1})
-                for (const int j : {t.j0, t.j1 - 1})
-                    t.beta = std::max(t.beta, angle_between(t.axis, rays.pixel_direction(i, j)));
+            for (const double x : {t.i0 + inset, t.i1 - inset})
+                for (const double y : {t.j0 + inset, t.j1 - inset})
+                    t.beta = std::max(t.beta, angle_between(t.axis, rays.direction(x, y)));
             t.cos_beta = std::cos(t.beta);
             t.sin_beta = std::sin(t.beta);
             t.everything = t.beta > 1.0;
@@ -314,6 +432,20 @@ void check_camera(const Scene& scene) {
                                     std::to_string(scene.camera.height) + " pixels");
 }
 
+int supersample_of(const Scene& scene) {
+    const int k = scene.camera.supersample;
+    if (k < 1 || k > kMaxSupersample)
+        throw std::invalid_argument("reference renderer: supersample " + std::to_string(k) + " (must be 1 to " +
+                                    std::to_string(kMaxSupersample) + ")");
+    return k;
+}
+
+// The ray through sub-pixel (a, b) of k x k in pixel (i, j): (i + (a + 0.5) / k, j + (b + 0.5) / k).
+dvec3 sub_pixel_direction(const CameraRays& rays, int i, int j, int a, int b, int k) {
+    if (k == 1) return rays.pixel_direction(i, j);
+    return rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
+}
+
 double scene_scale(const Scene& scene) {
     double scale = std::max(1.0, glm::length(scene.camera.position));
     for (const Sphere& s : scene.spheres) scale = std::max(scale, glm::length(s.center) + s.radius);
@@ -326,36 +458,45 @@ double scene_scale(const Scene& scene) {
 
 Image render_reference(const Scene& scene, const ReferenceOptions& options) {
     check_camera(scene);
-    const Tracer tracer(scene);
+    const Tracer tracer(scene, options.shadows);
     const CameraRays rays = make_camera_rays(scene.camera);
-    const std::vector<Tile> tiles = make_tiles(rays);
+    const int k = supersample_of(scene);
+    const std::vector<Tile> tiles = make_tiles(rays, k);
     const std::vector<SphereCone> cones = make_sphere_cones(tracer.media(), rays.eye, 0.0, 0.0);
     const std::vector<SphereCone>* bins = options.brute_force ? nullptr : &cones;
 
     Image image(rays.width, rays.height);
-    parallel_tiles(tiles.size(), options.threads, [&](std::size_t k, Scratch& s) {
-        const Tile& tile = tiles[k];
+    parallel_tiles(tiles.size(), options.threads, [&](std::size_t n, Scratch& s) {
+        const Tile& tile = tiles[n];
         gather_candidates(bins, tracer.media().size(), tile, s.candidates);
-        for (int j = tile.j0; j < tile.j1; ++j)
-            for (int i = tile.i0; i < tile.i1; ++i)
-                store(image, i, j, tracer.radiance(rays.eye, rays.pixel_direction(i, j), s.candidates, s.events));
+        for (int j = tile.j0; j < tile.j1; ++j) {
+            for (int i = tile.i0; i < tile.i1; ++i) {
+                // The mean of the k x k sub-pixel rays; at k = 1 the one ray through the centre, bit for bit.
+                dvec3 sum(0.0);
+                for (int b = 0; b < k; ++b)
+                    for (int a = 0; a < k; ++a)
+                        sum += tracer.radiance(rays.eye, sub_pixel_direction(rays, i, j, a, b, k), s.candidates, s);
+                store(image, i, j, sum / double(k * k));
+            }
+        }
     });
     return image;
 }
 
-glm::dvec3 reference_radiance(const Scene& scene, const glm::dvec3& origin, const glm::dvec3& unit_dir) {
-    const Tracer tracer(scene);
+glm::dvec3 reference_radiance(const Scene& scene, const glm::dvec3& origin, const glm::dvec3& unit_dir,
+                              const ReferenceOptions& options) {
+    const Tracer tracer(scene, options.shadows);
     std::vector<std::uint32_t> all(tracer.media().size());
     for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
-    std::vector<Event> events;
-    return tracer.radiance(origin, unit_dir, all, events);
+    Scratch scratch;
+    return tracer.radiance(origin, unit_dir, all, scratch);
 }
 
 std::vector<std::uint32_t> reference_list_lengths(const Scene& scene, const ReferenceOptions& options) {
     check_camera(scene);
-    const Tracer tracer(scene);
+    const Tracer tracer(scene, options.shadows);
     const CameraRays rays = make_camera_rays(scene.camera);
-    const std::vector<Tile> tiles = make_tiles(rays);
+    const std::vector<Tile> tiles = make_tiles(rays, 1);
     const std::vector<SphereCone> cones = make_sphere_cones(tracer.media(), rays.eye, 0.0, 0.0);
     const std::vector<SphereCone>* bins = options.brute_force ? nullptr : &cones;
     std::vector<std::uint32_t> lengths(std::size_t(rays.width) * std::size_t(rays.height), 0);
@@ -378,9 +519,10 @@ Image reference_tolerance(const Scene& scene, double rel_error, const ReferenceO
     check_camera(scene);
     if (!(rel_error >= 0.0) || !std::isfinite(rel_error))
         throw std::invalid_argument("reference_tolerance: rel_error must be finite and >= 0");
-    const Tracer tracer(scene);
+    const Tracer tracer(scene, options.shadows);
     const CameraRays rays = make_camera_rays(scene.camera);
-    const std::vector<Tile> tiles = make_tiles(rays);
+    const int k = supersample_of(scene);
+    const std::vector<Tile> tiles = make_tiles(rays, k);
     const double offset = rel_error * scene_scale(scene);
     // A ray from eye + delta (|delta| <= offset) that meets a sphere has a parallel twin from the eye that
     // meets the sphere grown by offset; the tilt widens the cone by rel_error.
@@ -391,25 +533,32 @@ Image reference_tolerance(const Scene& scene, double rel_error, const ReferenceO
     const double sin_e = std::sin(rel_error);
 
     Image image(rays.width, rays.height);
-    parallel_tiles(tiles.size(), options.threads, [&](std::size_t k, Scratch& s) {
-        const Tile& tile = tiles[k];
+    parallel_tiles(tiles.size(), options.threads, [&](std::size_t tile_index, Scratch& s) {
+        const Tile& tile = tiles[tile_index];
         gather_candidates(bins, tracer.media().size(), tile, s.candidates);
         for (int j = tile.j0; j < tile.j1; ++j) {
             for (int i = tile.i0; i < tile.i1; ++i) {
-                const dvec3 d = rays.pixel_direction(i, j);
-                const dvec3 base = tracer.radiance(rays.eye, d, s.candidates, s.events);
-                // Lateral basis around this ray, aligned with the camera's right and up.
-                const dvec3 r = glm::normalize(right - glm::dot(right, d) * d);
-                const dvec3 u = glm::cross(r, d);
-                dvec3 worst(0.0);
-                for (int n = 0; n < 8; ++n) {
-                    const double a = n * (kPi / 4.0);
-                    const dvec3 w = std::cos(a) * r + std::sin(a) * u;
-                    const dvec3 dp = glm::normalize(cos_e * d + sin_e * w);
-                    const dvec3 v = tracer.radiance(rays.eye + offset * w, dp, s.candidates, s.events);
-                    worst = glm::max(worst, glm::abs(v - base));
+                // A supersampled pixel is a mean of sub-rays, so its tolerance is the mean of theirs.
+                dvec3 sum(0.0);
+                for (int sb = 0; sb < k; ++sb) {
+                    for (int sa = 0; sa < k; ++sa) {
+                        const dvec3 d = sub_pixel_direction(rays, i, j, sa, sb, k);
+                        const dvec3 base = tracer.radiance(rays.eye, d, s.candidates, s);
+                        // Lateral basis around this ray, aligned with the camera's right and up.
+                        const dvec3 r = glm::normalize(right - glm::dot(right, d) * d);
+                        const dvec3 u = glm::cross(r, d);
+                        dvec3 worst(0.0);
+                        for (int n = 0; n < 8; ++n) {
+                            const double a = n * (kPi / 4.0);
+                            const dvec3 w = std::cos(a) * r + std::sin(a) * u;
+                            const dvec3 dp = glm::normalize(cos_e * d + sin_e * w);
+                            const dvec3 v = tracer.radiance(rays.eye + offset * w, dp, s.candidates, s);
+                            worst = glm::max(worst, glm::abs(v - base));
+                        }
+                        sum += worst;
+                    }
                 }
-                store(image, i, j, worst);
+                store(image, i, j, sum / double(k * k));
             }
         }
     });

@@ -12,17 +12,25 @@
 
 namespace brume {
 
+// How the sun term is shadowed when the scene has shadows (render/sun_light.h).
+enum class ReferenceShadows {
+    Exact,      // T_sun at every point, integrated by adaptive quadrature between its kinks (the model)
+    PerSphere,  // T_sun once per sphere at its centre: what the GPU's per-sphere technique computes
+};
+
 struct ReferenceOptions {
     int threads = 0;           // 0: std::thread::hardware_concurrency()
     bool brute_force = false;  // test every sphere against every pixel (checks the screen-tile binning)
+    ReferenceShadows shadows = ReferenceShadows::Exact;
 };
 
-// One ray per pixel centre (sim/camera_rays.h). Bit-identical for any thread count, sphere order and
+// One ray per pixel centre (sim/camera_rays.h), or the mean of camera.supersample^2 sub-pixel rays. Bit-identical for any thread count, sphere order and
 // brute_force setting. Throws std::invalid_argument for a camera with no pixels.
 Image render_reference(const Scene& scene, const ReferenceOptions& options = {});
 
 // Radiance along one ray (brute force over all spheres). unit_dir must be unit length.
-glm::dvec3 reference_radiance(const Scene& scene, const glm::dvec3& origin, const glm::dvec3& unit_dir);
+glm::dvec3 reference_radiance(const Scene& scene, const glm::dvec3& origin, const glm::dvec3& unit_dir,
+                              const ReferenceOptions& options = {});
 
 // Float-conditioning tolerance per pixel: the largest change of each channel when the pixel ray is
 // perturbed laterally (8 directions around the ray, angle k*pi/4 in the camera right/up plane): direction
@@ -32,7 +40,7 @@ glm::dvec3 reference_radiance(const Scene& scene, const glm::dvec3& origin, cons
 // edges its answer legitimately differs from the double-precision one by up to this much.
 Image reference_tolerance(const Scene& scene, double rel_error, const ReferenceOptions& options = {});
 
-// Depth complexity per pixel (row-major, top row first): how many spheres' clipped intervals the
+// Depth complexity per pixel (row-major, top row first; the pixel-centre ray even when supersampled): how many spheres' clipped intervals the
 // pixel ray meets, i.e. the length ppll's list for that pixel will have (twice as many surfaces).
 std::vector<std::uint32_t> reference_list_lengths(const Scene& scene, const ReferenceOptions& options = {});
 

@@ -2,8 +2,23 @@
 // (a sphere's entry or exit, keyed by distance and sphere * 2 + is_exit) in increasing order, and
 // between two events the media are homogeneous, so each segment has a closed form. Shared by every
 // exact resolve, so that each one differs only in how it orders the events.
+//
+// `source` is the ray's unshadowed L_s (medium.glsl's source_radiance). Emission and the per-sphere
+// shadow technique live here, in running sums beside sigma_t and sigma_s, so a resolve needs no
+// change for them: a segment adds T (sigma_s L_ambient + sigma_sun L_sun P + sigma_e) l phi(sigma_t l),
+// sigma_sun = sum tau_k albedo_k T_sun(centre_k), sigma_e = sum tau_k e_k. Without shadows
+// sigma_sun == sigma_s bit for bit and without emission sigma_e == 0, and the segment is the
+// sigma_s * source of the unextended model exactly.
+//
+// With the accurate shadow technique (frame.params.w = 1) the sun term of a segment is instead
+// sigma_s L_sun P times the integral of exp(-sigma_t u) T_sun(x(u)) over it, by Gauss-Legendre
+// quadrature with T_sun read through the light-space grid (sun_transmittance.glsl); for that the
+// integrator knows its ray. start_integrator() takes the pixel-centre ray of gl_FragCoord (a fragment
+// shader); a resolve in another stage defines BRUME_NO_FRAGMENT_RAY and calls start_integrator(eye, dir).
 #ifndef BRUME_EXACT_INTEGRATOR_GLSL
 #define BRUME_EXACT_INTEGRATOR_GLSL
+#include "rays.glsl"
+#include "sun_transmittance.glsl"
 
 // Front-to-back state of one ray.
 struct Integrator {
@@ -11,10 +26,40 @@ struct Integrator {
     float transmittance;
     float sigma_t;   // running extinction of the media the ray is in
     vec3 sigma_s;    // running scattering coefficient (tau * albedo summed)
+    vec3 sigma_sun;  // the same, each term dimmed by its sphere's T_sun (= sigma_s without shadows)
+    vec3 sigma_e;    // running emission (tau * emission summed)
     int inside;      // how many media the ray is in
     float t_prev;
     bool stopped;    // transmittance fell below the scene's threshold
+    vec3 origin;     // the ray, for the accurate shadow technique's samples of T_sun
+    vec3 dir;
 };
+
+// Sub-intervals per segment and the 3-point Gauss-Legendre rule on each (exact for degree-5 integrands;
+// T_sun has kinks where the segment crosses a shadow edge). One already meets the stated error
+// (tests/test_gpu_light.cpp, docs/accuracy.md); each more costs three T_sun lookups per segment.
+const int SUN_SUBINTERVALS = 1;
+// 1 when the frame uses the accurate shadow technique. A specialization constant as well as the
+// uniform: lavapipe runs the body of an `if` under an empty lane mask even when no lane takes it,
+// so the lookups (and their loops, which count against the shader's loop budget) would cost every
+// event of every frame without it. Constant 3; the resolve's pipeline is made per technique.
+layout(constant_id = 3) const uint ACCURATE_SHADOWS = 0u;
+const float GL3_NODE = 0.7745966692414834;
+const float GL3_W_OUTER = 0.5555555555555556, GL3_W_CENTRE = 0.8888888888888888;
+
+// integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt.
+float sun_segment_integral(vec3 origin, vec3 dir, float a, float b, float sigma_t) {
+    float h = (b - a) / float(SUN_SUBINTERVALS);
+    float sum = 0.0;
+    for (int k = 0; k < SUN_SUBINTERVALS; ++k) {
+        float m = a + (float(k) + 0.5) * h;
+        float tl = m - 0.5 * h * GL3_NODE, tr = m + 0.5 * h * GL3_NODE;
+        sum += GL3_W_OUTER * exp(-sigma_t * (tl - a)) * sun_transmittance(origin + tl * dir, 0xffffffffu);
+        sum += GL3_W_CENTRE * exp(-sigma_t * (m - a)) * sun_transmittance(origin + m * dir, 0xffffffffu);
+        sum += GL3_W_OUTER * exp(-sigma_t * (tr - a)) * sun_transmittance(origin + tr * dir, 0xffffffffu);
+    }
+    return sum * 0.5 * h;
+}
 
 // Integrates the segment up to the event's distance, then enters or leaves the event's medium.
 void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
@@ -23,30 +68,55 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
     if (len > 0.0) {
         float x = it.sigma_t * len;
         float segment_transmittance = exp(-x);
-        it.radiance += it.transmittance * it.sigma_s * source * (len * one_minus_exp_over_x(x, segment_transmittance));
+        // T sigma_s source, less the sun light the shadows take away (sun P = source - L_ambient), plus
+        // emission; grouped so that with neither the sum is T * sigma_s * source, rounded as it always was.
+        float w = len * one_minus_exp_over_x(x, segment_transmittance);
+        if (ACCURATE_SHADOWS != 0u && frame.params.w != 0.0 && it.inside > 0) {
+            // Accurate shadows: ambient and emission in closed form, the sun term by quadrature.
+            vec3 sun_phase = source - frame.ambient.rgb;
+            float sun = sun_segment_integral(it.origin, it.dir, it.t_prev, t, it.sigma_t);
+            it.radiance += it.transmittance * ((it.sigma_s * frame.ambient.rgb + it.sigma_e) * w + it.sigma_s * sun_phase * sun);
+        } else {
+            vec3 lost = (it.sigma_s - it.sigma_sun) * (source - frame.ambient.rgb) - it.sigma_e;
+            it.radiance += (it.transmittance * it.sigma_s * source - it.transmittance * lost) * w;
+        }
         it.transmittance *= segment_transmittance;
         if (it.transmittance < frame.params.x) {
             it.stopped = true;
             return;
         }
     }
-    vec4 medium = spheres[key.y >> 1u].albedo_extinction;
-    float tau = medium.w;
-    vec3 tau_albedo = tau * medium.rgb;
+    GpuSphere g = spheres[key.y >> 1u];
+    float tau = g.albedo_extinction.w;
+    vec3 tau_albedo = tau * g.albedo_extinction.rgb;
+    vec3 tau_albedo_sun = tau_albedo * g.emission_sun.w;
+    vec3 tau_emission = tau * g.emission_sun.rgb;
     if ((key.y & 1u) == 0u) {
         it.sigma_t += tau;
         it.sigma_s += tau_albedo;
+        it.sigma_sun += tau_albedo_sun;
+        it.sigma_e += tau_emission;
         ++it.inside;
     } else if (--it.inside == 0) {
         it.sigma_t = 0.0;  // back in free space: drop the rounding left by add/subtract
         it.sigma_s = vec3(0.0);
+        it.sigma_sun = vec3(0.0);
+        it.sigma_e = vec3(0.0);
     } else {
         it.sigma_t = max(it.sigma_t - tau, 0.0);
         it.sigma_s = max(it.sigma_s - tau_albedo, vec3(0.0));
+        it.sigma_sun = max(it.sigma_sun - tau_albedo_sun, vec3(0.0));
+        it.sigma_e = max(it.sigma_e - tau_emission, vec3(0.0));
     }
     it.t_prev = t;
 }
 
-Integrator start_integrator() { return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), 0, 0.0, false); }
+Integrator start_integrator(vec3 origin, vec3 unit_dir) {
+    return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), vec3(0.0), vec3(0.0), 0, 0.0, false, origin, unit_dir);
+}
+
+#ifndef BRUME_NO_FRAGMENT_RAY
+Integrator start_integrator() { return start_integrator(frame.eye.xyz, pixel_ray_direction(gl_FragCoord.xy)); }
+#endif
 
 #endif

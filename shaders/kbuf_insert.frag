@@ -80,6 +80,6 @@ void main() {
     vec4 medium = spheres[v_sphere].albedo_extinction;
     float x = medium.w * (exit_distance - entry);
     float alpha = x * one_minus_exp_over_x(x, exp(-x));
-    out_tail = vec4(medium.rgb * source_radiance(dir) * alpha, alpha);
+    out_tail = vec4(sphere_color(v_sphere, source_radiance(dir)) * alpha, alpha);
     out_tail_optical_depth = x;
 }

@@ -42,7 +42,12 @@ void main() {
         vec4 medium = spheres[sphere].albedo_extinction;
         float x = medium.w * (exits[base + i] - entry);
         float e = exp(-x);
-        radiance += transmittance * (x * one_minus_exp_over_x(x, e)) * medium.rgb * source;
+        // albedo * shadowed source, then emission, grouped so that without either extension the sum is
+        // rounded exactly as the unextended model's T * alpha * albedo * source.
+        GpuSphere g = spheres[sphere];
+        float a = x * one_minus_exp_over_x(x, e);
+        radiance += transmittance * a * medium.rgb * shadowed_source(source, g.emission_sun.w) +
+                    transmittance * a * g.emission_sun.rgb;
         transmittance *= e;
         if (transmittance < frame.params.x) {
             stopped = true;

@@ -18,4 +18,18 @@ vec3 source_radiance(vec3 unit_dir) {
     return frame.ambient.rgb + frame.sun.rgb * (0.05968310365946075 * (1.0 + cos_theta * cos_theta));
 }
 
+// A medium's source with its sun term dimmed by t_sun, from the unshadowed source of the ray:
+// L_ambient + (source - L_ambient) t_sun, written so that t_sun = 1 gives `source` bit for bit.
+vec3 shadowed_source(vec3 source, float t_sun) {
+    return source - (1.0 - t_sun) * (source - frame.ambient.rgb);
+}
+
+// The radiance a fully opaque sphere of this medium would show along a ray whose unshadowed source is
+// `source`: albedo times its (per-sphere shadowed) source, plus its emission. What the methods that
+// composite whole spheres blend, so they share the exact methods' light term.
+vec3 sphere_color(uint sphere, vec3 source) {
+    GpuSphere g = spheres[sphere];
+    return g.albedo_extinction.rgb * shadowed_source(source, g.emission_sun.w) + g.emission_sun.rgb;
+}
+
 #endif

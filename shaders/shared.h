@@ -39,7 +39,9 @@ BRUME_CONST BINDING_METHOD_BUFFER_FIRST = 7;
 BRUME_CONST METHOD_BUFFERS = 4;
 BRUME_CONST BINDING_METHOD_IMAGE_FIRST = 11;
 BRUME_CONST METHOD_IMAGES = 4;
-BRUME_CONST BINDING_COUNT = BINDING_METHOD_IMAGE_FIRST + METHOD_IMAGES;
+// The light's, written by the frame path into every method's set like bindings 0..3.
+BRUME_CONST BINDING_SUN_GRID = BINDING_METHOD_IMAGE_FIRST + METHOD_IMAGES;  // buffer SunGridHeader, uint[]
+BRUME_CONST BINDING_COUNT = BINDING_SUN_GRID + 1;
 
 // sorted, soft, auto's power-sorted frames, ppll
 BRUME_CONST BINDING_SORT_ORDER = 7;      // buffer uint[]: draw i shows sphere order[i]
@@ -92,18 +94,34 @@ struct FrameUniforms {
     vec4 background;  // rgb: radiance where a ray meets no opaque surface
     uvec4 counts;     // x: width, y: height, z: sphere count, w: box count
     uvec4 pool;       // x: node capacity, y: log2(nodes per pool part), z: pool parts, w: FRAME_* flags
-    vec4 params;      // x: min transmittance; y: peel's depth scale 2^-k (peel only); zw: unused
+    vec4 params;      // x: min transmittance; y: peel's depth scale 2^-k (peel only); z: 1 with shadows, else 0;
+                      // w: 1 with shadows by the accurate technique (exact_integrator.glsl), else 0
 };
 
 struct GpuSphere {
     vec4 center_radius;      // xyz centre, w radius
     vec4 albedo_extinction;  // rgb albedo, w extinction tau
+    // rgb: emission (the radiance the medium alone shows when optically thick); w: T_sun at the centre
+    // (render/sun_light.h, the per-sphere shadow technique), 1 without shadows.
+    vec4 emission_sun;
 };
 
 struct GpuBox {
     vec4 min_corner;  // xyz
     vec4 max_corner;  // xyz
     vec4 radiance;    // rgb
+    vec4 diffuse;     // rgb: reflectance of the sun and ambient light
+};
+
+// The light-space grid of render/sun_light.h: the plane perpendicular to the sun split into size.x^2
+// square cells, each listing the spheres whose shadow disc overlaps it, so that T_sun at a point tests
+// only the spheres whose shadow cylinder can hold it. In its buffer the header is followed by
+// size.x^2 + 1 cell offsets into the sphere list, then the list.
+struct SunGridHeader {
+    vec4 u_axis;  // xyz: unit u of the plane; w: u of the grid's first cell edge
+    vec4 v_axis;  // xyz: unit v; w: v of the grid's first cell edge
+    vec4 cell;    // x: cell side; yzw: unused
+    uvec4 size;   // x: cells per side (0: no grid, no sphere casts a shadow); y: entries in the sphere list
 };
 
 // Written by the particle pass (allocated) and the resolve pass (statistics); read back every frame.

@@ -26,5 +26,5 @@ void main() {
     vec4 medium = spheres[v_sphere].albedo_extinction;
     float x = medium.w * (t1 - t0);
     float alpha = x * one_minus_exp_over_x(x, exp(-x));  // 1 - exp(-x) without cancellation
-    out_color = vec4(medium.rgb * source_radiance(dir) * alpha, alpha);
+    out_color = vec4(sphere_color(v_sphere, source_radiance(dir)) * alpha, alpha);
 }

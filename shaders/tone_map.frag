@@ -22,9 +22,22 @@ float encode(float linear) {
 }
 
 void main() {
-    // Nearest texel: one HDR texel per pixel when the sizes match.
     const ivec2 size = ivec2(params.source.zw);
-    const ivec2 texel = min(ivec2(floor(gl_FragCoord.xy * params.source.xy)), size - 1);
-    const vec3 c = texelFetch(hdr, texel, 0).rgb;
+    const vec2 ratio = params.source.xy;
+    vec3 c;
+    if (ratio == floor(ratio) && all(greaterThanEqual(ratio, vec2(1.0)))) {
+        // A whole number of HDR texels per pixel (one when the sizes match; k x k when the scene is
+        // supersampled): their mean, as the frame path's readback averages them.
+        const ivec2 k = ivec2(ratio);
+        const ivec2 first = ivec2(gl_FragCoord.xy) * k;
+        c = vec3(0.0);
+        for (int b = 0; b < k.y; ++b)
+            for (int a = 0; a < k.x; ++a) c += texelFetch(hdr, min(first + ivec2(a, b), size - 1), 0).rgb;
+        c /= float(k.x * k.y);
+    } else {
+        // Nearest texel otherwise.
+        const ivec2 texel = min(ivec2(floor(gl_FragCoord.xy * ratio)), size - 1);
+        c = texelFetch(hdr, texel, 0).rgb;
+    }
     out_color = vec4(encode(c.r), encode(c.g), encode(c.b), 1.0);
 }

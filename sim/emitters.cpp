@@ -118,6 +118,23 @@ Particle sample_particle(const EmitterDesc& e, std::uint64_t seed, std::uint32_t
     return p;
 }
 
+namespace {
+
+// Keys (a, rgb), a ascending, linearly interpolated, held at the ends; 1 when there are none.
+glm::dvec3 ramp_at(const std::vector<AgeCurves::AlbedoKey>& keys, double a) {
+    if (keys.empty()) return glm::dvec3{1.0};
+    if (a <= keys.front().age) return keys.front().multiplier;
+    if (a >= keys.back().age) return keys.back().multiplier;
+    // First key strictly after a; the one before it is at or before a, so the segment has length.
+    const auto hi = std::upper_bound(keys.begin(), keys.end(), a,
+                                     [](double v, const AgeCurves::AlbedoKey& k) { return v < k.age; });
+    const auto lo = hi - 1;
+    const double s = (a - lo->age) / (hi->age - lo->age);
+    return lo->multiplier + (hi->multiplier - lo->multiplier) * s;
+}
+
+}  // namespace
+
 AgeCurveFactors evaluate_age_curves(const AgeCurves& c, double a) {
     a = std::clamp(a, 0.0, 1.0);
     AgeCurveFactors f;
@@ -128,21 +145,8 @@ AgeCurveFactors evaluate_age_curves(const AgeCurves& c, double a) {
     if (c.fade_in > 0.0) fade = std::min(fade, a / c.fade_in);
     if (c.fade_out > 0.0) fade = std::min(fade, (1.0 - a) / c.fade_out);
     f.extinction = fade;
-    const auto& keys = c.albedo_ramp;
-    if (keys.empty()) {
-        f.albedo = glm::dvec3{1.0};
-    } else if (a <= keys.front().age) {
-        f.albedo = keys.front().multiplier;
-    } else if (a >= keys.back().age) {
-        f.albedo = keys.back().multiplier;
-    } else {
-        // First key strictly after a; the one before it is at or before a, so the segment has length.
-        const auto hi = std::upper_bound(keys.begin(), keys.end(), a,
-                                         [](double v, const AgeCurves::AlbedoKey& k) { return v < k.age; });
-        const auto lo = hi - 1;
-        const double s = (a - lo->age) / (hi->age - lo->age);
-        f.albedo = lo->multiplier + (hi->multiplier - lo->multiplier) * s;
-    }
+    f.albedo = ramp_at(c.albedo_ramp, a);
+    f.emission = ramp_at(c.emission_ramp, a);
     return f;
 }
 

@@ -47,6 +47,7 @@ struct AgeCurveFactors {
     double radius = 1.0;
     double extinction = 1.0;
     glm::dvec3 albedo{1.0};
+    glm::dvec3 emission{1.0};
 };
 AgeCurveFactors evaluate_age_curves(const AgeCurves& curves, double a);
 

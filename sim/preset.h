@@ -42,6 +42,9 @@ struct AgeCurves {
         glm::dvec3 multiplier{1.0};
     };
     std::vector<AlbedoKey> albedo_ramp;
+    // Emission multiplier keys on EmitterDesc::emission, the same way (fire: a white-yellow core through
+    // orange to soot). Empty: a constant multiplier of 1.
+    std::vector<AlbedoKey> emission_ramp;
 };
 
 // Density: births spread in proportion to a density grid's trilinear field (a [[vdb]] grid seeding smoke).
@@ -75,6 +78,7 @@ struct EmitterDesc {
     Range radius_range{0.1, 0.1};
     Range extinction{1.0, 1.0};
     ColorRange albedo;
+    glm::dvec3 emission{0.0};  // every particle's emission (scene.h Sphere::emission), times emission_ramp
     AgeCurves curves;
 };
 

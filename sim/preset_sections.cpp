@@ -44,12 +44,14 @@ static_assert(lists_each_section_once(kPresetRootKeys));
 constexpr std::array<std::string_view, 2> kPresetKeys{"name", "description"};
 constexpr std::array<std::string_view, 7> kTimelineKeys{"fps",  "duration",      "substeps",  "preroll",
                                                         "seed", "max_particles", "resolution"};
-constexpr std::array<std::string_view, 24> kEmitterKeys{
+constexpr std::array<std::string_view, 25> kEmitterKeys{
     "name",      "shape",    "center", "radius",   "half_extent",     "normal",     "file",   "grid",
     "translate", "scale",    "rotate", "rate",     "start",           "stop",       "bursts", "direction",
-    "speed",     "cone_deg", "jitter", "lifetime", "particle_radius", "extinction", "albedo", "curves"};
+    "speed",     "cone_deg", "jitter", "lifetime", "particle_radius", "extinction", "albedo", "emission",
+    "curves"};
 constexpr std::array<std::string_view, 2> kBurstKeys{"time", "count"};
-constexpr std::array<std::string_view, 4> kCurveKeys{"radius_growth", "fade_in", "fade_out", "albedo_ramp"};
+constexpr std::array<std::string_view, 5> kCurveKeys{"radius_growth", "fade_in", "fade_out", "albedo_ramp",
+                                                     "emission_ramp"};
 constexpr std::array<std::string_view, 2> kRampKeys{"age", "multiplier"};
 constexpr std::array<std::string_view, 2> kColorRangeKeys{"min", "max"};
 constexpr std::array<std::string_view, 11> kForceKeys{"type",   "vector",     "strength", "scale",
@@ -233,11 +235,13 @@ EmitterDesc::Burst read_burst(const Reader& in, const toml::table& t, const KeyP
     return b;
 }
 
-// `previous`: the keys before this one, whose ages it must exceed.
+// `previous`: the keys before this one, whose ages it must exceed. `albedo_max`: the emitter's largest
+// albedo, which an albedo multiplier may not push above 1; null for the emission ramp (no such bound).
 AgeCurves::AlbedoKey read_ramp_key(const Reader& in, const toml::table& t, const KeyPath& path,
-                                   const glm::dvec3& albedo_max, const std::vector<AgeCurves::AlbedoKey>& previous) {
+                                   const glm::dvec3* albedo_max, const std::vector<AgeCurves::AlbedoKey>& previous) {
     in.check_keys(t, path, kRampKeys);
-    const std::string_view needs = "each albedo_ramp key needs age and multiplier";
+    const std::string needs =
+        std::string("each ") + (albedo_max ? "albedo_ramp" : "emission_ramp") + " key needs age and multiplier";
     AgeCurves::AlbedoKey k;
     const toml::node& age = in.required(t, "age", path, needs);
     const KeyPath age_path = path / "age";
@@ -250,12 +254,14 @@ AgeCurves::AlbedoKey read_ramp_key(const Reader& in, const toml::table& t, const
     const Vec3Field m = in.vec3(in.required(t, "multiplier", path, needs), mp);
     in.each(m, mp, [](double v) { return v >= 0.0; }, "must not be negative");
     // The multiplied albedo stays a physical albedo: a medium cannot scatter more than it removes.
-    for (std::size_t c = 0; c < 3; ++c) {
+    in.each(m, mp, [](double v) { return v <= kMaxRadiance; }, "absurd size: must be at most 1e9");
+    for (std::size_t c = 0; c < 3 && albedo_max; ++c) {
         const int ci = static_cast<int>(c);
-        if (!(albedo_max[ci] * m.v[ci] <= 1.0))
+        const double top = (*albedo_max)[ci];
+        if (!(top * m.v[ci] <= 1.0))
             in.fail(*m.elems[c], mp[c],
-                    "makes the albedo exceed 1 (albedo max " + shortest(albedo_max[ci]) + " * " + shortest(m.v[ci]) +
-                        " = " + shortest(albedo_max[ci] * m.v[ci]) + ")");
+                    "makes the albedo exceed 1 (albedo max " + shortest(top) + " * " + shortest(m.v[ci]) + " = " +
+                        shortest(top * m.v[ci]) + ")");
     }
     k.multiplier = m.v;
     return k;
@@ -281,7 +287,15 @@ void read_curves(const Reader& in, const toml::node& node, const KeyPath& path, 
         const toml::array& a = in.inline_table_array(*n, p, kMaxListEntries, "albedo_ramp keys",
                                                      "[{ age = 0.0, multiplier = [1, 1, 1] }]");
         in.read_each(a, p, c.albedo_ramp, [&](const Reader& r, const toml::table& key, const KeyPath& key_path) {
-            return read_ramp_key(r, key, key_path, albedo_max, c.albedo_ramp);
+            return read_ramp_key(r, key, key_path, &albedo_max, c.albedo_ramp);
+        });
+    }
+    if (const toml::node* n = t.get("emission_ramp")) {
+        const KeyPath p = path / "emission_ramp";
+        const toml::array& a = in.inline_table_array(*n, p, kMaxListEntries, "emission_ramp keys",
+                                                     "[{ age = 0.0, multiplier = [1, 1, 1] }]");
+        in.read_each(a, p, c.emission_ramp, [&](const Reader& r, const toml::table& key, const KeyPath& key_path) {
+            return read_ramp_key(r, key, key_path, nullptr, c.emission_ramp);
         });
     }
 }
@@ -365,6 +379,7 @@ EmitterDesc read_emitter(const Reader& in, const toml::table& t, const KeyPath& 
             return in.non_negative(v, p, kMaxExtinction);
         });
     if (const toml::node* n = t.get("albedo")) e.albedo = color_range(in, *n, path / "albedo");
+    if (const toml::node* n = t.get("emission")) e.emission = in.radiance(*n, path / "emission");
     if (const toml::node* n = t.get("curves")) read_curves(in, *n, path / "curves", e.albedo.max, e.curves);
     return e;
 }

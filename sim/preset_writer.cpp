@@ -84,6 +84,7 @@ void append_emitter(std::string& out, const EmitterDesc& e) {
     out += ", max = ";
     append_inline_vec3(out, e.albedo.max);
     out += " }\n";
+    if (e.emission != glm::dvec3(0.0)) append_vec3(out, "emission", e.emission);  // absent: none
 
     const AgeCurves& c = e.curves;
     out += "[emitter.curves]\n";
@@ -100,6 +101,17 @@ void append_emitter(std::string& out, const EmitterDesc& e) {
         out += " }";
     }
     out += c.albedo_ramp.empty() ? "]\n" : ",\n]\n";
+    if (!c.emission_ramp.empty()) {
+        out += "emission_ramp = [";
+        for (const AgeCurves::AlbedoKey& k : c.emission_ramp) {
+            out += "\n  { age = ";
+            append_float(out, k.age);
+            out += ", multiplier = ";
+            append_inline_vec3(out, k.multiplier);
+            out += " },";
+        }
+        out += "\n]\n";
+    }
 }
 
 void append_force(std::string& out, const ForceDesc& f) {

@@ -11,7 +11,8 @@
 
 namespace brume {
 
-// Pixel (i, j), i from the left, j from the top, is sampled by one ray through (i + 0.5, j + 0.5).
+// Pixel (i, j), i from the left, j from the top, is the mean of supersample x supersample rays through
+// (i + (a + 0.5) / k, j + (b + 0.5) / k), a, b in [0, k); k = 1 is one ray through (i + 0.5, j + 0.5).
 struct Camera {
     glm::dvec3 position{0.0, 1.0, 6.0};
     glm::dvec3 look_at{0.0, 0.5, 0.0};
@@ -19,6 +20,7 @@ struct Camera {
     double fov_y_deg = 40.0;  // vertical field of view
     int width = 160;
     int height = 120;
+    int supersample = 1;  // k, 1..kMaxSupersample (sim/scene_file.h)
 };
 
 struct Lighting {
@@ -26,13 +28,18 @@ struct Lighting {
     glm::dvec3 sun{1.0, 0.95, 0.85};             // L_sun, scattered with the Rayleigh phase
     glm::dvec3 sun_direction{-0.4, -1.0, -0.3};  // direction the sunlight travels (need not be unit)
     glm::dvec3 background{0.05, 0.06, 0.08};     // radiance where a ray meets no opaque surface
+    // The sun dimmed by the smoke and the boxes on its way in (T_sun, docs/accuracy.md). Off: T_sun = 1, so
+    // a scene without the key renders as it did before shadows existed.
+    bool shadows = false;
 };
 
-// Opaque, axis aligned, flat radiance toward the eye. Solid: an eye inside a box sees its radiance.
+// Opaque, axis aligned. Toward the eye: radiance + diffuse * (L_ambient + L_sun max(0, n.l) T_sun(hit)),
+// n the normal of the face hit. Solid: an eye inside a box sees radiance + diffuse * L_ambient (no face).
 struct Box {
     glm::dvec3 min{0.0};
     glm::dvec3 max{0.0};
     glm::dvec3 radiance{0.0};
+    glm::dvec3 diffuse{0.0};  // reflectance in [0, 1]
 };
 
 // One particle: a sphere of homogeneous participating medium.
@@ -41,6 +48,9 @@ struct Sphere {
     double radius = 0.0;
     double extinction = 0.0;  // tau, per scene unit
     glm::dvec3 albedo{1.0};
+    // The radiance an optically thick sphere of this medium alone would show by its own light: the
+    // medium adds tau * emission per unit length, unshadowed, lighting nothing else.
+    glm::dvec3 emission{0.0};
 };
 
 // Where a density grid's voxels sit in the scene: world = translate + scale * R * (grid position), R the
@@ -77,9 +87,18 @@ struct VdbVolume {
     VolumeTransform transform;
 };
 
+// How the GPU methods approximate T_sun in the media when the scene has shadows (docs/accuracy.md). The CPU
+// reference always computes the exact model.
+enum class ShadowTechnique {
+    Accurate,   // T_sun sampled by quadrature along each view segment (ppll; others fall back to PerSphere)
+    PerSphere,  // T_sun once per sphere, at its centre: the sun term piecewise constant, closed form
+};
+inline constexpr const char* kShadowTechniqueNames[] = {"accurate", "per-sphere"};
+
 struct RenderSettings {
     // Integration stops once transmittance falls below this (docs/decisions.md); 0 integrates everything.
     double min_transmittance = 1e-4;
+    ShadowTechnique shadow_technique = ShadowTechnique::Accurate;
 };
 
 struct Scene {

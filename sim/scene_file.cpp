@@ -168,6 +168,9 @@ void append_scene_sections(std::string& out, const Scene& scene) {
     append_number(out, "fov_y_deg", c.fov_y_deg);
     out += "width = " + std::to_string(c.width) + '\n';
     out += "height = " + std::to_string(c.height) + '\n';
+    // The light keys are written only where they differ from their defaults, so a scene without them
+    // reads back as the same text it always did.
+    if (c.supersample != 1) out += "supersample = " + std::to_string(c.supersample) + '\n';
 
     const Lighting& l = scene.lighting;
     out += "\n[lighting]\n";
@@ -175,15 +178,19 @@ void append_scene_sections(std::string& out, const Scene& scene) {
     append_vec3(out, "sun", l.sun);
     append_vec3(out, "sun_direction", l.sun_direction);
     append_vec3(out, "background", l.background);
+    if (l.shadows) out += "shadows = true\n";
 
     out += "\n[render]\n";
     append_number(out, "min_transmittance", scene.render.min_transmittance);
+    if (scene.render.shadow_technique != ShadowTechnique::Accurate)
+        out += std::string("shadow_technique = \"") + kShadowTechniqueNames[int(scene.render.shadow_technique)] + "\"\n";
 
     for (const Box& b : scene.boxes) {
         out += "\n[[box]]\n";
         append_vec3(out, "min", b.min);
         append_vec3(out, "max", b.max);
         append_vec3(out, "radiance", b.radiance);
+        if (b.diffuse != glm::dvec3(0.0)) append_vec3(out, "diffuse", b.diffuse);
     }
     for (const Sphere& s : scene.spheres) {
         out += "\n[[sphere]]\n";
@@ -191,6 +198,7 @@ void append_scene_sections(std::string& out, const Scene& scene) {
         append_number(out, "radius", s.radius);
         append_number(out, "extinction", s.extinction);
         append_vec3(out, "albedo", s.albedo);
+        if (s.emission != glm::dvec3(0.0)) append_vec3(out, "emission", s.emission);
     }
     for (const VdbVolume& v : scene.volumes) {
         out += "\n[[vdb]]\n";

@@ -27,6 +27,7 @@ inline constexpr double kMaxCoordinate = 1e7;       // |any coordinate|, any rad
 inline constexpr double kMaxExtinction = 1e9;       // sphere.extinction
 inline constexpr double kMaxRadiance = 1e9;         // any radiance, ambient or sun component
 inline constexpr double kMaxFovYDeg = 179.0;
+inline constexpr int kMaxSupersample = 8;          // camera.supersample: k x k rays per pixel
 
 // what() reads "scene.toml:12: sphere[3].radius: must be positive and finite (got -1)".
 // Array indices in key paths count from 0, in file order. line/column are 0 when unknown.

@@ -19,11 +19,16 @@ using toml_text::shortest;
 namespace {
 
 // The schema, in the order keys are checked and written.
-constexpr std::array<std::string_view, 6> kCameraKeys{"position", "look_at", "up", "fov_y_deg", "width", "height"};
-constexpr std::array<std::string_view, 4> kLightingKeys{"ambient", "sun", "sun_direction", "background"};
-constexpr std::array<std::string_view, 1> kRenderKeys{"min_transmittance"};
-constexpr std::array<std::string_view, 3> kBoxKeys{"min", "max", "radiance"};
-constexpr std::array<std::string_view, 4> kSphereKeys{"center", "radius", "extinction", "albedo"};
+constexpr std::array<std::string_view, 7> kCameraKeys{"position", "look_at", "up",         "fov_y_deg",
+                                                     "width",    "height",  "supersample"};
+constexpr std::array<std::string_view, 5> kLightingKeys{"ambient", "sun", "sun_direction", "background", "shadows"};
+constexpr std::array<std::string_view, 2> kRenderKeys{"min_transmittance", "shadow_technique"};
+constexpr std::array<std::string_view, 2> kShadowTechniques{kShadowTechniqueNames[0], kShadowTechniqueNames[1]};
+constexpr std::array<std::string_view, 4> kBoxKeys{"min", "max", "radiance", "diffuse"};
+// Required in every [[box]]; the rest are optional.
+constexpr std::array<std::string_view, 3> kBoxRequiredKeys{"min", "max", "radiance"};
+constexpr std::array<std::string_view, 5> kSphereKeys{"center", "radius", "extinction", "albedo", "emission"};
+constexpr std::array<std::string_view, 4> kSphereRequiredKeys{"center", "radius", "extinction", "albedo"};
 constexpr std::array<std::string_view, 10> kVdbKeys{"file",        "grid",        "albedo_grid", "extinction_scale",
                                                     "albedo",      "tolerance",   "max_spheres", "translate",
                                                     "scale",       "rotate"};
@@ -44,6 +49,8 @@ void read_camera(const Reader& in, const toml::node& node, const KeyPath& path, 
     }
     if (const toml::node* n = t.get("width")) c.width = int(in.integer_in(*n, path / "width", 1, kMaxImageSide));
     if (const toml::node* n = t.get("height")) c.height = int(in.integer_in(*n, path / "height", 1, kMaxImageSide));
+    if (const toml::node* n = t.get("supersample"))
+        c.supersample = int(in.integer_in(*n, path / "supersample", 1, kMaxSupersample));
 
     // make_camera_rays normalises look_at - position and cross(forward, up): both must be well defined.
     const glm::dvec3 view = c.look_at - c.position;
@@ -65,6 +72,7 @@ void read_lighting(const Reader& in, const toml::node& node, const KeyPath& path
     if (const toml::node* n = t.get("sun")) l.sun = in.radiance(*n, path / "sun");
     if (const toml::node* n = t.get("sun_direction")) l.sun_direction = in.direction(*n, path / "sun_direction");
     if (const toml::node* n = t.get("background")) l.background = in.radiance(*n, path / "background");
+    if (const toml::node* n = t.get("shadows")) l.shadows = in.boolean(*n, path / "shadows");
 }
 
 void read_render(const Reader& in, const toml::node& node, const KeyPath& path, RenderSettings& r) {
@@ -75,15 +83,18 @@ void read_render(const Reader& in, const toml::node& node, const KeyPath& path, 
         if (!(r.min_transmittance >= 0.0 && r.min_transmittance < 1.0))
             in.fail(*n, p, "must be in [0, 1) (got " + shortest(r.min_transmittance) + ")");
     }
+    if (const toml::node* n = t.get("shadow_technique"))
+        r.shadow_technique = ShadowTechnique(in.choice(*n, path / "shadow_technique", kShadowTechniques));
 }
 
 Box read_box(const Reader& in, const toml::table& t, const KeyPath& path) {
     in.check_keys(t, path, kBoxKeys);
     Box b;
-    b.min = in.coordinates(in.required(t, "min", path, kBoxKeys), path / "min");
-    const toml::node& max = in.required(t, "max", path, kBoxKeys);
+    b.min = in.coordinates(in.required(t, "min", path, kBoxRequiredKeys), path / "min");
+    const toml::node& max = in.required(t, "max", path, kBoxRequiredKeys);
     b.max = in.coordinates(max, path / "max");
-    b.radiance = in.radiance(in.required(t, "radiance", path, kBoxKeys), path / "radiance");
+    b.radiance = in.radiance(in.required(t, "radiance", path, kBoxRequiredKeys), path / "radiance");
+    if (const toml::node* n = t.get("diffuse")) b.diffuse = in.albedo(*n, path / "diffuse").v;
     for (int c = 0; c < 3; ++c) {
         if (!(b.min[c] < b.max[c])) {
             const char axis = "xyz"[c];
@@ -98,19 +109,20 @@ Box read_box(const Reader& in, const toml::table& t, const KeyPath& path) {
 Sphere read_sphere(const Reader& in, const toml::table& t, const KeyPath& path) {
     in.check_keys(t, path, kSphereKeys);
     Sphere s;
-    s.center = in.coordinates(in.required(t, "center", path, kSphereKeys), path / "center");
+    s.center = in.coordinates(in.required(t, "center", path, kSphereRequiredKeys), path / "center");
     {
-        const toml::node& n = in.required(t, "radius", path, kSphereKeys);
+        const toml::node& n = in.required(t, "radius", path, kSphereRequiredKeys);
         const KeyPath p = path / "radius";
         s.radius = in.number(n, p);
         if (!(s.radius > 0.0)) in.fail(n, p, "must be positive and finite (got " + shortest(s.radius) + ")");
         in.at_most(n, p, s.radius, kMaxCoordinate);
     }
     {
-        const toml::node& n = in.required(t, "extinction", path, kSphereKeys);
+        const toml::node& n = in.required(t, "extinction", path, kSphereRequiredKeys);
         s.extinction = in.non_negative(n, path / "extinction", kMaxExtinction);
     }
-    s.albedo = in.albedo(in.required(t, "albedo", path, kSphereKeys), path / "albedo").v;
+    s.albedo = in.albedo(in.required(t, "albedo", path, kSphereRequiredKeys), path / "albedo").v;
+    if (const toml::node* n = t.get("emission")) s.emission = in.radiance(*n, path / "emission");
     return s;
 }
 

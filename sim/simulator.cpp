@@ -202,7 +202,8 @@ void Simulator::append_spheres(std::vector<Sphere>& out) const {
     const Particles& p = particles_;
     out.reserve(out.size() + p.size());
     for (std::size_t i = 0; i < p.size(); ++i) {
-        const AgeCurves& curves = preset_.emitters[p.emitter[i]].curves;
+        const EmitterDesc& emitter = preset_.emitters[p.emitter[i]];
+        const AgeCurves& curves = emitter.curves;
         const double a = p.lifetime[i] > 0.0f ? double(p.age[i]) / double(p.lifetime[i]) : 1.0;
         const AgeCurveFactors f = evaluate_age_curves(curves, a);
         Sphere s;
@@ -211,6 +212,8 @@ void Simulator::append_spheres(std::vector<Sphere>& out) const {
         if (!(s.radius > 0.0) || !(s.extinction > 0.0)) continue;
         s.center = {p.x[i], p.y[i], p.z[i]};
         s.albedo = glm::dvec3{p.albedo_r[i], p.albedo_g[i], p.albedo_b[i]} * f.albedo;
+        // Emission adds tau * e: it fades with the extinction, so the fades need not touch it.
+        s.emission = emitter.emission * f.emission;
         out.push_back(s);
     }
 }

@@ -265,6 +265,12 @@ std::string_view Reader::string(const toml::node& n, const KeyPath& path) const 
     return s->get();
 }
 
+bool Reader::boolean(const toml::node& n, const KeyPath& path) const {
+    const auto* b = n.as_boolean();
+    if (!b) fail(n, path, "must be true or false (got " + describe(n) + ")");
+    return b->get();
+}
+
 std::string Reader::one_line(const toml::node& n, const KeyPath& path) const {
     const std::string_view s = string(n, path);
     if (std::any_of(s.begin(), s.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))

@@ -155,6 +155,8 @@ public:
                        const char* unit = "") const;
     std::int64_t integer_in(const toml::node& n, const KeyPath& path, std::int64_t lo, std::int64_t hi) const;
     std::string_view string(const toml::node& n, const KeyPath& path) const;
+    // true or false only: "yes", 1 and the like are refused, so a typo cannot flip a switch silently.
+    bool boolean(const toml::node& n, const KeyPath& path) const;
     // Names and descriptions are printed on one line (`brume play --list`, messages).
     std::string one_line(const toml::node& n, const KeyPath& path) const;
     // One of `names`; returns its index (the enum value).

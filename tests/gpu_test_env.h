@@ -59,8 +59,8 @@ inline constexpr double kRelTol = 1e-4;
 // The reference image of a scene and its float-conditioning tolerance, computed once for tests that
 // compare several methods with it.
 struct ReferenceImage {
-    explicit ReferenceImage(const Scene& scene)
-        : image(render_reference(scene)), tolerance(reference_tolerance(scene, kRayRelError)) {}
+    explicit ReferenceImage(const Scene& scene, const ReferenceOptions& options = {})
+        : image(render_reference(scene, options)), tolerance(reference_tolerance(scene, kRayRelError, options)) {}
     Image image;
     Image tolerance;
 };

@@ -178,9 +178,18 @@ TEST_F(ImageIo, PngEncodesKnownValues) {
     ASSERT_EQ(d.width, 9);
     ASSERT_EQ(d.height, 1);
     ASSERT_EQ(d.channels, 3);
+    // The undithered codes; the file holds them to within the dither's one code, exactly where black,
+    // saturated, NaN and infinite values leave no room.
     const unsigned char expected[] = {0, 255, 188, 137, 255, 0, 0, 255, 3};
+    const bool exact[] = {true, true, false, false, true, true, true, true, false};
     for (int i = 0; i < 9; ++i)
-        for (int c = 0; c < 3; ++c) EXPECT_EQ(int(d.bytes[i * 3 + c]), int(expected[i])) << "pixel " << i;
+        for (int c = 0; c < 3; ++c) {
+            const int got = int(d.bytes[i * 3 + c]);
+            if (exact[i])
+                EXPECT_EQ(got, int(expected[i])) << "pixel " << i;
+            else
+                EXPECT_LE(std::abs(got - int(expected[i])), 1) << "pixel " << i;
+        }
 }
 
 TEST_F(ImageIo, PngChannelsAndRowsKeepTheirPlaces) {
@@ -192,7 +201,12 @@ TEST_F(ImageIo, PngChannelsAndRowsKeepTheirPlaces) {
     const Decoded d = decode_png(dir_ / "layout.png");
     ASSERT_EQ(d.bytes.size(), 12u);
     const unsigned char expected[12] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 188, 188, 0};
-    for (int i = 0; i < 12; ++i) EXPECT_EQ(int(d.bytes[i]), int(expected[i])) << "byte " << i;
+    for (int i = 0; i < 12; ++i) {
+        // Byte i is pixel (i / 3 % 2, i / 6), channel i % 3: the dither of that place, exactly.
+        const int p = i / 3;
+        EXPECT_EQ(int(d.bytes[i]), int(png_code(values[p][i % 3], 1.0, png_dither(p % 2, p / 2, i % 3)))) << "byte " << i;
+        EXPECT_LE(std::abs(int(d.bytes[i]) - int(expected[i])), 1) << "byte " << i;
+    }
 }
 
 TEST_F(ImageIo, PngExposureScalesBeforeTheCurve) {
@@ -205,8 +219,8 @@ TEST_F(ImageIo, PngExposureScalesBeforeTheCurve) {
     const Decoded unexposed = png_of(ramp, dir_ / "unexposed.png", 0.0);
     EXPECT_EQ(plus_one.bytes, reference.bytes);
     EXPECT_NE(plus_one.bytes, unexposed.bytes);
-    EXPECT_EQ(int(plus_one.bytes[6 * 3]), 188);  // 0.25 at +1
-    EXPECT_EQ(int(png_of({1.0f}, dir_ / "minus_one.png", -1.0).bytes[0]), 188);
+    EXPECT_EQ(int(plus_one.bytes[6 * 3]), int(png_code(0.5f, 1.0, png_dither(6, 0, 0))));  // 0.25 at +1
+    EXPECT_EQ(int(png_of({1.0f}, dir_ / "minus_one.png", -1.0).bytes[0]), int(png_code(0.5f, 1.0, png_dither(0, 0, 0))));
 }
 
 TEST_F(ImageIo, PngMatchesTheCurveAcrossTheRange) {
@@ -217,8 +231,37 @@ TEST_F(ImageIo, PngMatchesTheCurveAcrossTheRange) {
     for (std::size_t i = 0; i < ramp.size(); ++i) {
         const double v = ramp[i];
         const double encoded = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-        EXPECT_EQ(int(d.bytes[i * 3]), int(std::lround(encoded * 255.0))) << "linear " << v;
+        EXPECT_EQ(int(d.bytes[i * 3]), int(std::floor(encoded * 255.0 + 0.5 + png_dither(int(i), 0, 0)))) << "linear " << v;
+        EXPECT_LE(std::abs(int(d.bytes[i * 3]) - int(std::lround(encoded * 255.0))), 1) << "linear " << v;
     }
+}
+
+// A flat value a third of the way between two codes: undithered it is one code everywhere (a band);
+// dithered, the codes around it mix so that their mean is the value, and the image stays deterministic.
+TEST_F(ImageIo, PngDitherRemovesBanding) {
+    const double target_code = 100.3;
+    // Linear value whose encoding is 100.3 / 255: the sRGB curve inverted in double.
+    const double e = target_code / 255.0;
+    const float linear = float(std::pow((e + 0.055) / 1.055, 2.4));
+    Image flat(128, 64);
+    for (float& v : flat.rgb) v = linear;
+    write_png(flat, dir_ / "flat.png");
+    const Decoded d = decode_png(dir_ / "flat.png");
+    double sum = 0.0;
+    int low = 0, high = 0;
+    for (const unsigned char b : d.bytes) {
+        sum += b;
+        low += b == 100;
+        high += b == 101;
+        ASSERT_TRUE(b == 100 || b == 101) << int(b);
+    }
+    const double mean = sum / double(d.bytes.size());
+    EXPECT_NEAR(mean, target_code, 0.02);  // 24576 samples: the dither's mean error is about 0.003
+    EXPECT_GT(low, 0);
+    EXPECT_GT(high, 0);
+    EXPECT_EQ(int(png_code(linear, 1.0)), 100) << "undithered, every pixel would be 100";
+    write_png(flat, dir_ / "again.png");
+    EXPECT_EQ(decode_png(dir_ / "again.png").bytes, d.bytes);
 }
 
 TEST_F(ImageIo, WritingIntoAMissingDirectoryThrowsAndLeavesNothing) {

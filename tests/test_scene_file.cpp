@@ -104,16 +104,20 @@ void expect_identical(const Scene& a, const Scene& b) {
     EXPECT_TRUE(same_bits(a.camera.fov_y_deg, b.camera.fov_y_deg));
     EXPECT_EQ(a.camera.width, b.camera.width);
     EXPECT_EQ(a.camera.height, b.camera.height);
+    EXPECT_EQ(a.camera.supersample, b.camera.supersample);
+    EXPECT_EQ(a.lighting.shadows, b.lighting.shadows);
     EXPECT_TRUE(same_bits(a.lighting.ambient, b.lighting.ambient));
     EXPECT_TRUE(same_bits(a.lighting.sun, b.lighting.sun));
     EXPECT_TRUE(same_bits(a.lighting.sun_direction, b.lighting.sun_direction));
     EXPECT_TRUE(same_bits(a.lighting.background, b.lighting.background));
     EXPECT_TRUE(same_bits(a.render.min_transmittance, b.render.min_transmittance));
+    EXPECT_EQ(a.render.shadow_technique, b.render.shadow_technique);
     ASSERT_EQ(a.boxes.size(), b.boxes.size());
     for (std::size_t i = 0; i < a.boxes.size(); ++i) {
         EXPECT_TRUE(same_bits(a.boxes[i].min, b.boxes[i].min)) << "box " << i;
         EXPECT_TRUE(same_bits(a.boxes[i].max, b.boxes[i].max)) << "box " << i;
         EXPECT_TRUE(same_bits(a.boxes[i].radiance, b.boxes[i].radiance)) << "box " << i;
+        EXPECT_TRUE(same_bits(a.boxes[i].diffuse, b.boxes[i].diffuse)) << "box " << i;
     }
     ASSERT_EQ(a.spheres.size(), b.spheres.size());
     for (std::size_t i = 0; i < a.spheres.size(); ++i) {
@@ -121,6 +125,7 @@ void expect_identical(const Scene& a, const Scene& b) {
         EXPECT_TRUE(same_bits(a.spheres[i].radius, b.spheres[i].radius)) << "sphere " << i;
         EXPECT_TRUE(same_bits(a.spheres[i].extinction, b.spheres[i].extinction)) << "sphere " << i;
         EXPECT_TRUE(same_bits(a.spheres[i].albedo, b.spheres[i].albedo)) << "sphere " << i;
+        EXPECT_TRUE(same_bits(a.spheres[i].emission, b.spheres[i].emission)) << "sphere " << i;
     }
     // base_dir is where a file was read from, not part of what it says: not compared.
     ASSERT_EQ(a.volumes.size(), b.volumes.size());
@@ -526,6 +531,56 @@ TEST(SceneFileErrors, BoxValues) {
     expect_rejected("[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n", 1, "box[0].radiance", "missing");
     expect_rejected("[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nradiance = [1, 1, 1]\nradiant = 1\n", 5,
                     "box[0].radiant", "did you mean \"radiance\"?");
+}
+
+// The light keys (docs/accuracy.md, "Light through the smoke"): read, written back only where they differ
+// from their defaults (so older scenes write the same text), and refused with a named problem.
+TEST(SceneFile, LightKeysAreReadAndWrittenBack) {
+    const std::string text =
+        "[camera]\nsupersample = 3\n[lighting]\nshadows = true\n[render]\nshadow_technique = \"per-sphere\"\n"
+        "[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nradiance = [0, 0, 0]\ndiffuse = [0.5, 0.25, 1]\n"
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = 1\nalbedo = [1, 1, 1]\nemission = [4, 2.5, 0]\n";
+    const Scene s = parse_scene_toml(text, "light.toml");
+    EXPECT_EQ(s.camera.supersample, 3);
+    EXPECT_TRUE(s.lighting.shadows);
+    EXPECT_EQ(s.render.shadow_technique, ShadowTechnique::PerSphere);
+    expect_vec(s.boxes[0].diffuse, 0.5, 0.25, 1.0);
+    expect_vec(s.spheres[0].emission, 4.0, 2.5, 0.0);
+    const std::string written = scene_to_toml(s);
+    expect_identical(parse_scene_toml(written, "written.toml"), s);
+    EXPECT_NE(written.find("shadows = true\n"), std::string::npos) << written;
+    EXPECT_NE(written.find("supersample = 3\n"), std::string::npos) << written;
+
+    // Without the keys: the defaults, and none of them in the written text.
+    const Scene plain = parse_scene_toml(kEveryKey, "every.toml");
+    EXPECT_EQ(plain.camera.supersample, 1);
+    EXPECT_FALSE(plain.lighting.shadows);
+    EXPECT_EQ(plain.boxes[0].diffuse, glm::dvec3(0.0));
+    EXPECT_EQ(plain.spheres[0].emission, glm::dvec3(0.0));
+    const std::string plain_text = scene_to_toml(plain);
+    EXPECT_EQ(plain.render.shadow_technique, ShadowTechnique::Accurate);
+    for (const char* key : {"supersample", "shadows", "diffuse", "emission", "shadow_technique"})
+        EXPECT_EQ(plain_text.find(key), std::string::npos) << key << " written for a scene without it";
+    EXPECT_FALSE(parse_scene_toml("[lighting]\nshadows = false\n", "off.toml").lighting.shadows);
+}
+
+TEST(SceneFileErrors, LightKeyValues) {
+    expect_rejected("[lighting]\nshadows = \"yes\"\n", 2, "lighting.shadows",
+                    "must be true or false (got a string \"yes\")");
+    expect_rejected("[lighting]\nshadows = 1\n", 2, "lighting.shadows", "must be true or false");
+    expect_rejected("[render]\nshadow_technique = \"fast\"\n", 2, "render.shadow_technique", "accurate");
+    expect_rejected("[camera]\nsupersample = 0\n", 2, "camera.supersample", "must be between 1 and 8 (got 0)");
+    expect_rejected("[camera]\nsupersample = 99\n", 2, "camera.supersample", "must be between 1 and 8 (got 99)");
+    expect_rejected("[camera]\nsupersample = 2.0\n", 2, "camera.supersample", "must be an integer");
+    const std::string sphere_head = "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = 1\nalbedo = [1, 1, 1]\n";
+    expect_rejected(sphere_head + "emission = [1, -0.5, 0]\n", 6, "sphere[0].emission[1]",
+                    "must not be negative (got -0.5)");
+    expect_rejected(sphere_head + "emission = [nan, 0, 0]\n", 6, "sphere[0].emission[0]", "must be finite (got nan)");
+    expect_rejected(sphere_head + "emission = 3\n", 6, "sphere[0].emission", "must be an array of 3 numbers");
+    const std::string box_head = "[[box]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nradiance = [1, 1, 1]\n";
+    expect_rejected(box_head + "diffuse = [-1, 0, 0]\n", 5, "box[0].diffuse[0]", "must be in [0, 1] (got -1)");
+    expect_rejected(box_head + "diffuse = [0, 0, nan]\n", 5, "box[0].diffuse[2]", "must be finite (got nan)");
+    expect_rejected(box_head + "diffuse = [0, 2, 0]\n", 5, "box[0].diffuse[1]", "must be in [0, 1] (got 2)");
 }
 
 TEST(SceneFileErrors, TooManyBoxes) {

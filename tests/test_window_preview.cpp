@@ -71,16 +71,20 @@ TEST_F(WindowPreview, WindowShowsWhatPlayWritesWithinOneCode) {
     ASSERT_EQ(got.width, 96);
     ASSERT_EQ(got.height, 72);
     ASSERT_EQ(want.rgb.size(), got.rgb.size());
+    // PNG files are dithered (+-0.5 code before rounding) and the window is not, so a channel may
+    // differ by one code, never more, and on average they agree to well under a code (measured: 0.16
+    // on this frame; a wrong exposure or transfer curve is off by several).
     int worst = 0;
-    std::size_t exact = 0, lit = 0;
+    long long signed_sum = 0;
+    std::size_t lit = 0;
     for (std::size_t i = 0; i < want.rgb.size(); ++i) {
-        const int d = std::abs(int(want.rgb[i]) - int(got.rgb[i]));
-        worst = std::max(worst, d);
-        exact += d == 0;
+        const int d = int(want.rgb[i]) - int(got.rgb[i]);
+        worst = std::max(worst, std::abs(d));
+        signed_sum += d;
         lit += want.rgb[i] > 20;
     }
     EXPECT_LE(worst, 1);
-    EXPECT_GT(exact, want.rgb.size() * 95 / 100);
+    EXPECT_LT(std::abs(double(signed_sum) / double(want.rgb.size())), 0.3);
     EXPECT_GT(lit, want.rgb.size() / 10);  // not a black frame: the comparison means something
 }
 

@@ -1,5 +1,6 @@
 #include "render/frame/frame_path.h"
 
+#include "render/supersample.h"
 #include "render/vk/resources.h"
 
 #include <stdexcept>
@@ -11,14 +12,25 @@ FramePath::FramePath(vk::Device& device, std::uint32_t frames_in_flight)
 
 FramePath::~FramePath() { ring_.wait_all(); }
 
+// Supersampling: the method draws the scene at k times its size (render/supersample.h), so every
+// method gets it without knowing; the readback averages the blocks, the presenter's tone map too.
 Image FramePath::render(GpuMethod& method, const Scene& scene, FrameStats* stats, bool list_stats) {
-    run(method, scene, stats, list_stats, Output::Readback);
-    return resources_.read_hdr();
+    if (scene.camera.supersample == 1) {
+        run(method, scene, stats, list_stats, Output::Readback);
+        return resources_.read_hdr();
+    }
+    run(method, supersampled_scene(scene, int(device_.properties().limits.maxImageDimension2D)), stats, list_stats,
+        Output::Readback);
+    return average_blocks(resources_.read_hdr(), scene.camera.supersample);
 }
 
 bool FramePath::render_to(Presenter& presenter, GpuMethod& method, const Scene& scene, FrameStats* stats,
                           bool list_stats) {
-    run(method, scene, stats, list_stats, Output::Sampled);
+    if (scene.camera.supersample == 1)
+        run(method, scene, stats, list_stats, Output::Sampled);
+    else
+        run(method, supersampled_scene(scene, int(device_.properties().limits.maxImageDimension2D)), stats,
+            list_stats, Output::Sampled);
     ring_.begin_again();
     return presenter.present(resources_, ring_);
 }

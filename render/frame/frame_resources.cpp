@@ -2,6 +2,7 @@
 
 #include "opaque_boxes.frag.h"
 #include "opaque_boxes.vert.h"
+#include "render/sun_light.h"
 #include "render/vk/pipelines.h"
 #include "render/vk/vk_check.h"
 
@@ -30,6 +31,7 @@ void FrameResources::write_frame_bindings(const SharedDescriptors& descriptors) 
     descriptors.write_uniform(gpu::BINDING_FRAME, uniform_buffer_.get());
     descriptors.write_storage(gpu::BINDING_SPHERES, sphere_buffer_.get());
     descriptors.write_storage(gpu::BINDING_BOXES, box_buffer_.get());
+    descriptors.write_storage(gpu::BINDING_SUN_GRID, sun_grid_buffer_.get());
     descriptors.write_storage_image(gpu::BINDING_OPAQUE, opaque_image_.view());
 }
 
@@ -43,10 +45,16 @@ void FrameResources::upload(const Scene& scene) {
     const bool resize = extent.width != extent_.width || extent.height != extent_.height;
     const bool new_spheres = sphere_buffer_.size() < sphere_bytes || sphere_buffer_.size() > 4 * sphere_bytes;
     const bool new_boxes = box_buffer_.size() < box_bytes;
+    // The sun's light-space grid (render/sun_light.h): the per-sphere T_sun comes from it on the CPU, and the
+    // opaque pass's exact T_sun at lit box hits reads its GPU copy.
+    const SunLight sun_light(scene);
+    const std::size_t grid_words = sun_light.grid_side() > 0 ? sun_light.cell_start().size() + sun_light.cell_items().size() : 0;
+    const VkDeviceSize grid_bytes = sizeof(gpu::SunGridHeader) + std::max<std::size_t>(grid_words, 1) * sizeof(std::uint32_t);
+    const bool new_grid = sun_grid_buffer_.size() < grid_bytes || sun_grid_buffer_.size() > 4 * grid_bytes + 4096;
     // Only a presenter's passes of the previous frame can still be running here (the frame path waits
     // for every method pass before it returns), and they read the HDR target alone: host writes are
     // safe, but objects about to be destroyed must wait for them.
-    if (resize || new_spheres || new_boxes) {
+    if (resize || new_spheres || new_boxes || new_grid) {
         device_.wait_idle();
     }
     if (resize) {
@@ -66,12 +74,35 @@ void FrameResources::upload(const Scene& scene) {
     // Storage buffers hold at least one element: Vulkan has no empty buffers.
     if (new_spheres)
         sphere_buffer_ = Buffer(device_, sphere_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.spheres");
+    // The per-sphere shadow technique: T_sun at each centre, computed in double by the same code as the
+    // reference's per-sphere mode, so the GPU differs from it by float rounding alone.
+    std::vector<double> sun(scene.spheres.size(), 1.0);
+    if (sun_light.shadows())
+        for (std::size_t i = 0; i < scene.spheres.size(); ++i) sun[i] = sun_light.transmittance(scene.spheres[i].center);
     auto* spheres = sphere_buffer_.as<gpu::GpuSphere>();
-    for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i]);
+    for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i], sun[i]);
 
     if (new_boxes)
         box_buffer_ = Buffer(device_, box_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.boxes");
-    if (resize || new_spheres || new_boxes) write_frame_bindings(descriptors_);
+    if (new_grid)
+        sun_grid_buffer_ = Buffer(device_, grid_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.sun_grid");
+    {
+        auto* bytes = sun_grid_buffer_.as<std::uint8_t>();
+        gpu::SunGridHeader header{};
+        if (sun_light.grid_side() > 0) {
+            const glm::dvec3 &u = sun_light.grid_u(), &v = sun_light.grid_v();
+            header.u_axis = gpu::vec4(float(u.x), float(u.y), float(u.z), float(sun_light.grid_u0()));
+            header.v_axis = gpu::vec4(float(v.x), float(v.y), float(v.z), float(sun_light.grid_v0()));
+            header.cell = gpu::vec4(float(sun_light.grid_cell()), 0.0f, 0.0f, 0.0f);
+            header.size = gpu::uvec4(gpu::uint(sun_light.grid_side()), gpu::uint(sun_light.cell_items().size()), 0u, 0u);
+            auto* words = reinterpret_cast<std::uint32_t*>(bytes + sizeof header);
+            std::memcpy(words, sun_light.cell_start().data(), sun_light.cell_start().size() * sizeof(std::uint32_t));
+            std::memcpy(words + sun_light.cell_start().size(), sun_light.cell_items().data(),
+                        sun_light.cell_items().size() * sizeof(std::uint32_t));
+        }
+        std::memcpy(bytes, &header, sizeof header);
+    }
+    if (resize || new_spheres || new_boxes || new_grid) write_frame_bindings(descriptors_);
     auto* boxes = box_buffer_.as<gpu::GpuBox>();
     for (std::size_t i = 0; i < scene.boxes.size(); ++i) boxes[i] = gpu::to_gpu(scene.boxes[i]);
 

@@ -60,6 +60,7 @@ private:
     vk::Buffer uniform_buffer_;
     vk::Buffer sphere_buffer_;
     vk::Buffer box_buffer_;
+    vk::Buffer sun_grid_buffer_;  // shaders/shared.h SunGridHeader, then the grid's offsets and sphere list
     vk::DeviceImage opaque_image_;
     vk::DeviceImage depth_image_;
     vk::DeviceImage hdr_image_;

@@ -102,11 +102,11 @@ PpllMethod::PpllMethod(Device& device, PpllOptions options) : GpuMethod(device),
     max_nodes_ = std::min(addressable, max_pool_bytes_ / gpu::NODE_BYTES);
 }
 
-void PpllMethod::ensure_pipelines(std::uint32_t parts) {
-    if (parts == pipeline_parts_) return;
+void PpllMethod::ensure_pipelines(std::uint32_t parts, bool accurate) {
+    if (parts == pipeline_parts_ && accurate == pipeline_accurate_) return;
     // Specialization constants: 1, pool parts (see ppll_storage.glsl); 2, the resolve's ordered
-    // path (ppll_resolve.frag); 0 is unused.
-    const std::vector<std::uint32_t> constants = {0u, parts, options_.ordered_path ? 1u : 0u};
+    // path (ppll_resolve.frag); 3, the accurate shadow technique (exact_integrator.glsl); 0 is unused.
+    const std::vector<std::uint32_t> constants = {0u, parts, options_.ordered_path ? 1u : 0u, accurate ? 1u : 0u};
     GraphicsPipelineDesc append;
     append.name = "ppll_append";
     append.vertex = BRUME_SPIRV(spv_sphere_impostor_ordered_vert);
@@ -122,6 +122,7 @@ void PpllMethod::ensure_pipelines(std::uint32_t parts) {
     resolve.fragment_constants = constants;
     resolve_pipeline_ = create_graphics_pipeline(device_, descriptors_.pipeline_layout(), resolve);
     pipeline_parts_ = parts;
+    pipeline_accurate_ = accurate;
 }
 
 void PpllMethod::ensure_heads(VkExtent2D extent) {
@@ -152,7 +153,7 @@ void PpllMethod::allocate_pool(std::uint64_t nodes) {
     while (handles.size() < gpu::MAX_POOL_PARTS) handles.push_back(handles.front());
     descriptors_.write_storage_array(gpu::BINDING_POOL, handles);
     capacity_ = nodes;
-    ensure_pipelines(std::uint32_t(pool_parts_.size()));
+    ensure_pipelines(std::uint32_t(pool_parts_.size()), pipeline_accurate_);
 }
 
 void PpllMethod::write_pool_uniforms(FrameContext& ctx) const {
@@ -192,6 +193,10 @@ void PpllMethod::upload_draw_order(const Scene& scene) {
 
 void PpllMethod::prepare(FrameContext& ctx) {
     ensure_heads(ctx.extent());
+    const Scene& scene = ctx.scene();
+    const bool accurate = scene.lighting.shadows && scene.render.shadow_technique == ShadowTechnique::Accurate;
+    if (capacity_ > 0) ensure_pipelines(std::uint32_t(pool_parts_.size()), accurate);
+    else pipeline_accurate_ = accurate;  // allocate_pool below makes the pipelines
     upload_draw_order(ctx.scene());
     if (capacity_ == 0) {
         std::uint64_t want = options_.initial_nodes;

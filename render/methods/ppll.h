@@ -74,7 +74,7 @@ public:
     void report(FrameStats& stats, const FrameContext& ctx) override;
 
 private:
-    void ensure_pipelines(std::uint32_t pool_parts);
+    void ensure_pipelines(std::uint32_t pool_parts, bool accurate_shadows);
     void ensure_heads(VkExtent2D extent);
     void allocate_pool(std::uint64_t nodes);
     void write_pool_uniforms(FrameContext& ctx) const;
@@ -88,6 +88,7 @@ private:
     vk::Buffer counters_readback_;
     std::vector<vk::Buffer> pool_parts_;
     std::uint32_t pipeline_parts_ = 0;  // pool parts the pipelines were specialised for
+    bool pipeline_accurate_ = false;    // ... and whether for the accurate shadow technique
     std::uint32_t part_shift_ = 0;      // log2(nodes per part)
     std::uint64_t capacity_ = 0;    // nodes
     std::uint64_t max_nodes_ = 0;

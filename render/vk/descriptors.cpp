@@ -23,6 +23,7 @@ SharedDescriptors::SharedDescriptors(const Device& device) : device_(device) {
         bindings.push_back({BINDING_METHOD_BUFFER_FIRST + i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr});
     for (uint i = 0; i < METHOD_IMAGES; ++i)
         bindings.push_back({BINDING_METHOD_IMAGE_FIRST + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, stages, nullptr});
+    bindings.push_back({BINDING_SUN_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr});
     if (bindings.size() != BINDING_COUNT) throw std::logic_error("descriptor bindings out of step with shared.h");
     VkDescriptorSetLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     layout_info.bindingCount = std::uint32_t(bindings.size());
@@ -41,7 +42,7 @@ SharedDescriptors::SharedDescriptors(const Device& device) : device_(device) {
     device.set_name(VK_OBJECT_TYPE_PIPELINE_LAYOUT, pipeline_layout, "brume.pipeline_layout");
 
     const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 + MAX_POOL_PARTS + METHOD_BUFFERS},
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 5 + MAX_POOL_PARTS + METHOD_BUFFERS},
                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1 + METHOD_IMAGES}};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = 1;

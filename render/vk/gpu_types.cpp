@@ -22,14 +22,16 @@ FrameUniforms make_frame_uniforms(const Scene& scene) {
     u.background = v4(scene.lighting.background);
     u.counts = uvec4(uint(scene.camera.width), uint(scene.camera.height), uint(scene.spheres.size()),
                      uint(scene.boxes.size()));
-    u.params = vec4(float(scene.render.min_transmittance), 0.0f, 0.0f, 0.0f);
+    const bool accurate = scene.lighting.shadows && scene.render.shadow_technique == ShadowTechnique::Accurate;
+    u.params = vec4(float(scene.render.min_transmittance), 0.0f, scene.lighting.shadows ? 1.0f : 0.0f,
+                    accurate ? 1.0f : 0.0f);
     return u;
 }
 
-GpuSphere to_gpu(const Sphere& s) {
-    return GpuSphere{v4(s.center, s.radius), v4(s.albedo, s.extinction)};
+GpuSphere to_gpu(const Sphere& s, double sun_transmittance) {
+    return GpuSphere{v4(s.center, s.radius), v4(s.albedo, s.extinction), v4(s.emission, sun_transmittance)};
 }
 
-GpuBox to_gpu(const Box& b) { return GpuBox{v4(b.min), v4(b.max), v4(b.radiance)}; }
+GpuBox to_gpu(const Box& b) { return GpuBox{v4(b.min), v4(b.max), v4(b.radiance), v4(b.diffuse)}; }
 
 }  // namespace brume::gpu

@@ -14,11 +14,15 @@ static_assert(offsetof(FrameUniforms, background) == 7 * 16);
 static_assert(offsetof(FrameUniforms, counts) == 8 * 16);
 static_assert(offsetof(FrameUniforms, pool) == 9 * 16);
 static_assert(offsetof(FrameUniforms, params) == 10 * 16);
-static_assert(sizeof(GpuSphere) == 32 && offsetof(GpuSphere, albedo_extinction) == 16);
-static_assert(sizeof(GpuBox) == 48 && offsetof(GpuBox, max_corner) == 16 && offsetof(GpuBox, radiance) == 32);
+static_assert(sizeof(GpuSphere) == 48 && offsetof(GpuSphere, albedo_extinction) == 16 &&
+              offsetof(GpuSphere, emission_sun) == 32);
+static_assert(sizeof(GpuBox) == 64 && offsetof(GpuBox, max_corner) == 16 && offsetof(GpuBox, radiance) == 32 &&
+              offsetof(GpuBox, diffuse) == 48);
 static_assert(sizeof(ListCounters) == 32 && offsetof(ListCounters, unresolved) == 16 && offsetof(ListCounters, allocated) == 0 &&
               offsetof(ListCounters, max_length) == 4 && offsetof(ListCounters, nonempty_pixels) == 8 &&
               offsetof(ListCounters, long_lists) == 12);
+static_assert(sizeof(SunGridHeader) == 64 && offsetof(SunGridHeader, cell) == 32 && offsetof(SunGridHeader, size) == 48,
+              "SunGridHeader must match its std430 GLSL layout");
 static_assert(NODE_BYTES == sizeof(uvec4), "a node is one uvec4 (std430 stride 16)");
 static_assert(sizeof(PeelControl) == 2 * PEEL_SLOTS * 16 + PEEL_SLOTS * 4 &&
                   offsetof(PeelControl, composite_args) == PEEL_SLOTS * 16 &&
@@ -35,7 +39,8 @@ static_assert(BINDING_SORT_ORDER < BINDING_METHOD_BUFFER_FIRST + METHOD_BUFFERS 
 
 // Camera, lighting and counts of a scene; the method fills in `pool`.
 FrameUniforms make_frame_uniforms(const Scene& scene);
-GpuSphere to_gpu(const Sphere& sphere);
+// sun_transmittance: T_sun at the sphere's centre (render/sun_light.h), 1 without shadows.
+GpuSphere to_gpu(const Sphere& sphere, double sun_transmittance);
 GpuBox to_gpu(const Box& box);
 
 }  // namespace brume::gpu

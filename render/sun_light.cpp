@@ -1,0 +1,224 @@
+#include "render/sun_light.h"
+
+#include "render/ray_box.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace brume {
+namespace {
+
+using glm::dvec3;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kMaxGridSide = 2048;
+
+dvec3 perpendicular(const dvec3& v, const dvec3& l) { return v - glm::dot(v, l) * l; }
+
+// Length of the ray x + s l (s > 0, l unit) inside the sphere (c, r^2). Through the whole sphere the length
+// is the chord 2 sqrt(disc) itself, not the difference of its far and near roots (which cancels far away).
+double ray_length_inside(const dvec3& x, const dvec3& l, const dvec3& c, double r2) {
+    const dvec3 oc = x - c;
+    const double b = glm::dot(oc, l);
+    const dvec3 perp = oc - b * l;
+    const double disc = r2 - glm::dot(perp, perp);
+    if (!(disc > 0.0)) return 0.0;
+    const double s = std::sqrt(disc);
+    if (-b - s >= 0.0) return 2.0 * s;  // the sphere lies wholly ahead
+    return std::max(s - b, 0.0);         // x inside (or the sphere behind: s - b <= 0)
+}
+
+void add_if_inside(double t, double t0, double t1, std::vector<double>& out) {
+    if (t > t0 && t < t1) out.push_back(t);
+}
+
+}  // namespace
+
+SunLight::SunLight(const Scene& scene) : shadows_(scene.lighting.shadows), boxes_(scene.boxes) {
+    const double len = glm::length(scene.lighting.sun_direction);
+    if (!(len > 0.0)) shadows_ = false;  // no direction, no shadow (the reader refuses a zero direction)
+    if (!shadows_) return;
+    l_ = -scene.lighting.sun_direction / len;
+    // Any unit vector not parallel to l makes the basis.
+    const dvec3 helper = std::abs(l_.x) < 0.9 ? dvec3(1.0, 0.0, 0.0) : dvec3(0.0, 1.0, 0.0);
+    u_ = glm::normalize(glm::cross(l_, helper));
+    v_ = glm::cross(l_, u_);
+
+    discs_.reserve(scene.spheres.size());
+    double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf;
+    for (const Sphere& s : scene.spheres) {
+        discs_.push_back({s.center, s.radius * s.radius, s.extinction});
+        const double cu = glm::dot(s.center, u_), cv = glm::dot(s.center, v_);
+        u_lo = std::min(u_lo, cu - s.radius);
+        u_hi = std::max(u_hi, cu + s.radius);
+        v_lo = std::min(v_lo, cv - s.radius);
+        v_hi = std::max(v_hi, cv + s.radius);
+    }
+    if (discs_.empty()) return;
+    const double extent = std::max(u_hi - u_lo, v_hi - v_lo);
+    // Cells about a sphere across, so a cell lists about as many spheres as overlap there in light space;
+    // at most about 4 cells per sphere, so the grid's memory stays in proportion to the scene's.
+    double mean_diameter = 0.0;
+    for (const Sphere& s : scene.spheres) mean_diameter += 2.0 * s.radius;
+    mean_diameter /= double(scene.spheres.size());
+    const double side_by_size = std::ceil(extent / mean_diameter);
+    const double side_by_count = std::ceil(2.0 * std::sqrt(double(discs_.size()))) + 1.0;
+    grid_n_ = int(std::clamp(std::min(side_by_size, side_by_count), 1.0, double(kMaxGridSide)));
+    // Slack on every side, so that a disc's own bound never rounds out of the grid.
+    const double margin = 1e-9 * std::max(1.0, extent + std::abs(u_lo) + std::abs(v_lo));
+    grid_u0_ = u_lo - margin;
+    grid_v0_ = v_lo - margin;
+    cell_ = (extent + 2.0 * margin) / grid_n_;
+
+    // Each disc is listed in the cells its square overlaps, grown by a sliver: the GPU projects points in
+    // float, and one a rounding error outside a cell must still find the discs that reach it.
+    // (Extra candidates cost a test each and add exactly 0 to the optical depth.)
+    const auto cell_range = [&](const Sphere& s, int& i0, int& i1, int& j0, int& j1) {
+        const double cu = glm::dot(s.center, u_), cv = glm::dot(s.center, v_);
+        const double r = s.radius + 1e-3 * cell_ + 1e-6 * (std::abs(cu) + std::abs(cv) + s.radius);
+        i0 = std::clamp(int(std::floor((cu - r - grid_u0_) / cell_)), 0, grid_n_ - 1);
+        i1 = std::clamp(int(std::floor((cu + r - grid_u0_) / cell_)), 0, grid_n_ - 1);
+        j0 = std::clamp(int(std::floor((cv - r - grid_v0_) / cell_)), 0, grid_n_ - 1);
+        j1 = std::clamp(int(std::floor((cv + r - grid_v0_) / cell_)), 0, grid_n_ - 1);
+    };
+    // Two passes: count, then fill (a compact list per cell, in sphere order).
+    const std::size_t cells = std::size_t(grid_n_) * std::size_t(grid_n_);
+    cell_start_.assign(cells + 1, 0);
+    for (const Sphere& s : scene.spheres) {
+        int i0, i1, j0, j1;
+        cell_range(s, i0, i1, j0, j1);
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) ++cell_start_[std::size_t(j) * grid_n_ + i + 1];
+    }
+    for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+    cell_items_.resize(cell_start_[cells]);
+    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+        int i0, i1, j0, j1;
+        cell_range(scene.spheres[k], i0, i1, j0, j1);
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) cell_items_[fill[std::size_t(j) * grid_n_ + i]++] = std::uint32_t(k);
+    }
+}
+
+double SunLight::optical_depth(const dvec3& x) const {
+    if (!shadows_ || grid_n_ == 0) return 0.0;
+    const int i = int(std::floor((glm::dot(x, u_) - grid_u0_) / cell_));
+    const int j = int(std::floor((glm::dot(x, v_) - grid_v0_) / cell_));
+    if (i < 0 || j < 0 || i >= grid_n_ || j >= grid_n_) return 0.0;  // outside every shadow cylinder
+    const std::size_t c = std::size_t(j) * grid_n_ + i;
+    double depth = 0.0;
+    for (std::uint32_t n = cell_start_[c]; n < cell_start_[c + 1]; ++n) {
+        const Disc& d = discs_[cell_items_[n]];
+        if (d.tau > 0.0) depth += d.tau * ray_length_inside(x, l_, d.center, d.radius2);
+    }
+    return depth;
+}
+
+bool SunLight::box_blocks(const dvec3& x, int skip_box) const {
+    for (std::size_t k = 0; k < boxes_.size(); ++k)
+        if (int(k) != skip_box && ray_box_distance(boxes_[k], x, l_) < kInf) return true;
+    return false;
+}
+
+double SunLight::transmittance(const dvec3& x, int skip_box) const {
+    if (!shadows_) return 1.0;
+    if (box_blocks(x, skip_box)) return 0.0;
+    return std::exp(-optical_depth(x));
+}
+
+void SunLight::kinks(const dvec3& o, const dvec3& d, double t0, double t1, std::vector<double>& out) const {
+    if (!shadows_) return;
+    const dvec3 pd = perpendicular(d, l_);
+    const double a = glm::dot(pd, pd);
+    for (const Disc& s : discs_) {
+        if (!(s.tau > 0.0)) continue;
+        const dvec3 oc = o - s.center;
+        // The shadow cylinder: |perp(oc) + t perp(d)| = r. Roots around the closest approach in the light's
+        // plane, so that nothing cancels when the line passes far from the axis.
+        if (a > 0.0) {
+            const dvec3 pc = perpendicular(oc, l_);
+            const double t_star = -glm::dot(pc, pd) / a;
+            const dvec3 closest = pc + t_star * pd;
+            const double h2 = glm::dot(closest, closest);
+            if (h2 < s.radius2) {
+                const double half = std::sqrt((s.radius2 - h2) / a);
+                add_if_inside(t_star - half, t0, t1, out);
+                add_if_inside(t_star + half, t0, t1, out);
+            }
+        }
+        // The sphere's own surface, where the sun ray from x starts or stops being inside it.
+        const double b = glm::dot(oc, d);
+        const dvec3 perp = oc - b * d;
+        const double disc = s.radius2 - glm::dot(perp, perp);
+        if (disc > 0.0) {
+            const double root = std::sqrt(disc);
+            add_if_inside(-b - root, t0, t1, out);
+            add_if_inside(-b + root, t0, t1, out);
+        }
+    }
+    for (const Box& box : boxes_) {
+        double lo, hi;
+        if (!box_shadow_interval(box, l_, o, d, lo, hi)) continue;
+        add_if_inside(lo, t0, t1, out);
+        add_if_inside(hi, t0, t1, out);
+    }
+}
+
+bool box_shadow_interval(const Box& box, const dvec3& l, const dvec3& o, const dvec3& d, double& t_lo,
+                         double& t_hi) {
+    // For each axis with l_a != 0 the box bounds s between two lines in t: s >= alpha + beta t (lower) and
+    // s <= alpha + beta t (upper); s >= 0 is one more lower bound. A t is in the shadow volume exactly when
+    // every lower bound is at most every upper bound (intervals on a line meet when they meet pairwise), and
+    // each pair is one linear inequality in t. Axes with l_a = 0 bound t directly.
+    struct Line {
+        double alpha, beta;
+    };
+    Line lower[4];
+    Line upper[3];
+    int n_lower = 0, n_upper = 0;
+    lower[n_lower++] = {0.0, 0.0};
+    t_lo = -kInf;
+    t_hi = kInf;
+    for (int a = 0; a < 3; ++a) {
+        if (l[a] == 0.0) {
+            if (d[a] == 0.0) {
+                if (o[a] < box.min[a] || o[a] > box.max[a]) return false;
+                continue;
+            }
+            double ta = (box.min[a] - o[a]) / d[a], tb = (box.max[a] - o[a]) / d[a];
+            if (ta > tb) std::swap(ta, tb);
+            t_lo = std::max(t_lo, ta);
+            t_hi = std::min(t_hi, tb);
+            continue;
+        }
+        const Line at_min{(box.min[a] - o[a]) / l[a], -d[a] / l[a]};
+        const Line at_max{(box.max[a] - o[a]) / l[a], -d[a] / l[a]};
+        lower[n_lower++] = l[a] > 0.0 ? at_min : at_max;
+        upper[n_upper++] = l[a] > 0.0 ? at_max : at_min;
+    }
+    for (int i = 0; i < n_lower; ++i) {
+        for (int j = 0; j < n_upper; ++j) {
+            // lower_i(t) <= upper_j(t)  <=>  c0 + c1 t <= 0
+            const double c0 = lower[i].alpha - upper[j].alpha;
+            const double c1 = lower[i].beta - upper[j].beta;
+            if (c1 > 0.0) t_hi = std::min(t_hi, -c0 / c1);
+            else if (c1 < 0.0) t_lo = std::max(t_lo, -c0 / c1);
+            else if (c0 > 0.0) return false;
+        }
+    }
+    return t_lo <= t_hi;
+}
+
+std::vector<double> sun_transmittance_at_centres(const Scene& scene) {
+    std::vector<double> t(scene.spheres.size(), 1.0);
+    if (!scene.lighting.shadows) return t;
+    const SunLight light(scene);
+    for (std::size_t k = 0; k < scene.spheres.size(); ++k) t[k] = light.transmittance(scene.spheres[k].center);
+    return t;
+}
+
+}  // namespace brume

@@ -1,0 +1,82 @@
+// The sun's transmittance through the scene, T_sun (docs/accuracy.md, "Light through the smoke"), in
+// double precision: the exact reference integrates it along view rays, and the per-sphere shadow
+// technique takes it once at each sphere's centre (sun_transmittance_at_centres), here, so the GPU
+// methods that use that technique see exactly the values the reference's per-sphere mode uses.
+//
+//   l = -normalize(sun_direction), pointing toward the sun;
+//   T_sun(x) = 0 if the ray x + s l (s > 0) meets a box, else exp(-sum_k tau_k len_k(x)),
+//   len_k(x) the length of that ray inside sphere k. With shadows off T_sun = 1.
+#pragma once
+
+#include "sim/scene.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace brume {
+
+class SunLight {
+public:
+    explicit SunLight(const Scene& scene);
+
+    bool shadows() const { return shadows_; }
+    const glm::dvec3& toward_sun() const { return l_; }
+
+    // T_sun(x); 1 without shadows. `skip_box` (an index into scene.boxes, or -1) is the box x lies on:
+    // a ray leaving a convex box through a face it lights never re-enters it.
+    double transmittance(const glm::dvec3& x, int skip_box = -1) const;
+    // sum_k tau_k len_k(x), boxes ignored.
+    double optical_depth(const glm::dvec3& x) const;
+    // True when x + s l, s > 0, meets a box other than skip_box.
+    bool box_blocks(const glm::dvec3& x, int skip_box = -1) const;
+
+    // The distances t in (t0, t1) along o + t d (d unit) where T_sun is not smooth: where the line crosses a
+    // sphere's shadow cylinder (|perp_l(x - c)| = r) or a sphere's surface (where len_k starts or stops
+    // counting from x), and where it enters or leaves a box's shadow volume (the box swept along -l).
+    // Appended to `out`, unsorted; a few more than strictly needed do no harm.
+    void kinks(const glm::dvec3& o, const glm::dvec3& d, double t0, double t1, std::vector<double>& out) const;
+
+    // The light-space grid, for the GPU's copy (shaders/shared.h SunGridHeader). grid_side() is 0 without
+    // shadows or spheres. Cell (i, j) covers u in grid_u0 + cell * [i, i + 1), v likewise, and lists
+    // cell_items()[cell_start()[j * side + i] ...  cell_start()[j * side + i + 1]).
+    const glm::dvec3& grid_u() const { return u_; }
+    const glm::dvec3& grid_v() const { return v_; }
+    double grid_u0() const { return grid_u0_; }
+    double grid_v0() const { return grid_v0_; }
+    double grid_cell() const { return cell_; }
+    int grid_side() const { return grid_n_; }
+    const std::vector<std::uint32_t>& cell_start() const { return cell_start_; }
+    const std::vector<std::uint32_t>& cell_items() const { return cell_items_; }
+
+private:
+    struct Disc {
+        glm::dvec3 center;
+        double radius2;
+        double tau;
+    };
+
+    bool shadows_;
+    glm::dvec3 l_{0.0};
+    glm::dvec3 u_{0.0}, v_{0.0};  // a basis of the plane perpendicular to l
+    std::vector<Disc> discs_;     // the spheres, as the light sees them
+    std::vector<Box> boxes_;
+    // A uniform grid over the light-space plane: cell (i, j) lists the spheres whose shadow disc
+    // overlaps it, so a T_sun query tests only the spheres whose shadow cylinder can contain x.
+    double grid_u0_ = 0.0, grid_v0_ = 0.0, cell_ = 1.0;
+    int grid_n_ = 0;
+    std::vector<std::uint32_t> cell_start_;  // grid_n_^2 + 1 offsets into cell_items_
+    std::vector<std::uint32_t> cell_items_;
+};
+
+// T_sun at each sphere's centre (the sphere's own medium included), in the order of scene.spheres; all 1
+// without shadows. The per-sphere shadow technique: the sun term of each sphere is then constant.
+std::vector<double> sun_transmittance_at_centres(const Scene& scene);
+
+// The interval of t along o + t d inside the shadow volume of `box` (points x with x + s l in the box for
+// some s >= 0). False when the line misses it. Closed form: a linear program in (t, s).
+bool box_shadow_interval(const Box& box, const glm::dvec3& l, const glm::dvec3& o, const glm::dvec3& d, double& t_lo,
+                         double& t_hi);
+
+}  // namespace brume

@@ -1,0 +1,48 @@
+// T_sun at a point (docs/accuracy.md, "Light through the smoke"), the float twin of render/sun_light.h:
+// 0 if the ray x + s l (s > 0, l toward the sun) meets a box, else exp(-sum_k tau_k len_k(x)). The
+// spheres come from the light-space grid (SunGridHeader in shared.h): only those whose shadow disc
+// overlaps x's cell. The opaque pass evaluates it once per lit box fragment; the media use the
+// per-sphere values in GpuSphere.emission_sun.w.
+// Needs bindings.glsl and rays.glsl.
+#ifndef BRUME_SUN_TRANSMITTANCE_GLSL
+#define BRUME_SUN_TRANSMITTANCE_GLSL
+
+// Length of the ray x + s l (s > 0, l unit) inside the sphere (c, r^2); through the whole sphere the
+// chord itself, not a difference of roots that cancels far away.
+float sun_ray_length_inside(vec3 x, vec3 l, vec3 c, float r2) {
+    vec3 oc = x - c;
+    float b = dot(oc, l);
+    vec3 perp = oc - b * l;
+    float disc = r2 - dot(perp, perp);
+    if (!(disc > 0.0)) return 0.0;
+    float s = sqrt(disc);
+    if (-b - s >= 0.0) return 2.0 * s;
+    return max(s - b, 0.0);
+}
+
+// `skip_box`: the box x lies on (a ray leaving a convex box through a face it lights never re-enters it).
+float sun_transmittance(vec3 x, uint skip_box) {
+    if (frame.params.z == 0.0) return 1.0;
+    vec3 l = -frame.sun_dir.xyz;
+    for (uint b = 0u; b < frame.counts.w; ++b) {
+        float t;
+        if (b != skip_box && intersect_box(x, l, boxes[b].min_corner.xyz, boxes[b].max_corner.xyz, t)) return 0.0;
+    }
+    uint side = sun_grid.size.x;
+    if (side == 0u) return 1.0;
+    ivec2 cell = ivec2(floor((vec2(dot(x, sun_grid.u_axis.xyz), dot(x, sun_grid.v_axis.xyz)) -
+                              vec2(sun_grid.u_axis.w, sun_grid.v_axis.w)) / sun_grid.cell.x));
+    if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, ivec2(int(side))))) return 1.0;
+    uint c = uint(cell.y) * side + uint(cell.x);
+    uint first = sun_grid_data[c], last = sun_grid_data[c + 1u];
+    uint items = side * side + 1u;  // the sphere list follows the offsets
+    float depth = 0.0;
+    for (uint n = first; n < last; ++n) {
+        GpuSphere g = spheres[sun_grid_data[items + n]];
+        float tau = g.albedo_extinction.w;
+        if (tau > 0.0) depth += tau * sun_ray_length_inside(x, l, g.center_radius.xyz, g.center_radius.w * g.center_radius.w);
+    }
+    return exp(-depth);
+}
+
+#endif

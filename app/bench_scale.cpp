@@ -148,6 +148,27 @@ int run_bench_scale(const BenchArgs& args) {
         std::fflush(stdout);
     }
 
+    if (!args.output_dir.empty()) {
+        const fs::path dir(args.output_dir);
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
+        std::ofstream data(dir / "scale.dat");
+        data << "# method fragments ms\n";
+        std::ostringstream plot;
+        plot << "set terminal svg size 720,440\nset output 'scale.svg'\nset logscale xy\nset key left top\n"
+             << "set xlabel 'fragments (list nodes) per frame'\nset ylabel 'ms per frame'\n"
+             << "set title 'brume bench scale: " << w << "x" << h << " smoke clouds, " << device.name() << "'\nplot ";
+        for (std::size_t m = 0; m < specs.size(); ++m) {
+            data << "\n\n# " << specs[m] << "\n";
+            for (const Row& row : rows)
+                if (row.method == specs[m]) data << specs[m] << " " << fragments_of[row.spheres] << " " << row.ms << "\n";
+            plot << (m ? ", " : "") << "'scale.dat' index " << m << " using 2:3 with linespoints title '" << specs[m] << "'";
+        }
+        plot << "\nset terminal pngcairo size 720,440\nset output 'scale.png'\nreplot\n";
+        data.close();
+        for (const std::string& file : draw_charts(dir, {{"scale", plot.str()}})) std::printf("# chart: %s\n", file.c_str());
+    }
     // The shipped presets, a third of the way in, with every method of the run: frame time and FPS.
     if (!args.no_presets) {
         std::printf("\n# shipped presets at %dx%d, frame at a third of the timeline: ms (fps) per method\n", w, h);
@@ -174,27 +195,6 @@ int run_bench_scale(const BenchArgs& args) {
         }
     }
 
-    if (!args.output_dir.empty()) {
-        const fs::path dir(args.output_dir);
-        std::error_code ec;
-        fs::create_directories(dir, ec);
-        if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
-        std::ofstream data(dir / "scale.dat");
-        data << "# method fragments ms\n";
-        std::ostringstream plot;
-        plot << "set terminal svg size 720,440\nset output 'scale.svg'\nset logscale xy\nset key left top\n"
-             << "set xlabel 'fragments (list nodes) per frame'\nset ylabel 'ms per frame'\n"
-             << "set title 'brume bench scale: " << w << "x" << h << " smoke clouds, " << device.name() << "'\nplot ";
-        for (std::size_t m = 0; m < specs.size(); ++m) {
-            data << "\n\n# " << specs[m] << "\n";
-            for (const Row& row : rows)
-                if (row.method == specs[m]) data << specs[m] << " " << fragments_of[row.spheres] << " " << row.ms << "\n";
-            plot << (m ? ", " : "") << "'scale.dat' index " << m << " using 2:3 with linespoints title '" << specs[m] << "'";
-        }
-        plot << "\nset terminal pngcairo size 720,440\nset output 'scale.png'\nreplot\n";
-        data.close();
-        for (const std::string& file : draw_charts(dir, {{"scale", plot.str()}})) std::printf("# chart: %s\n", file.c_str());
-    }
     if (device.validation_message_count() > 0) {
         for (const std::string& m : device.take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
         return 3;

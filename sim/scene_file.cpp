@@ -129,6 +129,10 @@ std::string read_file(const std::filesystem::path& path) {
     const std::string name = path.string();
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw SceneFileError(name, 0, 0, "", "cannot read: is a directory");
+    // A device (/dev/zero, /dev/urandom) never ends: refused by name, before any read. Pipes and
+    // FIFOs are read, up to a bound no scene file comes near.
+    if (std::filesystem::is_character_file(path, ec) || std::filesystem::is_block_file(path, ec))
+        throw SceneFileError(name, 0, 0, "", "cannot read: is a device, not a scene file");
     const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!f) {
         const int err = errno;
@@ -137,7 +141,12 @@ std::string read_file(const std::filesystem::path& path) {
     std::string text;
     char buf[1 << 16];
     std::size_t got = 0;
-    while ((got = std::fread(buf, 1, sizeof buf, f.get())) > 0) text.append(buf, got);
+    constexpr std::size_t kMaxSceneBytes = std::size_t(1) << 30;
+    while ((got = std::fread(buf, 1, sizeof buf, f.get())) > 0) {
+        text.append(buf, got);
+        if (text.size() > kMaxSceneBytes)
+            throw SceneFileError(name, 0, 0, "", "cannot read: longer than 1 GiB, not a scene file");
+    }
     if (std::ferror(f.get())) {
         const int err = errno;
         throw SceneFileError(name, 0, 0, "", "cannot read: " + std::generic_category().message(err));

@@ -191,6 +191,13 @@ if expect_error budget.too_small "--max-memory" "budget"; then
         fail budget.too_small "the message does not state the bytes needed: $(first_err)"
     fi
 fi
+# Inputs that never end are refused by name, not read until memory runs out.
+run render /dev/zero -o never.exr
+expect_error input.device "/dev/zero" "is a device" && [ ! -e never.exr ] && ok input.device
+sed -n '1,/^\[\[box\]\]/p' "$data/small.toml" | sed '$d' > vdb_device.toml
+printf '[[vdb]]\nfile = "/dev/zero"\n' >> vdb_device.toml
+run render vdb_device.toml -o never.exr
+expect_error input.vdb_device "/dev/zero" "is a device" && [ ! -e never.exr ] && ok input.vdb_device
 # A list the device cannot resolve (3,000 coincident media: lavapipe cuts the resolve's loops short)
 # is refused, never written wrong; on a device without that limit it renders exactly.
 {

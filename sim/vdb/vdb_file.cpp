@@ -37,6 +37,9 @@ std::string quote(const std::string& s) { return "\"" + s + "\""; }
 std::string read_bytes(const std::filesystem::path& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a VDB file");
+    // A device never ends (/dev/zero): refused before any read, rather than read until memory runs out.
+    if (std::filesystem::is_character_file(path, ec) || std::filesystem::is_block_file(path, ec))
+        fail(path, "is a device, not a VDB file");
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(path, std::string("cannot open: ") + std::strerror(errno));
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -95,7 +95,52 @@ const toml::node* last_of(std::initializer_list<const toml::node*> nodes) {
 
 namespace {
 
+// Debian's toml++ 3.3.0 parses nested keys, tables and arrays by recursion, and about 31,000
+// levels of `a.a.a...` or `[[[...` overflow the stack (SIGSEGV). No scene or preset nests more than a
+// few levels, so nesting is bounded here, before the parser sees the text: dots in a key (outside
+// quoted keys) and brackets or braces of values (outside strings and comments), named by line.
+void check_nesting(std::string_view text, const std::string& file) {
+    constexpr int kMaxDepth = 64;
+    int line = 1, depth = 0, dots = 0;
+    bool in_key = true;  // at the start of a line, until '=' (or a table header's closing ']')
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (c == '\n') {
+            ++line;
+            dots = 0;
+            in_key = depth == 0;
+            continue;
+        }
+        if (c == '#') {  // a comment runs to the end of the line
+            while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+            continue;
+        }
+        if (c == '"' || c == '\'') {  // a string: skipped whole, multi-line ones included
+            const bool triple = text.substr(i, 3) == std::string(3, c);
+            const std::string_view close = triple ? std::string_view(c == '"' ? "\"\"\"" : "'''") : std::string_view(&text[i], 1);
+            std::size_t j = i + (triple ? 3 : 1);
+            for (; j < text.size(); ++j) {
+                if (text[j] == '\n') {
+                    if (!triple) { --j; break; }  // unterminated: the parser names it; the newline is counted above
+                    ++line;
+                }
+                if (c == '"' && text[j] == '\\') { ++j; continue; }
+                if (text.substr(j, close.size()) == close) break;
+            }
+            i = j + (triple ? 2 : 0);
+            continue;
+        }
+        if (in_key && c == '.' && ++dots > kMaxDepth)
+            throw SceneFileError(file, line, 0, "", "a key nested deeper than " + std::to_string(kMaxDepth) + " levels");
+        if (c == '=') in_key = false;
+        if (!in_key && (c == '[' || c == '{') && ++depth > kMaxDepth)
+            throw SceneFileError(file, line, 0, "", "a value nested deeper than " + std::to_string(kMaxDepth) + " levels");
+        if (!in_key && (c == ']' || c == '}') && depth > 0) --depth;
+    }
+}
+
 toml::table parse_document(std::string_view text, const std::string& file) {
+    check_nesting(text, file);
     try {
         return toml::parse(text, std::string_view(file));
     } catch (const toml::parse_error& e) {

@@ -191,6 +191,13 @@ if expect_error budget.too_small "--max-memory" "budget"; then
         fail budget.too_small "the message does not state the bytes needed: $(first_err)"
     fi
 fi
+# Nesting deep enough to overflow toml++'s recursion (about 31,000 levels) is refused by line first.
+awk 'BEGIN { printf "a"; for (i = 0; i < 31000; ++i) printf ".a"; print " = 1" }' > deep_key.toml
+run render deep_key.toml -o never.exr
+expect_error toml.deep_key "deep_key.toml:1" "nested deeper than 64" && ok toml.deep_key
+awk 'BEGIN { printf "x = "; for (i = 0; i < 31000; ++i) printf "["; for (i = 0; i < 31000; ++i) printf "]"; print "" }' > deep_array.toml
+run render deep_array.toml -o never.exr
+expect_error toml.deep_array "deep_array.toml:1" "nested deeper than 64" && ok toml.deep_array
 # Inputs that never end are refused by name, not read until memory runs out.
 run render /dev/zero -o never.exr
 expect_error input.device "/dev/zero" "is a device" && [ ! -e never.exr ] && ok input.device

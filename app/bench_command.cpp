@@ -158,11 +158,13 @@ int run_bench(const BenchArgs& args) {
             std::fflush(stdout);
         }
     }
-    if (device.validation_message_count() > 0) {
-        for (const std::string& m : device.take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
-        return 3;
-    }
-    return 0;
+    return report_validation_messages(device) ? 3 : 0;
+}
+
+bool report_validation_messages(vk::Device& device) {
+    if (device.validation_message_count() == 0) return false;
+    for (const std::string& m : device.take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
+    return true;
 }
 
 }  // namespace brume::app

@@ -7,6 +7,10 @@
 
 #include <string>
 
+namespace brume::vk {
+class Device;
+}
+
 namespace brume::app {
 
 struct BenchArgs {
@@ -35,6 +39,9 @@ struct BenchArgs {
 };
 
 void add_bench_command(CLI::App& app, BenchArgs& args);
+// Prints the validation messages a bench run collected to stderr; true when there were any (the
+// figures then come from a run that broke the API's rules, and the command exits 3).
+bool report_validation_messages(vk::Device& device);
 int run_bench(const BenchArgs& args);
 
 }  // namespace brume::app

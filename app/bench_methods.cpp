@@ -247,10 +247,7 @@ int run_bench_methods(const BenchArgs& args) {
             rows.push_back(std::move(row));
         }
     }
-    if (device.validation_message_count() > 0) {
-        for (const std::string& msg : device.take_validation_messages()) std::fprintf(stderr, "%s\n", msg.c_str());
-        return 3;
-    }
+    if (report_validation_messages(device)) return 3;
 
     // results.csv / results.json
     std::ostringstream csv, json;

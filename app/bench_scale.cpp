@@ -201,11 +201,7 @@ int run_bench_scale(const BenchArgs& args) {
         }
     }
 
-    if (device.validation_message_count() > 0) {
-        for (const std::string& m : device.take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
-        return 3;
-    }
-    return 0;
+    return report_validation_messages(device) ? 3 : 0;
 }
 
 }  // namespace brume::app

@@ -6,6 +6,7 @@
 #include "render/methods/ppll.h"
 #include "render/methods/registry.h"
 #include "render/vk/device.h"
+#include "render/vk/resources.h"
 #include "sim/builtin_presets.h"
 #include "sim/camera_path.h"
 #include "sim/simulator.h"
@@ -70,6 +71,8 @@ double time_method(Method& method, const Scene& scene, int frames, Image& image,
         if (f + 1 == frames) {
             std::ostringstream text;
             for (const PassTime& p : stats.passes) text << " " << p.name << "=" << int(p.ms + 0.5);
+            if (stats.memory_bytes > 0) text << " memory=" << vk::format_bytes(stats.memory_bytes);
+            if (stats.long_list_pixels > 0) text << " [" << stats.long_list_pixels << " px by the general path]";
             passes = text.str();
         }
     }

@@ -36,7 +36,7 @@ TEST(MethodRegistry, ExactMethodsAreTheOnesThatMatchTheReference) {
     std::set<std::string> exact;
     for (const MethodEntry& m : method_catalogue())
         if (m.exact) exact.insert(m.name);
-    EXPECT_EQ(exact, (std::set<std::string>{"ppll", "ppll-general", "reference", "auto"}));
+    EXPECT_EQ(exact, (std::set<std::string>{"ppll", "ppll-general", "tiles", "reference", "auto"}));
 }
 
 TEST(MethodRegistry, OptionsReachEveryMethodThatHonoursThem) {
@@ -52,7 +52,7 @@ TEST(MethodRegistry, OptionsReachEveryMethodThatHonoursThem) {
     } catch (const std::invalid_argument& e) {
         const std::string what = e.what();
         EXPECT_NE(what.find("--max-memory"), std::string::npos) << what;
-        EXPECT_NE(what.find("ppll, ppll-general, auto"), std::string::npos) << what;
+        EXPECT_NE(what.find("ppll, ppll-general, tiles, auto"), std::string::npos) << what;
         EXPECT_NE(what.find("'kbuf'"), std::string::npos) << what;
     }
     EXPECT_THROW(check_method_options("ppll", kHonoursThreads), std::invalid_argument);

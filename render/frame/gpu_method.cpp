@@ -6,6 +6,10 @@ namespace brume {
 
 void FrameContext::bind(VkCommandBuffer cmd) const { method_.descriptors().bind(cmd); }
 
+void FrameContext::bind_compute(VkCommandBuffer cmd) const {
+    method_.descriptors().bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE);
+}
+
 void FrameContext::draw_spheres(VkCommandBuffer cmd, VkPipeline pipeline) const {
     frame_.draw_spheres(cmd, pipeline, method_.descriptors());
 }

@@ -49,6 +49,8 @@ public:
 
     // Binds the method's descriptor set (the frame's bindings are written into it).
     void bind(VkCommandBuffer cmd) const;
+    // The same set for compute pipelines.
+    void bind_compute(VkCommandBuffer cmd) const;
     void draw_spheres(VkCommandBuffer cmd, VkPipeline pipeline) const;
     void begin_hdr_rendering(VkCommandBuffer cmd) const { frame_.begin_hdr_rendering(cmd); }
     void end_hdr_rendering(VkCommandBuffer cmd) const { frame_.end_hdr_rendering(cmd); }

@@ -8,6 +8,7 @@
 #include "render/vk/pipelines.h"
 #include "render/vk/vk_check.h"
 #include "sphere_impostor_ordered.vert.h"
+#include "render/nearest_bounds.h"
 #include "render/methods/sorted.h"
 #include "sim/camera_rays.h"
 
@@ -36,12 +37,14 @@ void tangent_slopes(double lateral, double depth, double r, double& lo, double& 
 
 }  // namespace
 
-ListResolveError::ListResolveError(std::uint64_t pixels, std::uint32_t longest)
+ListResolveError::ListResolveError(std::uint64_t pixels, std::uint32_t longest, bool tiles)
     : std::runtime_error(std::to_string(pixels) + (pixels == 1 ? " pixel" : " pixels") +
-                         " could not be resolved on this device: the longest list has " + std::to_string(longest) +
-                         " nodes of overlapping media, and the device cut the resolve's loops short (lavapipe ends a "
-                         "shader's loops after 65,535 iterations in all); no image was written. Use --method reference, "
-                         "or fewer overlapping particles") {}
+                         " could not be resolved on this device: " +
+                         (tiles ? "the fullest tile lists " + std::to_string(longest) + " spheres"
+                                : "the longest list has " + std::to_string(longest) + " nodes of overlapping media") +
+                         ", and the device cut the resolve's loops short (lavapipe ends a shader's loops after 65,535 "
+                         "iterations in all); no image was written. Use --method reference, or fewer overlapping "
+                         "particles") {}
 
 PoolBudgetError::PoolBudgetError(std::uint64_t needed, std::uint64_t allowed, bool addressable)
     : std::runtime_error(
@@ -163,17 +166,7 @@ void PpllMethod::write_pool_uniforms(FrameContext& ctx) const {
 
 void PpllMethod::upload_draw_order(const Scene& scene) {
     const auto start = std::chrono::steady_clock::now();
-    // Every ray event of sphere k lies at a distance >= |c - e| - r. The shader finds it in float,
-    // from float copies of c, e and r: the margin covers that rounding (about 1e-6 of these
-    // magnitudes) ten times over, so the float event is never before its bound.
-    const glm::dvec3 eye = scene.camera.position;
-    bound_.resize(scene.spheres.size());
-    for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
-        const Sphere& s = scene.spheres[k];
-        const double distance = glm::length(s.center - eye);
-        const double margin = 1e-5 * (distance + s.radius + glm::length(s.center) + glm::length(eye));
-        bound_[k] = distance - s.radius - margin;
-    }
+    nearest_event_bounds(scene, bound_);
     // Far to near, starting from last frame's order (an animation sorts in about linear time).
     sort_back_to_front(order_, bound_);
     const std::size_t n = std::max<std::size_t>(order_.size(), 1);  // Vulkan has no empty buffers

@@ -31,7 +31,8 @@ struct PpllOptions {
 // ends a shader's loops after 65,535 iterations in all). The frame is refused, never written wrong.
 class ListResolveError : public std::runtime_error {
 public:
-    ListResolveError(std::uint64_t pixels, std::uint32_t longest);
+    // `longest`: the longest list in nodes, or with `tiles` the most spheres in one tile (tiles method).
+    ListResolveError(std::uint64_t pixels, std::uint32_t longest, bool tiles = false);
 };
 
 // The scene needs more list memory than the budget allows.

@@ -10,6 +10,7 @@
 #include "render/methods/soft.h"
 #include "render/methods/sorted.h"
 #include "render/methods/stochastic.h"
+#include "render/methods/tiles.h"
 #include "render/methods/weighted.h"
 
 #include <stdexcept>
@@ -41,6 +42,12 @@ std::unique_ptr<Method> make_ppll_general(vk::Device* device, const std::string&
     return std::make_unique<PpllMethod>(*device, ppll);
 }
 
+std::unique_ptr<Method> make_tiles(vk::Device* device, const std::string&, const MethodOptions& options) {
+    TilesOptions tiles;
+    tiles.max_bytes = options.max_pool_bytes;
+    return std::make_unique<TilesMethod>(*device, tiles);
+}
+
 std::unique_ptr<Method> make_auto(vk::Device* device, const std::string&, const MethodOptions& options) {
     return std::make_unique<AutoMethod>(*device, ppll_options(options));
 }
@@ -66,6 +73,10 @@ const std::vector<MethodEntry>& method_catalogue() {
         {"ppll-general", "", "",
          "ppll with every pixel resolved by repeated walks of its list, O(n^2): the resolve before the ordered one",
          true, true, true, kHonoursMaxMemory, {}, &make_ppll_general},
+        {"tiles", "", "",
+         "exact intersecting media in compute, no per-pixel lists: spheres binned to 8x8 tiles near to far, each "
+         "pixel merging its tile's events in one pass",
+         true, true, true, kHonoursMaxMemory, {}, &make_tiles},
         {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)", false, true, false,
          kHonoursThreads, {}, &make_reference},
         {"auto", "", "",

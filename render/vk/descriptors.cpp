@@ -9,7 +9,7 @@ namespace brume::vk {
 
 SharedDescriptors::SharedDescriptors(const Device& device) : device_(device) {
     using namespace gpu;
-    const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT | VK_SHADER_STAGE_COMPUTE_BIT;
     std::vector<VkDescriptorSetLayoutBinding> bindings = {
         {BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, stages, nullptr},
         {BINDING_SPHERES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr},
@@ -60,8 +60,8 @@ SharedDescriptors::SharedDescriptors(const Device& device) : device_(device) {
     device.set_name(VK_OBJECT_TYPE_DESCRIPTOR_SET, set_, "brume.set");
 }
 
-void SharedDescriptors::bind(VkCommandBuffer cmd) const {
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 0, 1, &set_, 0, nullptr);
+void SharedDescriptors::bind(VkCommandBuffer cmd, VkPipelineBindPoint point) const {
+    vkCmdBindDescriptorSets(cmd, point, pipeline_layout_, 0, 1, &set_, 0, nullptr);
 }
 
 void SharedDescriptors::write_uniform(std::uint32_t binding, VkBuffer buffer) const {

@@ -16,7 +16,7 @@ public:
     VkDescriptorSetLayout set_layout() const { return set_layout_; }
     VkPipelineLayout pipeline_layout() const { return pipeline_layout_; }
     VkDescriptorSet set() const { return set_; }
-    void bind(VkCommandBuffer cmd) const;
+    void bind(VkCommandBuffer cmd, VkPipelineBindPoint point = VK_PIPELINE_BIND_POINT_GRAPHICS) const;
 
     void write_uniform(std::uint32_t binding, VkBuffer buffer) const;
     void write_storage(std::uint32_t binding, VkBuffer buffer) const;

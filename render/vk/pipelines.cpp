@@ -91,6 +91,27 @@ UniquePipeline create_graphics_pipeline(const Device& device, VkPipelineLayout l
     return UniquePipeline(device.get(), pipeline);
 }
 
+UniquePipeline create_compute_pipeline(const Device& device, VkPipelineLayout layout, const std::string& name,
+                                       Spirv compute, const std::vector<std::uint32_t>& constants) {
+    UniqueShaderModule cs = create_shader_module(device, compute, name + ".comp");
+    std::vector<VkSpecializationMapEntry> entries;
+    for (std::uint32_t i = 0; i < constants.size(); ++i)
+        entries.push_back({i, std::uint32_t(i * sizeof(std::uint32_t)), sizeof(std::uint32_t)});
+    VkSpecializationInfo specialization{std::uint32_t(entries.size()), entries.data(),
+                                        constants.size() * sizeof(std::uint32_t), constants.data()};
+    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = cs.get();
+    info.stage.pName = "main";
+    info.stage.pSpecializationInfo = entries.empty() ? nullptr : &specialization;
+    info.layout = layout;
+    VkPipeline pipeline;
+    VK_CHECK(vkCreateComputePipelines(device.get(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
+    device.set_name(VK_OBJECT_TYPE_PIPELINE, pipeline, name.c_str());
+    return UniquePipeline(device.get(), pipeline);
+}
+
 namespace {
 constexpr VkColorComponentFlags kAllChannels =
     VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;

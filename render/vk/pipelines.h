@@ -52,6 +52,10 @@ VkPipelineColorBlendAttachmentState blend_multiply_one_minus_src();
 UniqueShaderModule create_shader_module(const Device& device, Spirv spirv, const std::string& name);
 UniquePipeline create_graphics_pipeline(const Device& device, VkPipelineLayout layout, const GraphicsPipelineDesc& desc);
 
+// A compute pipeline; `constants` are specialization constants 0, 1, ... (uint).
+UniquePipeline create_compute_pipeline(const Device& device, VkPipelineLayout layout, const std::string& name,
+                                       Spirv compute, const std::vector<std::uint32_t>& constants = {});
+
 // Viewport and scissor covering `extent` (both are dynamic state in every Brume pipeline).
 void set_viewport(VkCommandBuffer cmd, VkExtent2D extent);
 

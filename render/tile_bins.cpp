@@ -1,0 +1,110 @@
+#include "render/tile_bins.h"
+
+#include "sim/camera_rays.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace brume {
+
+namespace {
+
+// The interval of tangent slopes (lateral / depth) of a sphere seen from the eye, along one axis.
+void tangent_slopes(double lateral, double depth, double r, double& lo, double& hi) {
+    const double denom = depth * depth - r * r;
+    const double root = r * std::sqrt(std::max(lateral * lateral + denom, 0.0));
+    lo = (lateral * depth - root) / denom;
+    hi = (lateral * depth + root) / denom;
+}
+
+int clamp_to(double v, int lo, int hi) {
+    if (!(v > lo)) return lo;  // NaN too
+    if (v > hi) return hi;
+    return int(v);
+}
+
+}  // namespace
+
+bool sphere_pixel_rect(const Sphere& s, const Camera& camera, int width, int height, PixelRect& rect) {
+    const CameraRays rays = make_camera_rays(camera);
+    const double sx = glm::length(rays.right), sy = glm::length(rays.up);
+    const glm::dvec3 v = s.center - rays.eye;
+    const double depth = glm::dot(v, rays.forward);
+    if (depth < -s.radius) return false;  // wholly behind the eye: every pixel ray looks forward
+    if (depth <= s.radius * 1.001) {
+        rect = {0, 0, width, height};
+        return true;
+    }
+    double x_lo, x_hi, y_lo, y_hi;
+    tangent_slopes(glm::dot(v, rays.right / sx), depth, s.radius, x_lo, x_hi);
+    tangent_slopes(glm::dot(v, rays.up / sy), depth, s.radius, y_lo, y_hi);
+    // Pixel centre i + 0.5 has ndc 2 (i + 0.5) / w - 1 and slope ndc * sx (y: down, -ndc * sy).
+    const double px0 = (x_lo / sx + 1.0) * 0.5 * width, px1 = (x_hi / sx + 1.0) * 0.5 * width;
+    const double py0 = (1.0 - y_hi / sy) * 0.5 * height, py1 = (1.0 - y_lo / sy) * 0.5 * height;
+    // Centres inside [p0, p1] are pixels floor(p0 - 0.5) + 1 .. floor(p1 - 0.5); a pixel more each way.
+    rect.x0 = clamp_to(std::floor(px0 - 0.5), 0, width);
+    rect.x1 = clamp_to(std::floor(px1 - 0.5) + 2.0, 0, width);
+    rect.y0 = clamp_to(std::floor(py0 - 0.5), 0, height);
+    rect.y1 = clamp_to(std::floor(py1 - 0.5) + 2.0, 0, height);
+    return rect.x0 < rect.x1 && rect.y0 < rect.y1;
+}
+
+void bin_spheres(const Scene& scene, int width, int height, std::uint32_t tile_size,
+                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins) {
+    if (tile_size == 0 || width <= 0 || height <= 0) throw std::invalid_argument("bin_spheres: empty image or tile");
+    bins.tile_size = tile_size;
+    bins.tiles_x = (std::uint32_t(width) + tile_size - 1) / tile_size;
+    bins.tiles_y = (std::uint32_t(height) + tile_size - 1) / tile_size;
+    const std::uint32_t tiles = bins.tiles_x * bins.tiles_y;
+    // Pass 1: each sphere's tile rectangle, and the count per tile.
+    struct TileRect {
+        std::uint32_t sphere, x0, y0, x1, y1;  // tiles [x0, x1) x [y0, y1)
+    };
+    std::vector<TileRect> rects;
+    rects.reserve(order.size());
+    std::vector<std::uint64_t> count(tiles + 1, 0);
+    for (std::uint32_t k : order) {
+        const Sphere& s = scene.spheres[k];
+        PixelRect r;
+        if (!(s.extinction > 0.0) || !sphere_pixel_rect(s, scene.camera, width, height, r)) continue;
+        const TileRect t{k, std::uint32_t(r.x0) / tile_size, std::uint32_t(r.y0) / tile_size,
+                         (std::uint32_t(r.x1) + tile_size - 1) / tile_size, (std::uint32_t(r.y1) + tile_size - 1) / tile_size};
+        rects.push_back(t);
+        for (std::uint32_t y = t.y0; y < t.y1; ++y)
+            for (std::uint32_t x = t.x0; x < t.x1; ++x) ++count[y * bins.tiles_x + x];
+    }
+    // Prefix sums; entries are addressed by 32-bit offsets on the device.
+    bins.first.assign(tiles + 1, 0);
+    std::uint64_t total = 0;
+    bins.longest = 0;
+    for (std::uint32_t t = 0; t < tiles; ++t) {
+        bins.first[t] = std::uint32_t(total);
+        bins.longest = std::max<std::uint32_t>(bins.longest, std::uint32_t(count[t]));
+        total += count[t];
+        if (total >= std::numeric_limits<std::uint32_t>::max())
+            throw std::length_error("the tile lists need more than 2^32 entries; lower the resolution or the particle count");
+    }
+    bins.first[tiles] = std::uint32_t(total);
+    // Pass 2: fill, in the given order, so each tile's list keeps it.
+    bins.entries.resize(2 * (total + 1));
+    std::vector<std::uint32_t> next(bins.first.begin(), bins.first.end() - 1);
+    for (const TileRect& t : rects) {
+        const std::uint32_t bits = std::bit_cast<std::uint32_t>(float(bound[t.sphere]));
+        for (std::uint32_t y = t.y0; y < t.y1; ++y)
+            for (std::uint32_t x = t.x0; x < t.x1; ++x) {
+                const std::uint32_t at = next[y * bins.tiles_x + x]++;
+                bins.entries[2 * at] = t.sphere;
+                bins.entries[2 * at + 1] = bits;
+            }
+    }
+    bins.entries[2 * total] = 0;
+    // 3e38: past every distance a scene holds, and below the shader's empty slot (NO_T, 3.4e38).
+    bins.entries[2 * total + 1] = std::bit_cast<std::uint32_t>(3.0e38f);
+}
+
+}  // namespace brume

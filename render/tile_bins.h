@@ -1,0 +1,43 @@
+// Screen tiles and the spheres that may be seen in each, for the `tiles` resolve
+// (render/methods/tiles.h, shaders/tiles_resolve.comp): each sphere is listed in every tile its
+// screen rectangle meets, in the order it is given (near to far by its nearest bound), so each
+// tile's list comes sorted. CPU only, so that the binning is tested without a device.
+#pragma once
+
+#include "sim/scene.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace brume {
+
+struct TileBins {
+    std::uint32_t tile_size = 0;
+    std::uint32_t tiles_x = 0, tiles_y = 0;
+    // Tile t (row-major) lists entries first[t] .. first[t + 1]; first has tiles + 1 elements.
+    std::vector<std::uint32_t> first;
+    // Pairs (sphere, bits of float(bound)), tile after tile, then one sentinel pair whose bound (3e38) is
+    // past every distance (the shader may read the entry at a tile's end).
+    std::vector<std::uint32_t> entries;
+    std::uint32_t longest = 0;  // the most spheres listed in one tile
+
+    std::uint64_t entry_count() const { return first.empty() ? 0 : first.back(); }
+    std::uint32_t tile_count() const { return tiles_x * tiles_y; }
+};
+
+// The pixel rectangle [x0, x1) x [y0, y1) of an image of width x height pixels that holds every pixel
+// centre whose ray may meet the sphere, padded by a pixel for float rounding; false when it holds
+// none. Exact up to that pad: the bounds come from the planes through the eye tangent to the sphere.
+// A sphere around or beside the eye's plane covers the whole image.
+struct PixelRect {
+    int x0, y0, x1, y1;
+};
+bool sphere_pixel_rect(const Sphere& sphere, const Camera& camera, int width, int height, PixelRect& rect);
+
+// Bins the spheres `order` names (spheres without extinction are left out) into tiles of
+// tile_size pixels over a width x height image; bound[k] is sphere k's nearest bound
+// (render/nearest_bounds.h).
+void bin_spheres(const Scene& scene, int width, int height, std::uint32_t tile_size,
+                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins);
+
+}  // namespace brume

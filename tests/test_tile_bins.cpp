@@ -1,0 +1,135 @@
+// The tiles method's binning (render/tile_bins.h): conservative (every sphere a pixel ray meets is
+// listed in that pixel's tile), ordered (each tile keeps the order given), and tight (a sphere is
+// not listed in tiles far from it).
+#include "render/nearest_bounds.h"
+#include "render/tile_bins.h"
+#include "sim/camera_rays.h"
+#include "sim/smoke_cloud_scene.h"
+#include "test_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <numeric>
+#include <set>
+
+namespace brume {
+namespace {
+
+bool ray_meets(const Sphere& s, const glm::dvec3& eye, const glm::dvec3& dir) {
+    const glm::dvec3 oc = eye - s.center;
+    const double b = glm::dot(oc, dir);
+    const glm::dvec3 perp = oc - b * dir;
+    const double disc = s.radius * s.radius - glm::dot(perp, perp);
+    if (disc < 0.0) return false;
+    const double far = -b + std::sqrt(disc);
+    return far > 0.0;  // some of the chord lies ahead of the eye
+}
+
+std::vector<std::uint32_t> identity_order(std::size_t n) {
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    return order;
+}
+
+// Every (pixel, sphere) pair whose ray meets the sphere is in the pixel's tile list.
+void expect_conservative(const Scene& scene, int w, int h, std::uint32_t tile) {
+    std::vector<double> bound;
+    nearest_event_bounds(scene, bound);
+    TileBins bins;
+    bin_spheres(scene, w, h, tile, identity_order(scene.spheres.size()), bound, bins);
+    ASSERT_EQ(bins.tiles_x, (w + tile - 1) / tile);
+    ASSERT_EQ(bins.tiles_y, (h + tile - 1) / tile);
+    ASSERT_EQ(bins.entries.size(), 2 * (bins.entry_count() + 1));
+    const CameraRays rays = make_camera_rays(scene.camera);
+    std::uint64_t missing = 0, pairs = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::uint32_t t = std::uint32_t(y) / tile * bins.tiles_x + std::uint32_t(x) / tile;
+            std::set<std::uint32_t> listed;
+            for (std::uint32_t e = bins.first[t]; e < bins.first[t + 1]; ++e) listed.insert(bins.entries[2 * e]);
+            const glm::dvec3 dir = rays.direction(x + 0.5, y + 0.5);
+            for (std::uint32_t k = 0; k < scene.spheres.size(); ++k) {
+                if (!(scene.spheres[k].extinction > 0.0) || !ray_meets(scene.spheres[k], rays.eye, dir)) continue;
+                ++pairs;
+                if (!listed.count(k)) ++missing;
+            }
+        }
+    EXPECT_GT(pairs, 0u);
+    EXPECT_EQ(missing, 0u) << "of " << pairs << " (pixel, sphere) pairs";
+}
+
+TEST(TileBins, EverySphereARayMeetsIsListedInItsTile) {
+    // Random overlapping spheres, some around the eye and beside its plane, and a smoke cloud.
+    expect_conservative(testing::random_scene(96, 72, 300, 3, false), 96, 72, 8);
+    expect_conservative(make_smoke_cloud_scene(2000, 100, 60), 100, 60, 8);
+    Scene around = testing::small_scene(64, 48);
+    around.spheres.push_back(testing::sphere(around.camera.position, 0.5, 1.0, {0.5, 0.5, 0.5}));
+    around.spheres.push_back(testing::sphere(around.camera.position + glm::dvec3(0.3, 0.0, 0.0), 0.4, 1.0, {0.5, 0.5, 0.5}));
+    expect_conservative(around, 64, 48, 8);
+}
+
+TEST(TileBins, ImagesThatAreNotWholeTilesAndOtherTileSizes) {
+    const Scene s = testing::random_scene(77, 53, 120, 11, false);
+    expect_conservative(s, 77, 53, 8);
+    expect_conservative(s, 77, 53, 16);
+    expect_conservative(s, 77, 53, 1);
+}
+
+TEST(TileBins, EachTileKeepsTheOrderGivenWithItsBounds) {
+    const Scene s = make_smoke_cloud_scene(3000, 64, 48);
+    std::vector<double> bound;
+    nearest_event_bounds(s, bound);
+    std::vector<std::uint32_t> order = identity_order(s.spheres.size());
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return bound[a] < bound[b]; });
+    TileBins bins;
+    bin_spheres(s, 64, 48, 8, order, bound, bins);
+    std::vector<std::uint32_t> rank(order.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) rank[order[i]] = i;
+    std::uint32_t longest = 0;
+    for (std::uint32_t t = 0; t < bins.tile_count(); ++t) {
+        longest = std::max(longest, bins.first[t + 1] - bins.first[t]);
+        for (std::uint32_t e = bins.first[t]; e < bins.first[t + 1]; ++e) {
+            const std::uint32_t k = bins.entries[2 * e];
+            EXPECT_EQ(bins.entries[2 * e + 1], std::bit_cast<std::uint32_t>(float(bound[k])));
+            if (e > bins.first[t]) EXPECT_LT(rank[bins.entries[2 * e - 2]], rank[k]);
+        }
+    }
+    EXPECT_EQ(bins.longest, longest);
+    // The sentinel after the last tile lies past every distance.
+    EXPECT_GT(std::bit_cast<float>(bins.entries.back()), 1e38f);
+}
+
+TEST(TileBins, ASmallSphereIsListedOnlyNearItsImage) {
+    Scene s = testing::small_scene(128, 128);
+    const CameraRays rays = make_camera_rays(s.camera);
+    // A sphere seen at the centre of the image, a few pixels across.
+    s.spheres.push_back(testing::sphere(rays.eye + 5.0 * rays.forward, 0.05, 1.0, {0.5, 0.5, 0.5}));
+    std::vector<double> bound;
+    nearest_event_bounds(s, bound);
+    TileBins bins;
+    bin_spheres(s, 128, 128, 8, {0}, bound, bins);
+    EXPECT_GE(bins.entry_count(), 1u);
+    EXPECT_LE(bins.entry_count(), 4u);  // the four tiles around the image centre at most
+    PixelRect r;
+    ASSERT_TRUE(sphere_pixel_rect(s.spheres[0], s.camera, 128, 128, r));
+    EXPECT_LE(r.x0, 64);
+    EXPECT_GE(r.x1, 64);
+    EXPECT_LT(r.x1 - r.x0, 20);
+}
+
+TEST(TileBins, SpheresBehindTheEyeOrWithoutMediumAreLeftOut) {
+    Scene s = testing::small_scene(64, 64);
+    const CameraRays rays = make_camera_rays(s.camera);
+    s.spheres.push_back(testing::sphere(rays.eye - 3.0 * rays.forward, 1.0, 1.0, {0.5, 0.5, 0.5}));
+    s.spheres.push_back(testing::sphere(rays.eye + 3.0 * rays.forward, 1.0, 0.0, {0.5, 0.5, 0.5}));
+    std::vector<double> bound;
+    nearest_event_bounds(s, bound);
+    TileBins bins;
+    bin_spheres(s, 64, 64, 8, {0, 1}, bound, bins);
+    EXPECT_EQ(bins.entry_count(), 0u);
+}
+
+}  // namespace
+}  // namespace brume

@@ -51,7 +51,8 @@ BRUME_CONST BINDING_PPLL_BOUNDS = 8;     // buffer float[]: per sphere, a lower 
 BRUME_CONST TILE_SIZE = 8;               // pixels per tile side: one compute workgroup per tile
 BRUME_CONST BINDING_TILE_FIRST = 7;      // buffer uint[tiles + 1]: tile t's spheres are entries[first[t] .. first[t+1])
 BRUME_CONST BINDING_TILE_ENTRIES = 8;    // buffer uvec2[]: (sphere, floatBitsToUint(its nearest bound)), near to far
-BRUME_CONST BINDING_TILE_RESULT = 9;     // buffer vec4[width * height]: the resolved radiance, row by row
+BRUME_CONST BINDING_RADIANCE_BUFFER = 9;  // buffer vec4[width * height]: the resolved radiance, row by row
+                                          // (tiles, and auto's reference frames: shaders/radiance_buffer.frag)
 // wsum, wavg, wboit
 BRUME_CONST BINDING_WEIGHT_PARAMS = 7;   // buffer WeightParams
 BRUME_CONST BINDING_WEIGHT_ACCUM = 11;   // rgba32f: sum(w alpha c), sum(w alpha)

@@ -46,7 +46,7 @@ layout(set = 0, binding = BINDING_OPAQUE, rgba32f) uniform readonly image2D opaq
 layout(set = 0, binding = BINDING_COUNTERS, std430) coherent buffer CounterBlock { ListCounters counters; };
 layout(set = 0, binding = BINDING_TILE_FIRST, std430) readonly buffer TileFirstBlock { uint tile_first[]; };
 layout(set = 0, binding = BINDING_TILE_ENTRIES, std430) readonly buffer TileEntryBlock { uvec2 tile_entries[]; };
-layout(set = 0, binding = BINDING_TILE_RESULT, std430) writeonly buffer TileResultBlock { vec4 result[]; };
+layout(set = 0, binding = BINDING_RADIANCE_BUFFER, std430) writeonly buffer RadianceBufferBlock { vec4 result[]; };
 
 // The ray's visible interval through a sphere: entry clamped to the eye, exit to the opaque surface.
 bool visible_interval(vec3 eye, vec3 dir, uint sphere, float limit, out float t0, out float t1) {

@@ -1,4 +1,5 @@
-// `auto`: power-distance sorting where no spheres intersect (exact there), ppll where they do.
+// `auto`: power-distance sorting where no spheres intersect (exact there); where they do, the faster
+// of ppll and the CPU reference as measured on this device.
 #include "gpu_test_env.h"
 #include "test_scenes.h"
 #include "render/methods/auto_method.h"
@@ -71,6 +72,64 @@ TEST_F(Auto, IntersectingSpheresFallBackToPpll) {
     EXPECT_GT(stats.fragments, 0u);
     const ImageDiff d = compare_with_reference(img, s);
     EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+// Intersecting spheres over several frames of a moving camera: auto measures ppll (after a warm-up
+// frame) and the reference, then takes the one it measured faster; every frame is exact.
+TEST_F(Auto, AnAnimationTakesTheFasterExactPathItMeasured) {
+    Scene s = testing::random_scene(64, 48, 60, 3, false);
+    AutoMethod method(device());
+    std::vector<std::string> taken;
+    double ppll = -1.0, reference = -1.0;  // as measured before frame 4 decides
+    for (int frame = 0; frame < 6; ++frame) {
+        if (frame == 4) {
+            ppll = method.measured_cost("ppll");
+            reference = method.measured_cost("reference");
+        }
+        s.camera.position.x = 0.3 + 0.05 * frame;  // a changed scene every frame
+        FrameStats stats;
+        const Image img = method.render(s, &stats);
+        taken.push_back(method.last_choice());
+        const ImageDiff d = compare_with_reference(img, s);
+        EXPECT_EQ(d.pixels_over, 0u) << "frame " << frame << " by " << taken.back() << ": " << describe(d);
+        ASSERT_FALSE(stats.passes.empty());
+        EXPECT_EQ(stats.passes.front().name, "decide (cpu): " + taken.back());
+    }
+    // Frame 0 compiles ppll's pipelines (not a measurement), frame 1 measures it, frames 2 and 3
+    // the reference (its first frame is a warm-up too); then the faster one.
+    EXPECT_EQ(taken[0], "ppll");
+    EXPECT_EQ(taken[1], "ppll");
+    EXPECT_EQ(taken[2], "reference");
+    EXPECT_EQ(taken[3], "reference");
+    ASSERT_GT(ppll, 0.0);
+    ASSERT_GT(reference, 0.0);
+    EXPECT_EQ(taken[4], ppll <= reference ? "ppll" : "reference");
+}
+
+// The same scene twice takes the same path (so repeated renders stay identical), and with shadows
+// the reference (exact shadows, seconds a frame) is never tried.
+TEST_F(Auto, RepeatedFramesKeepTheirPathAndShadowsStayOnTheGpu) {
+    Scene s = testing::random_scene(48, 36, 40, 5, false);
+    AutoMethod method(device());
+    for (int frame = 0; frame < 4; ++frame) {
+        s.camera.position.x = 0.3 + 0.05 * frame;
+        method.render(s, nullptr);
+    }
+    const std::string before = method.last_choice();
+    const Image a = method.render(s, nullptr);
+    const Image b = method.render(s, nullptr);
+    EXPECT_EQ(method.last_choice(), before);
+    EXPECT_EQ(a.rgb, b.rgb);
+
+    Scene lit = s;
+    lit.lighting.shadows = true;
+    AutoMethod shadowed(device());
+    for (int frame = 0; frame < 5; ++frame) {
+        lit.camera.position.x = 0.3 + 0.05 * frame;
+        shadowed.render(lit, nullptr);
+        EXPECT_EQ(shadowed.last_choice(), "ppll");
+    }
+    EXPECT_LT(shadowed.measured_cost("reference"), 0.0);
 }
 
 }  // namespace

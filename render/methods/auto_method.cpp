@@ -2,22 +2,97 @@
 
 #include "sim/sphere_overlap.h"
 
-#include <chrono>
+#include <algorithm>
+#include <bit>
+#include <cstring>
 
 namespace brume {
 
-AutoMethod::AutoMethod(vk::Device& device, PpllOptions ppll)
+AutoMethod::AutoMethod(vk::Device& device, AutoOptions options)
     : GpuMethod(device),
-      ppll_(device, ppll),
+      options_(options),
+      ppll_(device, options.ppll),
+      reference_(device, options.threads),
       power_sorted_(device, SortedCompositor::Billboard::Spherical, SortedCompositor::SortKey::PowerDistance),
       chosen_(&ppll_) {}
 
+double AutoMethod::measured_cost(const std::string& path) const {
+    if (path == "ppll") return cost_[kPpll];
+    if (path == "reference") return cost_[kReference];
+    return -1.0;
+}
+
+// Whether two frames show the same scene, cheaply: the camera, the counts and up to 64 spheres
+// spread over the list. Two different scenes that agree on all of it only delay a measurement.
+std::uint64_t AutoMethod::fingerprint(const Scene& scene) const {
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&h](double v) {
+        h ^= std::bit_cast<std::uint64_t>(v);
+        h *= 1099511628211ull;
+    };
+    const Camera& c = scene.camera;
+    for (double v : {c.position.x, c.position.y, c.position.z, c.look_at.x, c.look_at.y, c.look_at.z, c.fov_y_deg,
+                     double(c.width), double(c.height), double(scene.spheres.size()), double(scene.boxes.size())})
+        mix(v);
+    const std::size_t n = scene.spheres.size(), step = std::max<std::size_t>(1, n / 64);
+    for (std::size_t k = 0; k < n; k += step) {
+        const Sphere& s = scene.spheres[k];
+        for (double v : {s.center.x, s.center.y, s.center.z, s.radius, s.extinction}) mix(v);
+    }
+    return h;
+}
+
+AutoMethod::Path AutoMethod::choose(bool scene_changed, bool reference_allowed) {
+    measuring_ = false;
+    if (!reference_allowed) return kPpll;
+    if (cost_[kPpll] < 0.0) {  // the first intersecting frame, or ppll not measured yet
+        measuring_ = true;
+        return kPpll;
+    }
+    if (!scene_changed) return path_;
+    ++changed_frames_;
+    if (cost_[kReference] < 0.0) {
+        measuring_ = true;
+        return kReference;
+    }
+    const Path best = cost_[kReference] < cost_[kPpll] ? kReference : kPpll;
+    if (changed_frames_ % kRemeasureEvery == 0) {
+        measuring_ = true;
+        return best == kPpll ? kReference : kPpll;
+    }
+    measuring_ = true;  // the path taken keeps its figure up to date
+    return best;
+}
+
 void AutoMethod::prepare(FrameContext& ctx) {
-    const auto start = std::chrono::steady_clock::now();
-    const bool intersecting = find_intersecting_spheres(ctx.scene().spheres).has_value();
-    decide_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    chosen_ = intersecting ? static_cast<GpuMethod*>(&ppll_) : &power_sorted_;
+    frame_start_ = std::chrono::steady_clock::now();
+    const Scene& scene = ctx.scene();
+    const bool intersecting = find_intersecting_spheres(scene.spheres).has_value();
+    if (!intersecting) {
+        chosen_ = &power_sorted_;
+        measuring_ = false;
+    } else {
+        const std::uint64_t print = fingerprint(scene);
+        const bool changed = print != last_fingerprint_;
+        last_fingerprint_ = print;
+        const bool reference_allowed = options_.allow_reference && !scene.lighting.shadows;
+        path_ = choose(changed, reference_allowed);
+        chosen_ = path_ == kReference ? static_cast<GpuMethod*>(&reference_) : &ppll_;
+        fragments_estimate_ = double(std::max<std::uint64_t>(estimate_fragments(scene), 1));
+    }
+    decide_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start_).count();
     chosen_->prepare(ctx);
+}
+
+GpuMethod::After AutoMethod::after_step(FrameContext& ctx, int step) {
+    const After after = chosen_->after_step(ctx, step);
+    if (after == After::Done && measuring_) {
+        // The whole frame on the wall clock: CPU work and the GPU's, as the user waits for it.
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start_).count();
+        if (warm_[path_]) cost_[path_] = ms / fragments_estimate_;
+        warm_[path_] = true;
+    }
+    return after;
 }
 
 void AutoMethod::report(FrameStats& stats, const FrameContext& ctx) {

@@ -49,7 +49,10 @@ std::unique_ptr<Method> make_tiles(vk::Device* device, const std::string&, const
 }
 
 std::unique_ptr<Method> make_auto(vk::Device* device, const std::string&, const MethodOptions& options) {
-    return std::make_unique<AutoMethod>(*device, ppll_options(options));
+    AutoOptions a;
+    a.ppll = ppll_options(options);
+    a.threads = options.threads;
+    return std::make_unique<AutoMethod>(*device, a);
 }
 
 std::unique_ptr<Method> make_reference(vk::Device*, const std::string&, const MethodOptions& options) {
@@ -80,8 +83,9 @@ const std::vector<MethodEntry>& method_catalogue() {
         {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)", false, true, false,
          kHonoursThreads, {}, &make_reference},
         {"auto", "", "",
-         "per frame the cheapest exact method: power-distance sorted spheres when none intersect, else ppll", true,
-         true, false, kHonoursMaxMemory, {}, &make_auto},
+         "per frame the cheapest exact path: power-distance sorted spheres when none intersect, else the faster of "
+         "ppll and the CPU reference as measured on this device",
+         true, true, false, kHonoursMaxMemory | kHonoursThreads, {}, &make_auto},
         {"sorted", "", "",
          "painter's algorithm: planar billboards sorted back to front by centre (insertion sort reusing last "
          "frame's order); pops when order flips",

@@ -5,7 +5,7 @@
 #include "render/methods/sorted.h"
 #include "render/nearest_bounds.h"
 #include "render/vk/pipelines.h"
-#include "tiles_composite.frag.h"
+#include "radiance_buffer.frag.h"
 #include "tiles_resolve.comp.h"
 
 #include <algorithm>
@@ -58,7 +58,7 @@ void TilesMethod::ensure_pipelines(bool accurate) {
         GraphicsPipelineDesc composite;
         composite.name = "tiles_composite";
         composite.vertex = BRUME_SPIRV(spv_fullscreen_vert);
-        composite.fragment = BRUME_SPIRV(spv_tiles_composite_frag);
+        composite.fragment = BRUME_SPIRV(spv_radiance_buffer_frag);
         composite.color_formats = {FrameResources::kHdrFormat};
         composite_pipeline_ = create_graphics_pipeline(device_, descriptors_.pipeline_layout(), composite);
     }
@@ -81,7 +81,7 @@ void TilesMethod::upload_bins(VkExtent2D extent) {
                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "tiles.entries");
     if (result_buffer_.size() != result_bytes) {
         result_buffer_ = Buffer(device_, result_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device, "tiles.result");
-        descriptors_.write_storage(gpu::BINDING_TILE_RESULT, result_buffer_.get());
+        descriptors_.write_storage(gpu::BINDING_RADIANCE_BUFFER, result_buffer_.get());
     }
     std::memcpy(first_buffer_.mapped(), bins_.first.data(), first_bytes);
     std::memcpy(entry_buffer_.mapped(), bins_.entries.data(), entry_bytes);

@@ -69,6 +69,10 @@ void refuse_non_finite(const Image& image, const std::string& what) {
                              "): the scene's numbers are out of the renderer's range; nothing was written");
 }
 
+std::string refuse_empty_path(const std::string& text) {
+    return text.empty() ? "an empty file name (leave the option out for the default)" : "";
+}
+
 void parse_size(const std::string& text, int& width, int& height) {
     const std::size_t x = text.find_first_of("xX");
     const std::optional<long long> w = x == std::string::npos ? std::nullopt : parse_whole_number(std::string_view(text).substr(0, x));

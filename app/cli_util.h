@@ -32,6 +32,9 @@ void check_output_format(const std::string& option, const std::string& path, con
 // A result that may be wrong is never written: throws std::runtime_error naming how many pixels of
 // `what` are NaN or infinite and where the first is.
 void refuse_non_finite(const Image& image, const std::string& what);
+// A CLI11 check for file options: "" is refused ("-o ''" once wrote brume.exr and brume.png in the
+// working directory, as if no -o had been given). Returns the message, or "" when `text` is fine.
+std::string refuse_empty_path(const std::string& text);
 // "2,4,8" or "2-16:2" -> numbers. Throws std::invalid_argument.
 std::vector<int> parse_int_list(const std::string& text);
 

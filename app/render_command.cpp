@@ -1,8 +1,10 @@
 #include "app/render_command.h"
 
 #include "app/cli_util.h"
+#include "app/output_paths.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
+#include "render/output_set.h"
 #include "render/methods/registry.h"
 #include "render/vk/device.h"
 #include "sim/builtin_scenes.h"
@@ -19,13 +21,14 @@ namespace brume::app {
 
 void add_render_command(CLI::App& app, RenderArgs& args) {
     CLI::App* cmd = app.add_subcommand("render", "Render one scene to linear EXR and/or PNG");
-    cmd->add_option("scene", args.scene, "Scene file (TOML); none renders the built-in default scene");
-    cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output");
-    cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB)");
+    cmd->add_option("scene", args.scene, "Scene file (TOML); none renders the built-in default scene")
+        ->check(refuse_empty_path);
+    cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output")->check(refuse_empty_path);
+    cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB)")->check(refuse_empty_path);
     cmd->add_option("--method", args.method,
                     "NAME[:SETTING]: ppll (GPU, exact), reference (CPU, double precision) or a comparison method "
                     "(brume methods lists them)");
-    cmd->add_option("--stats", args.stats, "Write frame statistics as JSON");
+    cmd->add_option("--stats", args.stats, "Write frame statistics as JSON")->check(refuse_empty_path);
     cmd->add_option("--repeat", args.repeat, "Render N frames; statistics report medians")->check(CLI::Range(1, 100000));
     cmd->add_option("--size", args.size, "Override the scene's resolution, WxH");
     cmd->add_option("--exposure", args.exposure, "PNG exposure in stops");
@@ -95,7 +98,6 @@ int run_render(const RenderArgs& args) {
     if (!args.size.empty()) parse_size(args.size, scene.camera.width, scene.camera.height);
     if (!args.shadows.empty())
         scene.render.shadow_technique = args.shadows == "per-sphere" ? ShadowTechnique::PerSphere : ShadowTechnique::Accurate;
-    for (const VolumeReport& v : convert_scene_volumes(scene)) print_volume_report(v);
     std::string exr = args.exr, png = args.png;
     if (exr.empty() && png.empty()) {
         exr = "brume.exr";
@@ -107,6 +109,12 @@ int run_render(const RenderArgs& args) {
     if (!png.empty()) check_output_format("--png", png, ".png");
     for (const std::string& out : {exr, png, args.stats})
         if (!out.empty()) check_writable_path(out);
+    std::vector<NamedPath> inputs = {{"the scene", args.scene}};
+    for (const VdbVolume& v : scene.volumes)
+        if (v.source.file.rfind("builtin:", 0) != 0)
+            inputs.push_back({"the volume", (std::filesystem::path(v.source.base_dir) / v.source.file).string()});
+    check_outputs_distinct({{"-o", exr}, {"--png", png}, {"--stats", args.stats}}, inputs);
+    for (const VolumeReport& v : convert_scene_volumes(scene)) print_volume_report(v);
 
     // Options reach every method that honours them (the registry says which); one given to a
     // method that would ignore it is refused rather than silently dropped.
@@ -166,11 +174,13 @@ int run_render(const RenderArgs& args) {
     }
 
     refuse_non_finite(image, "the frame");
-    if (!exr.empty()) write_exr(image, exr);
-    if (!png.empty()) write_png(image, png, args.exposure);
     last.regrows = regrows;  // over every frame this run rendered
-    if (!args.stats.empty())
-        write_file_atomically(args.stats, stats_json(args, scene, device_name, timing, last, on_gpu));
+    // All of the run's outputs or none: each is written in full before any replaces an old file.
+    OutputSet outputs;
+    if (!exr.empty()) outputs.stage(exr, exr_bytes(image, exr));
+    if (!png.empty()) outputs.stage(png, png_bytes(image, png, args.exposure));
+    if (!args.stats.empty()) outputs.stage(args.stats, stats_json(args, scene, device_name, timing, last, on_gpu));
+    outputs.commit();
 
     std::printf("%s: %dx%d, %zu spheres, %zu boxes, method %s on %s: %.2f ms (median of %d)", scene.source.c_str(),
                 scene.camera.width, scene.camera.height, scene.spheres.size(), scene.boxes.size(), args.method.c_str(),

@@ -573,6 +573,86 @@ vdb_scene_refused vdb_scene.bad_scale '[[vdb]]
 file = "cloud.vdb"
 scale = -2.0' "bad.toml:3" "vdb[0].scale"
 
+# --- 14. Outputs never destroy what stands at their path, their inputs or each other (issue 14 items 10-13). ---
+od=$work/outputs
+mkdir -p "$od/real"
+small=(--size 16x12)
+# A symbolic link is followed to the file it names; the link itself stays.
+ln -s real/target.exr "$od/link.exr"
+run render "$data/small.toml" "${small[@]}" -o "$od/link.exr"
+if expect_success output.symlink_followed; then
+    if [ -L "$od/link.exr" ] && has_magic "$od/real/target.exr" $EXR_MAGIC; then ok output.symlink_followed
+    else fail output.symlink_followed "link replaced or target not written: $(listing "$od") / $(listing "$od/real")"; fi
+fi
+# A FIFO is written into, not replaced by a regular file.
+mkfifo "$od/pipe.exr"
+timeout 60 cat "$od/pipe.exr" >"$od/from_pipe" &
+reader=$!
+run render "$data/small.toml" "${small[@]}" -o "$od/pipe.exr"
+if [ ! -p "$od/pipe.exr" ]; then
+    kill "$reader" 2>/dev/null
+    fail output.fifo_written_into "the FIFO was replaced by a regular file"
+elif ! expect_success output.fifo_written_into; then
+    kill "$reader" 2>/dev/null
+else
+    wait "$reader"
+    has_magic "$od/from_pipe" $EXR_MAGIC && ok output.fifo_written_into || fail output.fifo_written_into "no EXR came through"
+fi
+wait "$reader" 2>/dev/null
+# A character device is written into: /dev/null as both outputs is fine, and nothing is created.
+run render "$data/small.toml" "${small[@]}" -o /dev/null --png /dev/null
+expect_success output.dev_null && [ -c /dev/null ] && ok output.dev_null
+# A directory or a socket at the path is refused by name before any work.
+mkdir -p "$od/adir.exr"
+run render "$data/small.toml" "${small[@]}" -o "$od/adir.exr"
+expect_error output.directory "$od/adir.exr" "directory" && [ -d "$od/adir.exr" ] && ok output.directory
+# Outputs never overwrite the scene, and two outputs never share a file.
+cp "$data/small.toml" "$od/scene"
+cp "$data/small.toml" "$od/scene.toml"
+scene_sum=$(cksum <"$od/scene.toml")
+run render "$od/scene.toml" "${small[@]}" --png "$od/s.png" --stats "$od/scene.toml"
+expect_error output.stats_over_scene "--stats" "would overwrite" "$od/scene.toml" &&
+    [ "$(cksum <"$od/scene.toml")" = "$scene_sum" ] && [ ! -e "$od/s.png" ] && ok output.stats_over_scene
+run render "$od/scene" "${small[@]}" -o "$od/scene"
+expect_error output.exr_over_scene "-o" "would overwrite" && cmp -s "$od/scene" "$od/scene.toml" && ok output.exr_over_scene
+ln -s scene.toml "$od/scene_link.json"
+run render "$od/scene.toml" "${small[@]}" --stats "$od/scene_link.json"
+expect_error output.stats_over_scene_link "would overwrite" && [ "$(cksum <"$od/scene.toml")" = "$scene_sum" ] &&
+    ok output.stats_over_scene_link
+run render "$data/small.toml" "${small[@]}" -o "$od/same" --png "$od/same"
+expect_error output.same_twice "-o" "--png" "same file" && [ ! -e "$od/same" ] && ok output.same_twice
+# An empty path is a command-line error, not "use the defaults" (which wrote brume.exr and brume.png here).
+(cd "$od/real" && "$brume" render "$data/small.toml" "${small[@]}" -o "" >"$out" 2>"$err"; echo $? >"$od/rc")
+rc=$(cat "$od/rc")
+expect_error output.empty_name "empty file name" && [ "$rc" -eq 2 ] && dir_holds "$od/real" target.exr && ok output.empty_name
+# A temporary file a killed run left behind (no one holds its lock) is removed by the next write.
+touch "$od/real/.target.exr.tmp-0badf00d"
+run render "$data/small.toml" "${small[@]}" -o "$od/real/target.exr"
+expect_success output.stale_temp_removed && dir_holds "$od/real" target.exr && ok output.stale_temp_removed
+# A run whose last output fails (a file size limit, as a full disk would) replaces none of the earlier ones.
+# The statistics name the scene, so a scene behind a 1,600-character path makes the JSON the one output
+# over a 1 KiB limit; the 1x1 EXR and PNG fit.
+mix=$od/mix
+long=$mix
+for _ in 1 2 3 4 5 6 7 8; do long=$long/$(printf 'd%.0s' $(seq 200)); done
+mkdir -p "$long"
+cp "$data/small.toml" "$long/scene.toml"
+run render "$data/small.toml" --size 1x1 -o "$mix/out.exr" --png "$mix/out.png" --stats "$mix/out.json"
+expect_success output.mixed_setup || true
+mix_before=$(cd "$mix" && cksum out.exr out.png out.json)
+(ulimit -f 1; trap '' XFSZ; "$brume" render "$long/scene.toml" --size 1x1 --exposure 1 -o "$mix/out.exr" \
+    --png "$mix/out.png" --stats "$mix/out.json" >"$out" 2>"$err"; echo $? >"$od/rc")
+rc=$(cat "$od/rc")
+if expect_error output.mixed_never "$mix/out.json"; then
+    if [ "$(cd "$mix" && cksum out.exr out.png out.json)" != "$mix_before" ]; then
+        fail output.mixed_never "the failed run replaced some of its outputs"
+    elif [ -n "$(ls -A "$mix" | grep '^\.')" ]; then
+        fail output.mixed_never "temporary files left: $(listing "$mix")"
+    else
+        ok output.mixed_never
+    fi
+fi
+
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1
 if [ "$failed" -ne 0 ]; then

@@ -12,9 +12,13 @@
 
 namespace brume::app {
 
+std::string count_of(std::size_t n, const char* singular, const char* plural) {
+    return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
 void print_volume_report(const VolumeReport& r) {
-    std::printf("%s: %zu spheres from %llu active voxels, optical-depth error %.2f%% RMS (%.1f%% max) over %ld rays, %.2f s\n",
-                r.source.c_str(), r.spheres, static_cast<unsigned long long>(r.active_voxels), 100.0 * r.error.relative_rms,
+    std::printf("%s: %s from %llu active voxels, optical-depth error %.2f%% RMS (%.1f%% max) over %ld rays, %.2f s\n",
+                r.source.c_str(), count_of(r.spheres, "sphere", "spheres").c_str(), static_cast<unsigned long long>(r.active_voxels), 100.0 * r.error.relative_rms,
                 100.0 * r.error.relative_max, r.error.rays, r.seconds);
 }
 

@@ -43,6 +43,9 @@ std::vector<std::string> split_commas(const std::string& text);
 
 double median(std::vector<double> values);
 
+// "1 sphere", "2 spheres", "0 spheres": a count with its noun in the right number.
+std::string count_of(std::size_t n, const char* singular, const char* plural);
+
 // One line on what converting a [[vdb]] volume did: spheres, voxels, measured error, time.
 void print_volume_report(const VolumeReport& report);
 

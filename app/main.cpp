@@ -74,6 +74,21 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s", app.help().c_str());
         return 2;
     }
+    // CLI11 answers a mistyped subcommand with "A subcommand is required", which hides the typo.
+    bool known = true;
+    try {
+        if (argv[1][0] != '-') app.get_subcommand(argv[1]);
+    } catch (const CLI::OptionNotFound&) {
+        known = false;
+    }
+    if (!known) {
+        std::string names;
+        for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+            names += (names.empty() ? "" : ", ") + sub->get_name();
+        std::fprintf(stderr, "brume: error: unknown subcommand '%.80s'; the subcommands are %s (see brume --help)\n", argv[1],
+                     names.c_str());
+        return 2;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -83,7 +98,15 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "brume: error: %s (see brume --help)\n", e.what());
+        // Point to the help of the subcommand whose options were wrong, not to the whole tool's.
+        std::string help = "brume";
+        for (const CLI::App* sub = &app;;) {
+            const std::vector<CLI::App*> parsed = sub->get_subcommands();
+            if (parsed.empty()) break;
+            sub = parsed.front();
+            help += " " + sub->get_name();
+        }
+        std::fprintf(stderr, "brume: error: %s (see %s --help)\n", e.what(), help.c_str());
         return 2;
     }
 

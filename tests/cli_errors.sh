@@ -653,6 +653,27 @@ if expect_error output.mixed_never "$mix/out.json"; then
     fi
 fi
 
+# --- 15. The command line as a new user meets it (issue 14, "The command line"). ---------------------------
+nu=$work/newuser
+mkdir -p "$nu"
+# A mistyped subcommand is named, with the ones that exist.
+run previewx
+expect_error usage.unknown_subcommand "unknown subcommand 'previewx'" "render" && [ "$rc" -eq 2 ] && ok usage.unknown_subcommand
+# An option error points to its subcommand's help, with the status docs/decisions.md gives (2).
+run bench layers --bogus
+expect_error usage.subcommand_help "--bogus" "brume bench --help" && [ "$rc" -eq 2 ] && ok usage.subcommand_help
+# One still of a preset: the same pixels as that frame of play.
+run play crossing --frames 7 --size 16x12 -o "$nu/played"
+run render crossing --frame 7 --size 16x12 --png "$nu/still.png"
+if expect_success render.preset_still; then
+    if cmp -s "$nu/played/crossing.0007.png" "$nu/still.png"; then ok render.preset_still
+    else fail render.preset_still "render crossing --frame 7 differs from play's frame 7"; fi
+fi
+# Counts agree with their nouns: crossing has one box.
+grep -q ", 1 box," "$out" && ok render.plurals || fail render.plurals "$(head -n 1 "$out")"
+run render crossing --frame 144 --size 16x12 --png "$nu/never.png"
+expect_error render.preset_frame_range "--frame 144" "0-143" && [ ! -e "$nu/never.png" ] && ok render.preset_frame_range
+
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1
 if [ "$failed" -ne 0 ]; then

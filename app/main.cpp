@@ -17,6 +17,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <cstring>
 #include <new>
 
 namespace {
@@ -43,8 +44,15 @@ int list_methods() {
     return 0;
 }
 
+// One line of bounded length, whatever a library or a file put in the message: the parts that echo
+// input are cut where they are made (toml_text::excerpt); this is the last guard.
 int fail(const char* what) {
-    std::fprintf(stderr, "brume: error: %s\n", what);
+    constexpr std::size_t kMaxMessage = 2000;
+    const std::size_t n = std::strlen(what);
+    if (n <= kMaxMessage)
+        std::fprintf(stderr, "brume: error: %s\n", what);
+    else
+        std::fprintf(stderr, "brume: error: %.*s... (%zu bytes)\n", int(kMaxMessage), what, n);
     return 1;
 }
 

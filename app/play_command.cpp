@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace brume::app {
 namespace {
@@ -223,6 +224,16 @@ int run_play(const PlayArgs& args) {
     const std::size_t static_spheres = preset.scene.spheres.size();
     int written = 0;
     bool dir_made = false;
+    // The folders made for the frames are removed again when no frame makes it into them.
+    struct MadeFolders {
+        std::vector<fs::path> deepest_first;
+        bool keep = false;
+        ~MadeFolders() {
+            std::error_code ignored;
+            if (!keep)
+                for (const fs::path& d : deepest_first) fs::remove(d, ignored);  // only ever removes an empty folder
+        }
+    } made;
     for (int frame = range.first; frame <= range.last; ++frame) {
         if (frame > range.first) {
             const auto t0 = std::chrono::steady_clock::now();
@@ -246,6 +257,8 @@ int run_play(const PlayArgs& args) {
         const Image image = renderer->render(scene, nullptr);
         refuse_non_finite(image, "frame " + std::to_string(frame));
         if (!dir_made) {
+            for (fs::path p = dir; !p.empty() && !fs::exists(fs::symlink_status(p, ec)); p = p.parent_path())
+                made.deepest_first.push_back(p);
             fs::create_directories(dir, ec);
             if (ec || !fs::is_directory(dir))
                 throw std::runtime_error("cannot create output directory " + dir.string() + (ec ? ": " + ec.message() : ""));
@@ -262,6 +275,7 @@ int run_play(const PlayArgs& args) {
             outputs.stage(path, png_bytes(image, path, exposure));
         }
         outputs.commit();
+        made.keep = true;
         ++written;
         progress.frame_done(frame, std::to_string(scene.spheres.size()) + (scene.spheres.size() == 1 ? " sphere" : " spheres"));
         if (g_stop_requested) break;

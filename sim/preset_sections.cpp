@@ -194,7 +194,12 @@ void read_preset(const Reader& in, const toml::node& node, const KeyPath& path, 
         if (!ok)
             in.fail(*n, np,
                     "must be letters, digits, '-', '_' and '.', not starting with '.' (it names output files; got " +
-                        toml_text::quoted(p.name) + ")");
+                        toml_text::quoted(toml_text::excerpt(p.name)) + ")");
+        // NAME.####.png and its hidden temporary must fit a file name (255 bytes) wherever the file moves.
+        if (p.name.size() > kMaxPresetName)
+            in.fail(*n, np,
+                    "must be at most " + std::to_string(kMaxPresetName) + " characters (it names output files; got " +
+                        std::to_string(p.name.size()) + ")");
     }
     if (const toml::node* n = t.get("description")) p.description = in.one_line(*n, path / "description");
 }

@@ -674,6 +674,22 @@ grep -q ", 1 box," "$out" && ok render.plurals || fail render.plurals "$(head -n
 run render crossing --frame 144 --size 16x12 --png "$nu/never.png"
 expect_error render.preset_frame_range "--frame 144" "0-143" && [ ! -e "$nu/never.png" ] && ok render.preset_frame_range
 
+# --- 16. Huge strings: what is echoed is bounded, names are checked where they are read (issue 14 item 8). ---
+hs=$work/huge_strings
+mkdir -p "$hs"
+{ echo "[camera]"; head -c 8000000 /dev/zero | tr '\0' x; echo " = 1"; } >"$hs/key.toml"
+run render "$hs/key.toml" -o "$hs/never.exr"
+if expect_error strings.huge_key "key.toml:2" "unknown key" "(8000000 bytes)"; then
+    if [ "$(wc -c <"$err")" -lt 400 ]; then ok strings.huge_key; else fail strings.huge_key "a $(wc -c <"$err")-byte message"; fi
+fi
+{ echo "[render]"; printf 'shadow_technique = "'; head -c 100000 /dev/zero | tr '\0' z; echo '"'; } >"$hs/enum.toml"
+run render "$hs/enum.toml" -o "$hs/never.exr"
+expect_error strings.huge_value "shadow_technique" "(100000 bytes)" && [ "$(wc -c <"$err")" -lt 400 ] && ok strings.huge_value
+{ echo "[preset]"; printf 'name = "'; head -c 250 /dev/zero | tr '\0' n; echo '"'; echo "[timeline]"; echo "duration = 0.5"; } >"$hs/name.toml"
+run play "$hs/name.toml" -o "$hs/frames" --size 8x8
+expect_error strings.long_preset_name "name.toml:2" "preset.name" "at most 100" && [ ! -e "$hs/frames" ] &&
+    ok strings.long_preset_name
+
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1
 if [ "$failed" -ne 0 ]; then

@@ -479,10 +479,12 @@ void read_camera_path(const Reader& in, const toml::node& node, const KeyPath& p
             const KeyPath p = path / "keys";
             const toml::array& a = in.inline_table_array(keys, p, kMaxListEntries, "camera keys",
                                                          "[{ time = 0.0, position = [0, 1, 6], look_at = [0, 1, 0] }]");
-            if (a.size() < 2) in.fail(keys, p, "needs at least 2 keys (got " + std::to_string(a.size()) + ")");
+            // Each key is read before they are counted, so a typo in a lone key is named, not hidden
+            // behind "needs at least 2 keys".
             in.read_each(a, p, cp.keys, [&](const Reader& r, const toml::table& key, const KeyPath& key_path) {
                 return read_camera_key(r, key, key_path, camera, cp.keys);
             });
+            if (a.size() < 2) in.fail(keys, p, "needs at least 2 keys (got " + std::to_string(a.size()) + ")");
             break;
         }
         case CameraPath::Kind::Orbit: {

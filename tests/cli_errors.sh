@@ -674,6 +674,11 @@ grep -q ", 1 box," "$out" && ok render.plurals || fail render.plurals "$(head -n
 run render crossing --frame 144 --size 16x12 --png "$nu/never.png"
 expect_error render.preset_frame_range "--frame 144" "0-143" && [ ! -e "$nu/never.png" ] && ok render.preset_frame_range
 
+# A lone camera key with a typo names the typo, not "needs at least 2 keys".
+printf '[timeline]\nduration = 0.5\n[camera_path]\ntype = "keyframes"\nkeys = [{ time = 0.0, positon = [0.0, 1.0, 5.0], look_at = [0.0, 1.0, 0.0] }]\n' >"$nu/cam1.toml"
+run play "$nu/cam1.toml" -o "$nu/cam1" --size 8x8
+expect_error camera.lone_key_typo "cam1.toml:5" "positon" && [ ! -e "$nu/cam1" ] && ok camera.lone_key_typo
+
 # --- 16. Huge strings: what is echoed is bounded, names are checked where they are read (issue 14 item 8). ---
 hs=$work/huge_strings
 mkdir -p "$hs"
@@ -689,6 +694,15 @@ expect_error strings.huge_value "shadow_technique" "(100000 bytes)" && [ "$(wc -
 run play "$hs/name.toml" -o "$hs/frames" --size 8x8
 expect_error strings.long_preset_name "name.toml:2" "preset.name" "at most 100" && [ ! -e "$hs/frames" ] &&
     ok strings.long_preset_name
+
+# --- 17. The README's Tour renders the scenes it names: they are shipped. -------------------------------------
+tour=$work/tour
+mkdir -p "$tour"
+examples=$(cd "$data/../../examples" 2>/dev/null && pwd)
+run render "$examples/scene.toml" --size 32x24 -o "$tour/out.exr" --png "$tour/out.png" --stats "$tour/out.json"
+expect_success readme.tour_scene && has_magic "$tour/out.png" $PNG_MAGIC && ok readme.tour_scene
+run render plume --frame 40 --size 16x12 --png "$tour/plume.png"
+expect_success readme.tour_preset_still && has_magic "$tour/plume.png" $PNG_MAGIC && ok readme.tour_preset_still
 
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,6 +18,17 @@ struct Image;
 }
 
 namespace brume::app {
+
+// A wrong option value found after parsing (--frames 5-2, --size abc, -o X --png X): a bad command
+// line like CLI11's own errors, so main exits with 2 (docs/decisions.md, "Errors"). It is an
+// invalid_argument, so code that catches those still does.
+class UsageError : public std::invalid_argument {
+public:
+    using std::invalid_argument::invalid_argument;
+};
+
+// The method checks of the registry (an unknown name, an option the method ignores) as UsageError.
+void check_method_usage(const std::string& method, unsigned given_options);
 
 // "512M", "2G", "1.5GiB", "1000000" -> bytes. Throws std::invalid_argument naming the text.
 std::uint64_t parse_bytes(const std::string& text);

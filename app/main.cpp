@@ -1,6 +1,7 @@
 // The `brume` command: subcommands for rendering, benchmarking and inspecting devices.
 // Every failure reaches the user as one line naming the problem and a non-zero exit status.
 #include "app/bench_command.h"
+#include "app/cli_util.h"
 #include "app/play_command.h"
 #include "app/preview_command.h"
 #include "app/preview_window.h"
@@ -129,6 +130,9 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("vdb-sample")) return brume::app::run_vdb_sample(vdb_sample_args);
         if (app.got_subcommand("devices")) return list_devices();
         if (app.got_subcommand("methods")) return list_methods();
+    } catch (const brume::app::UsageError& e) {
+        fail(e.what());
+        return 2;  // a bad command line, as CLI11's own errors
     } catch (const brume::app::PreviewUnavailable& e) {
         return fail(e.what());
     } catch (const brume::SceneFileError& e) {

@@ -1,5 +1,6 @@
 #include "app/output_paths.h"
 
+#include "app/cli_util.h"
 #include "render/atomic_file.h"
 
 #include <sys/stat.h>
@@ -61,10 +62,10 @@ void check_outputs_distinct(const std::vector<NamedPath>& outputs, const std::ve
             if (!(seen[k].second == id)) continue;
             const NamedPath& other = *seen[k].first;
             if (k < input_count)
-                throw std::invalid_argument(out.option + " " + out.path + " would overwrite " + other.option + " " +
+                throw UsageError(out.option + " " + out.path + " would overwrite " + other.option + " " +
                                             other.path + ": name another output file");
             if (id.device) continue;  // writing twice into /dev/null replaces nothing
-            throw std::invalid_argument(out.option + " " + out.path + " and " + other.option + " " + other.path +
+            throw UsageError(out.option + " " + out.path + " and " + other.option + " " + other.path +
                                         " are the same file: each output needs its own name");
         }
         seen.emplace_back(&out, id);

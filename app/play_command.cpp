@@ -49,14 +49,14 @@ FrameRange parse_frames(const std::string& text, int frame_count) {
         const std::optional<long long> a = parse_whole_number(std::string_view(text).substr(0, dash));
         const std::optional<long long> b =
             dash == std::string::npos ? a : parse_whole_number(std::string_view(text).substr(dash + 1));
-        if (!a || !b) throw std::invalid_argument("--frames '" + text + "' is not A-B or N (0-based, inclusive)");
+        if (!a || !b) throw UsageError("--frames '" + text + "' is not A-B or N (0-based, inclusive)");
         first = *a;
         last = *b;
     }
     if (last < first)
-        throw std::invalid_argument("--frames " + text + " is a reversed range: write A-B with A <= B");
+        throw UsageError("--frames " + text + " is a reversed range: write A-B with A <= B");
     if (first < 0 || first >= frame_count)
-        throw std::invalid_argument("--frames " + text + " is outside the preset's frames 0-" +
+        throw UsageError("--frames " + text + " is outside the preset's frames 0-" +
                                     std::to_string(frame_count - 1));
     if (last >= frame_count) {
         // Farm schedulers cut sequences into equal chunks; the last one may run past the end.
@@ -82,7 +82,7 @@ void check_video_name(const std::string& path) {
     std::string ext = fs::path(path).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext == ".mp4" || ext == ".mkv" || ext == ".mov" || ext == ".m4v") return;
-    throw std::invalid_argument("--video " + path + ": the video is H.264, so its name must end in .mp4, .mkv, .mov or .m4v" +
+    throw UsageError("--video " + path + ": the video is H.264, so its name must end in .mp4, .mkv, .mov or .m4v" +
                                 (ext.empty() ? std::string() : " (not " + ext + ")"));
 }
 
@@ -132,7 +132,7 @@ int run_play(const PlayArgs& args) {
     for (const VolumeReport& v : prepare_preset(preset)) print_volume_report(v);
     const std::string method = args.method.empty() ? preset.render.method : args.method;
     const double exposure = args.exposure_set ? args.exposure : preset.render.exposure;
-    if (!std::isfinite(exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");
+    if (!std::isfinite(exposure)) throw UsageError("--exposure must be a finite number of stops");
     const FrameRange range = parse_frames(args.frames, preset.timeline.frame_count());
 
     bool png = false, exr = false;
@@ -141,11 +141,11 @@ int run_play(const PlayArgs& args) {
         const std::string f = args.formats.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         if (f == "png") png = true;
         else if (f == "exr") exr = true;
-        else throw std::invalid_argument("--format '" + f + "' is not png or exr");
+        else throw UsageError("--format '" + f + "' is not png or exr");
         if (comma == std::string::npos) break;
         start = comma + 1;
     }
-    if (!args.video.empty() && !png) throw std::invalid_argument("--video encodes the PNG frames: add png to --format");
+    if (!args.video.empty() && !png) throw UsageError("--video encodes the PNG frames: add png to --format");
 
     // Everything that can be refused is refused before the first frame, and nothing is created yet.
     const fs::path dir = args.output_dir.empty() ? fs::path(preset.name) : fs::path(args.output_dir);
@@ -173,7 +173,7 @@ int run_play(const PlayArgs& args) {
         options.max_pool_bytes = parse_bytes(args.max_memory);
         given |= kHonoursMaxMemory;
     }
-    check_method_options(method, given);
+    check_method_usage(method, given);
     std::unique_ptr<vk::Device> device;
     if (find_method(method).needs_device) {
         vk::DeviceOptions device_options;

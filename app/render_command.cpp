@@ -73,7 +73,7 @@ Scene preset_still(const RenderArgs& args, double& exposure) {
     const int frame = std::max(args.frame, 0);
     const int count = preset.timeline.frame_count();
     if (frame >= count)
-        throw std::invalid_argument("--frame " + std::to_string(frame) + " is outside the preset's frames 0-" +
+        throw UsageError("--frame " + std::to_string(frame) + " is outside the preset's frames 0-" +
                                     std::to_string(count - 1));
     for (const VolumeReport& v : prepare_preset(preset)) print_volume_report(v);
     Simulator sim(preset);
@@ -156,7 +156,7 @@ int run_render(const RenderArgs& args) {
     if (!preset && !args.size.empty()) parse_size(args.size, scene.camera.width, scene.camera.height);
     if (!args.shadows.empty())
         scene.render.shadow_technique = args.shadows == "per-sphere" ? ShadowTechnique::PerSphere : ShadowTechnique::Accurate;
-    if (!std::isfinite(exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");
+    if (!std::isfinite(exposure)) throw UsageError("--exposure must be a finite number of stops");
     std::vector<NamedPath> volumes;
     for (const VdbVolume& v : scene.volumes)
         if (v.source.file.rfind("builtin:", 0) != 0)
@@ -180,7 +180,7 @@ int run_render(const RenderArgs& args) {
         options.threads = args.threads;
         given |= kHonoursThreads;
     }
-    check_method_options(args.method, given);
+    check_method_usage(args.method, given);
     const bool on_gpu = find_method(args.method).needs_device;
 
     Timing timing;

@@ -662,6 +662,13 @@ expect_error usage.unknown_subcommand "unknown subcommand 'previewx'" "render" &
 # An option error points to its subcommand's help, with the status docs/decisions.md gives (2).
 run bench layers --bogus
 expect_error usage.subcommand_help "--bogus" "brume bench --help" && [ "$rc" -eq 2 ] && ok usage.subcommand_help
+# Option values checked after parsing are command-line errors too: status 2, as docs/decisions.md says.
+run play crossing --frames 5-2 -o never_dir
+expect_error usage.status_frames "reversed" && [ "$rc" -eq 2 ] && ok usage.status_frames || echo "  (status $rc)"
+run render "$data/small.toml" --size abc -o never.exr
+expect_error usage.status_size "abc" && [ "$rc" -eq 2 ] && ok usage.status_size || echo "  (status $rc)"
+run render "$data/small.toml" --method magic -o never.exr
+expect_error usage.status_method "magic" && [ "$rc" -eq 2 ] && ok usage.status_method || echo "  (status $rc)"
 # One still of a preset: the same pixels as that frame of play.
 run play crossing --frames 7 --size 16x12 -o "$nu/played"
 run render crossing --frame 7 --size 16x12 --png "$nu/still.png"

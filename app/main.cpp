@@ -19,6 +19,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <new>
 
 namespace {
@@ -97,6 +98,17 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "brume: error: unknown subcommand '%.80s'; the subcommands are %s (see brume --help)\n", argv[1],
                      names.c_str());
         return 2;
+    }
+    // `bench layers --help` shows the options of layers, not of every benchmark.
+    if (std::string(argv[1]) == "bench" && argc > 2) {
+        bool help = false;
+        std::string which;
+        for (int i = 2; i < argc; ++i) {
+            const std::string a = argv[i];
+            if (a == "--help" || a == "-h") help = true;
+            else if (which.empty() && !a.empty() && a[0] != '-') which = a;
+        }
+        if (help && !which.empty()) brume::app::restrict_bench_help(*app.get_subcommand("bench"), which);
     }
     try {
         app.parse(argc, argv);

@@ -669,6 +669,10 @@ run render "$data/small.toml" --size abc -o never.exr
 expect_error usage.status_size "abc" && [ "$rc" -eq 2 ] && ok usage.status_size || echo "  (status $rc)"
 run render "$data/small.toml" --method magic -o never.exr
 expect_error usage.status_method "magic" && [ "$rc" -eq 2 ] && ok usage.status_method || echo "  (status $rc)"
+# Help is per benchmark: bench layers --help shows its options, not bench sim's.
+run bench layers --help
+expect_success usage.bench_help && grep -q -- "--layers" "$out" && ! grep -q -- "--particles" "$out" && ok usage.bench_help ||
+    echo "  ($(grep -c -- '--' "$out") option lines)"
 # One still of a preset: the same pixels as that frame of play.
 run play crossing --frames 7 --size 16x12 -o "$nu/played"
 run render crossing --frame 7 --size 16x12 --png "$nu/still.png"

@@ -715,6 +715,40 @@ expect_success readme.tour_scene && has_magic "$tour/out.png" $PNG_MAGIC && ok r
 run render plume --frame 40 --size 16x12 --png "$tour/plume.png"
 expect_success readme.tour_preset_still && has_magic "$tour/plume.png" $PNG_MAGIC && ok readme.tour_preset_still
 
+# --- 18. A seeded sample of fuzzed inputs through the binary (tests/test_fuzz_inputs.cpp runs thousands
+# through the readers): no signal, no hang, one bounded error line, an existing output left as it was. ---
+fz=$work/fuzz
+mkdir -p "$fz/out"
+run render "$data/small.toml" --size 4x4 -o "$fz/out/out.exr"
+expect_success fuzz.setup || true
+RANDOM=14
+fuzz_bad=""
+for k in $(seq 1 16); do
+    if [ $((k % 4)) -eq 0 ]; then src=$data/../../presets/crossing.toml; extra=(--frame 0); else src=$data/small.toml; extra=(); fi
+    size=$(wc -c <"$src")
+    f=$fz/case$k.toml
+    case $((RANDOM % 5)) in
+        0) head -c $((RANDOM % size)) "$src" >"$f" ;;
+        1) cp "$src" "$f"
+           printf "\\x$(printf %02x $((RANDOM % 256)))" | dd of="$f" bs=1 seek=$((RANDOM % size)) conv=notrunc status=none ;;
+        2) sed "$((RANDOM % 20 + 1))s/[0-9][0-9.]*/1e308/" "$src" >"$f" ;;
+        3) sed "$((RANDOM % 20 + 1))s/[0-9][0-9.]*/\"$(head -c 20000 /dev/zero | tr '\0' q)\"/" "$src" >"$f" ;;
+        *) cp "$src" "$f"
+           awk -v n=$((RANDOM % 200 + 30)) 'BEGIN { printf "a"; for (i = 0; i < n; ++i) printf ".a"; print " = 1" }' >>"$f" ;;
+    esac
+    before=$(cksum <"$fz/out/out.exr")
+    timeout 60 "$brume" render "$f" "${extra[@]}" --size 4x4 -o "$fz/out/out.exr" >"$out" 2>"$err"
+    rc=$?
+    if [ "$rc" -ge 124 ]; then fuzz_bad="$fuzz_bad case$k:status-$rc"
+    elif [ "$rc" -ne 0 ]; then
+        if [ "$(wc -l <"$err")" -ne 1 ] || ! grep -q '^brume: error: ' "$err" || [ "$(wc -c <"$err")" -gt 2100 ]; then
+            fuzz_bad="$fuzz_bad case$k:message($(wc -l <"$err")-lines,$(wc -c <"$err")-bytes)"
+        elif [ "$(cksum <"$fz/out/out.exr")" != "$before" ]; then fuzz_bad="$fuzz_bad case$k:output-changed"; fi
+    fi
+    dir_holds "$fz/out" out.exr || fuzz_bad="$fuzz_bad case$k:files($(listing "$fz/out"))"
+done
+[ -z "$fuzz_bad" ] && ok fuzz.cli_sample || fail fuzz.cli_sample "$fuzz_bad (inputs kept in $fz)"
+
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1
 if [ "$failed" -ne 0 ]; then

@@ -682,6 +682,11 @@ if expect_success render.preset_still; then
 fi
 # Counts agree with their nouns: crossing has one box.
 grep -q ", 1 box," "$out" && ok render.plurals || fail render.plurals "$(head -n 1 "$out")"
+# A full particle budget is said and counted in the statistics of a preset still (issue 14 item 4).
+printf '[timeline]\nfps = 10.0\nduration = 0.5\nmax_particles = 5\n[[emitter]]\nshape = "point"\ncenter = [0.0, 0.5, 0.0]\nrate = 150.0\nlifetime = 10.0\nparticle_radius = 0.1\nextinction = 1.0\n' >"$nu/capped.toml"
+run render "$nu/capped.toml" --frame 3 --size 8x8 -o "$nu/capped.exr" --stats "$nu/capped.json"
+expect_success render.budget_counted && grep -q "max_particles = 5" "$out" && grep -Eq '"skipped_births": [1-9]' "$nu/capped.json" &&
+    ok render.budget_counted
 run render crossing --frame 144 --size 16x12 --png "$nu/never.png"
 expect_error render.preset_frame_range "--frame 144" "0-143" && [ ! -e "$nu/never.png" ] && ok render.preset_frame_range
 

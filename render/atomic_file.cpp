@@ -129,6 +129,20 @@ int create_locked_temporary(const fs::path& path, const std::string& suffix, fs:
     fail_write(path, "cannot find a free temporary file name in " + dir.string());
 }
 
+fs::path link_old_file(const fs::path& target) {
+    struct stat st {};
+    if (::lstat(target.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return {};
+    std::random_device random;
+    for (int attempt = 0; attempt < 64; ++attempt) {
+        char tag[16];
+        std::snprintf(tag, sizeof tag, "%08x", static_cast<unsigned>(random()));
+        fs::path name = directory_of(target) / (temp_prefix(target) + tag + ".old");
+        if (::link(target.c_str(), name.c_str()) == 0) return name;
+        if (errno != EEXIST) return {};
+    }
+    return {};
+}
+
 StagedFile::StagedFile(const fs::path& path, std::string_view bytes) : path_(path) {
     if (!path.has_filename()) fail_write(path, "not a file name");
     target_ = resolve_output(path);

@@ -47,6 +47,7 @@ public:
     // FileWriteError; the old file is then still in place.
     void commit();
     const std::filesystem::path& path() const { return path_; }
+    const OutputTarget& target() const { return target_; }
 
 private:
     std::filesystem::path path_;  // as given, for messages
@@ -68,6 +69,11 @@ void check_writable_path(const std::filesystem::path& path);
 // Removes the temporary files that killed runs left beside `path` (".NAME.tmp-*" whose writer no
 // longer holds its lock). Called by every StagedFile; exposed for the video encoder's temporary.
 void remove_stale_temporaries(const std::filesystem::path& path);
+
+// A second name for the regular file at `target` (a hard link, hidden and named like a temporary
+// file, so a killed run's is removed like one), or empty when there is no such file or the
+// filesystem refuses hard links. OutputSet renames it back when a later output of the set fails.
+std::filesystem::path link_old_file(const std::filesystem::path& target);
 
 // Creates a hidden, locked, empty temporary file beside `path` (its name ends in `suffix`) and
 // returns its open descriptor; `temp` receives its path. For outputs another program writes (ffmpeg):

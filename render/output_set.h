@@ -6,7 +6,8 @@
 // the other. SIGINT, SIGTERM and SIGHUP are held back from the set's construction to its end, so no
 // signal cuts a set in two or leaves a temporary file behind; one that arrives is delivered after.
 // Renaming within a directory needs no space, so after staging the only failures left are those of
-// rename itself (docs/decisions.md, "Outputs").
+// rename itself; then the renames already done are undone from hard links to the old files
+// (docs/decisions.md, "Outputs").
 #pragma once
 
 #include "render/atomic_file.h"

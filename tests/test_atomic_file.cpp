@@ -163,5 +163,20 @@ TEST_F(AtomicFile, ACommittedOutputSetReplacesEverything) {
     EXPECT_EQ(listing(), "a.exr b.png ");
 }
 
+TEST_F(AtomicFile, AFailedRenamePutsBackWhatTheSetReplaced) {
+    put(dir_ / "a.exr", "old a");
+    OutputSet set;
+    set.stage(dir_ / "a.exr", "new a");
+    set.stage(dir_ / "new.json", "new json");
+    set.stage(dir_ / "b.png", "new b");
+    // After staging, something no rename may replace appears at the last target.
+    fs::create_directories(dir_ / "b.png" / "inside");
+    EXPECT_THROW(set.commit(), FileWriteError);
+    EXPECT_EQ(read(dir_ / "a.exr"), "old a");
+    EXPECT_FALSE(fs::exists(dir_ / "new.json"));
+    fs::remove_all(dir_ / "b.png");
+    EXPECT_EQ(listing(), "a.exr ");
+}
+
 }  // namespace
 }  // namespace brume

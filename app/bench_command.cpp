@@ -15,6 +15,9 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace brume::app {
 
@@ -62,6 +65,27 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
     cmd->add_flag("--no-reference", args.no_reference, "Skip the CPU reference");
     cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
     cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers");
+}
+
+void restrict_bench_help(CLI::App& bench, const std::string& which) {
+    // Which benchmark reads which option (run_bench and the bench_* files).
+    static const std::vector<std::pair<std::string, std::vector<std::string>>> kReads = {
+        {"methods", {"--output", "--methods", "--scenes", "--size", "--anim-frames", "--device", "--validate"}},
+        {"layers", {"--sizes", "--layers", "--frames", "--reference-frames", "--no-reference", "--device", "--validate"}},
+        {"scale", {"--spheres", "--no-presets", "--frames", "--output", "--device", "--validate"}},
+        {"sim", {"--particles", "--steps"}},
+        {"vdb", {"--vdb-sample", "--vdb-sizes", "--tolerances", "--output"}},
+    };
+    for (const auto& [name, reads] : kReads) {
+        if (name != which) continue;
+        for (CLI::Option* opt : bench.get_options()) {
+            if (opt->get_positional() || opt->check_name("--help")) continue;
+            bool read = false;
+            for (const std::string& r : reads) read = read || opt->check_name(r);
+            if (!read) opt->group("");  // CLI11 leaves options of the empty group out of the help
+        }
+        bench.footer("(the options of bench " + which + "; brume bench --help lists those of every benchmark)");
+    }
 }
 
 namespace {

@@ -39,6 +39,9 @@ struct BenchArgs {
 };
 
 void add_bench_command(CLI::App& app, BenchArgs& args);
+// `bench WHICH --help` lists only the options WHICH reads: hides the others of `bench` (its
+// subcommand) from the help. An unknown WHICH changes nothing (the parser names it).
+void restrict_bench_help(CLI::App& bench, const std::string& which);
 // Prints the validation messages a bench run collected to stderr; true when there were any (the
 // figures then come from a run that broke the API's rules, and the command exits 3).
 bool report_validation_messages(vk::Device& device);

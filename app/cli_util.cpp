@@ -1,6 +1,7 @@
 #include "app/cli_util.h"
 
 #include "render/image.h"
+#include "render/methods/registry.h"
 #include "sim/vdb/volume_loader.h"
 
 #include <algorithm>
@@ -12,9 +13,13 @@
 
 namespace brume::app {
 
+std::string count_of(std::size_t n, const char* singular, const char* plural) {
+    return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
 void print_volume_report(const VolumeReport& r) {
-    std::printf("%s: %zu spheres from %llu active voxels, optical-depth error %.2f%% RMS (%.1f%% max) over %ld rays, %.2f s\n",
-                r.source.c_str(), r.spheres, static_cast<unsigned long long>(r.active_voxels), 100.0 * r.error.relative_rms,
+    std::printf("%s: %s from %llu active voxels, optical-depth error %.2f%% RMS (%.1f%% max) over %ld rays, %.2f s\n",
+                r.source.c_str(), count_of(r.spheres, "sphere", "spheres").c_str(), static_cast<unsigned long long>(r.active_voxels), 100.0 * r.error.relative_rms,
                 100.0 * r.error.relative_max, r.error.rays, r.seconds);
 }
 
@@ -24,7 +29,7 @@ std::uint64_t parse_bytes(const std::string& text) {
     try {
         value = std::stod(text, &used);
     } catch (const std::exception&) {
-        throw std::invalid_argument("'" + text + "' is not a size (examples: 64M, 2G, 1048576)");
+        throw UsageError("'" + text + "' is not a size (examples: 64M, 2G, 1048576)");
     }
     std::string unit = text.substr(used);
     std::transform(unit.begin(), unit.end(), unit.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -35,7 +40,7 @@ std::uint64_t parse_bytes(const std::string& text) {
     else if (unit == "g" || unit == "gb" || unit == "gib") scale = 1024.0 * 1024.0 * 1024.0;
     else if (unit == "t" || unit == "tb" || unit == "tib") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
     if (scale == 0 || !std::isfinite(value) || value <= 0 || value * scale > 1.8e19)
-        throw std::invalid_argument("'" + text + "' is not a positive size: a number of bytes with K, M, G or T "
+        throw UsageError("'" + text + "' is not a positive size: a number of bytes with K, M, G or T "
                                     "(powers of 1024), e.g. 64M, 2G, 1T, 1048576");
     return std::uint64_t(value * scale);
 }
@@ -53,7 +58,7 @@ void check_output_format(const std::string& option, const std::string& path, con
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (ext.empty() || ext == extension) return;
     const char* format = extension == ".exr" ? "linear OpenEXR" : "PNG";
-    throw std::invalid_argument(option + " " + path + ": " + option + " writes " + format + ", but the name ends in " +
+    throw UsageError(option + " " + path + ": " + option + " writes " + format + ", but the name ends in " +
                                 ext + "; name it " + extension +
                                 (extension == ".exr" ? " (--png writes PNG)" : " (-o writes OpenEXR)"));
 }
@@ -69,12 +74,24 @@ void refuse_non_finite(const Image& image, const std::string& what) {
                              "): the scene's numbers are out of the renderer's range; nothing was written");
 }
 
+void check_method_usage(const std::string& method, unsigned given_options) {
+    try {
+        check_method_options(method, given_options);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
+}
+
+std::string refuse_empty_path(const std::string& text) {
+    return text.empty() ? "an empty file name (leave the option out for the default)" : "";
+}
+
 void parse_size(const std::string& text, int& width, int& height) {
     const std::size_t x = text.find_first_of("xX");
     const std::optional<long long> w = x == std::string::npos ? std::nullopt : parse_whole_number(std::string_view(text).substr(0, x));
     const std::optional<long long> h = x == std::string::npos ? std::nullopt : parse_whole_number(std::string_view(text).substr(x + 1));
     if (!w || !h || *w < 1 || *h < 1 || *w > 16384 || *h > 16384)
-        throw std::invalid_argument("'" + text + "' is not a size WxH with 1 <= W, H <= 16384");
+        throw UsageError("'" + text + "' is not a size WxH with 1 <= W, H <= 16384");
     width = int(*w);
     height = int(*h);
 }
@@ -93,7 +110,7 @@ std::vector<int> parse_int_list(const std::string& text) {
         const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         const std::optional<long long> v = parse_whole_number(item);
         if (!v || *v < INT32_MIN || *v > INT32_MAX)
-            throw std::invalid_argument("'" + text + "' is not a list like 2,4,8 or 2-16:2");
+            throw UsageError("'" + text + "' is not a list like 2,4,8 or 2-16:2");
         out.push_back(int(*v));
         if (comma == std::string::npos) break;
         start = comma + 1;

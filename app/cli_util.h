@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,6 +18,17 @@ struct Image;
 }
 
 namespace brume::app {
+
+// A wrong option value found after parsing (--frames 5-2, --size abc, -o X --png X): a bad command
+// line like CLI11's own errors, so main exits with 2 (docs/decisions.md, "Errors"). It is an
+// invalid_argument, so code that catches those still does.
+class UsageError : public std::invalid_argument {
+public:
+    using std::invalid_argument::invalid_argument;
+};
+
+// The method checks of the registry (an unknown name, an option the method ignores) as UsageError.
+void check_method_usage(const std::string& method, unsigned given_options);
 
 // "512M", "2G", "1.5GiB", "1000000" -> bytes. Throws std::invalid_argument naming the text.
 std::uint64_t parse_bytes(const std::string& text);
@@ -32,6 +44,9 @@ void check_output_format(const std::string& option, const std::string& path, con
 // A result that may be wrong is never written: throws std::runtime_error naming how many pixels of
 // `what` are NaN or infinite and where the first is.
 void refuse_non_finite(const Image& image, const std::string& what);
+// A CLI11 check for file options: "" is refused ("-o ''" once wrote brume.exr and brume.png in the
+// working directory, as if no -o had been given). Returns the message, or "" when `text` is fine.
+std::string refuse_empty_path(const std::string& text);
 // "2,4,8" or "2-16:2" -> numbers. Throws std::invalid_argument.
 std::vector<int> parse_int_list(const std::string& text);
 
@@ -39,6 +54,9 @@ std::vector<int> parse_int_list(const std::string& text);
 std::vector<std::string> split_commas(const std::string& text);
 
 double median(std::vector<double> values);
+
+// "1 sphere", "2 spheres", "0 spheres": a count with its noun in the right number.
+std::string count_of(std::size_t n, const char* singular, const char* plural);
 
 // One line on what converting a [[vdb]] volume did: spheres, voxels, measured error, time.
 void print_volume_report(const VolumeReport& report);

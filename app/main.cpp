@@ -1,6 +1,7 @@
 // The `brume` command: subcommands for rendering, benchmarking and inspecting devices.
 // Every failure reaches the user as one line naming the problem and a non-zero exit status.
 #include "app/bench_command.h"
+#include "app/cli_util.h"
 #include "app/play_command.h"
 #include "app/preview_command.h"
 #include "app/preview_window.h"
@@ -17,6 +18,8 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <cstring>
+#include <string>
 #include <new>
 
 namespace {
@@ -43,8 +46,15 @@ int list_methods() {
     return 0;
 }
 
+// One line of bounded length, whatever a library or a file put in the message: the parts that echo
+// input are cut where they are made (toml_text::excerpt); this is the last guard.
 int fail(const char* what) {
-    std::fprintf(stderr, "brume: error: %s\n", what);
+    constexpr std::size_t kMaxMessage = 2000;
+    const std::size_t n = std::strlen(what);
+    if (n <= kMaxMessage)
+        std::fprintf(stderr, "brume: error: %s\n", what);
+    else
+        std::fprintf(stderr, "brume: error: %.*s... (%zu bytes)\n", int(kMaxMessage), what, n);
     return 1;
 }
 
@@ -74,6 +84,32 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s", app.help().c_str());
         return 2;
     }
+    // CLI11 answers a mistyped subcommand with "A subcommand is required", which hides the typo.
+    bool known = true;
+    try {
+        if (argv[1][0] != '-') app.get_subcommand(argv[1]);
+    } catch (const CLI::OptionNotFound&) {
+        known = false;
+    }
+    if (!known) {
+        std::string names;
+        for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+            names += (names.empty() ? "" : ", ") + sub->get_name();
+        std::fprintf(stderr, "brume: error: unknown subcommand '%.80s'; the subcommands are %s (see brume --help)\n", argv[1],
+                     names.c_str());
+        return 2;
+    }
+    // `bench layers --help` shows the options of layers, not of every benchmark.
+    if (std::string(argv[1]) == "bench" && argc > 2) {
+        bool help = false;
+        std::string which;
+        for (int i = 2; i < argc; ++i) {
+            const std::string a = argv[i];
+            if (a == "--help" || a == "-h") help = true;
+            else if (which.empty() && !a.empty() && a[0] != '-') which = a;
+        }
+        if (help && !which.empty()) brume::app::restrict_bench_help(*app.get_subcommand("bench"), which);
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -83,7 +119,15 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "brume: error: %s (see brume --help)\n", e.what());
+        // Point to the help of the subcommand whose options were wrong, not to the whole tool's.
+        std::string help = "brume";
+        for (const CLI::App* sub = &app;;) {
+            const std::vector<CLI::App*> parsed = sub->get_subcommands();
+            if (parsed.empty()) break;
+            sub = parsed.front();
+            help += " " + sub->get_name();
+        }
+        std::fprintf(stderr, "brume: error: %s (see %s --help)\n", e.what(), help.c_str());
         return 2;
     }
 
@@ -98,6 +142,9 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("vdb-sample")) return brume::app::run_vdb_sample(vdb_sample_args);
         if (app.got_subcommand("devices")) return list_devices();
         if (app.got_subcommand("methods")) return list_methods();
+    } catch (const brume::app::UsageError& e) {
+        fail(e.what());
+        return 2;  // a bad command line, as CLI11's own errors
     } catch (const brume::app::PreviewUnavailable& e) {
         return fail(e.what());
     } catch (const brume::SceneFileError& e) {
@@ -109,6 +156,12 @@ int main(int argc, char** argv) {
     } catch (const brume::PoolBudgetError& e) {
         return fail(e.what());
     } catch (const brume::vk::VulkanError& e) {
+        // The raw call and source line mean nothing to a user who asked for a large frame.
+        if (e.out_of_memory())
+            return fail(e.result() == VK_ERROR_OUT_OF_HOST_MEMORY
+                            ? "the Vulkan driver ran out of host memory: try a smaller --size or a smaller scene"
+                            : "the Vulkan device has too little memory for this frame's images and lists: try a "
+                              "smaller --size or a smaller scene");
         return fail(e.what());
     } catch (const std::bad_alloc&) {
         return fail("out of host memory");

@@ -1,11 +1,13 @@
 #include "app/play_command.h"
 
 #include "app/cli_util.h"
+#include "app/output_paths.h"
 #include "app/progress.h"
 #include "app/video.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
 #include "render/methods/registry.h"
+#include "render/output_set.h"
 #include "render/reference.h"
 #include "render/vk/device.h"
 #include "sim/builtin_presets.h"
@@ -16,17 +18,21 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <vector>
 
 namespace brume::app {
 namespace {
 
 namespace fs = std::filesystem;
 
-// Set by SIGINT/SIGTERM: the frame being rendered is finished and written, then playback stops.
-// A signal handler can only reach process-wide state, hence this one global.
+// Set by SIGINT, SIGTERM and SIGHUP (a closed terminal or ssh session ends a run as gracefully as
+// Ctrl-C): the frame being rendered is finished and written, then playback stops; a preroll or
+// replay stops at its next step. A signal handler can only reach process-wide state, hence this global.
 std::atomic<bool> g_stop_requested{false};
 extern "C" void request_stop(int) { g_stop_requested.store(true); }
 
@@ -43,14 +49,14 @@ FrameRange parse_frames(const std::string& text, int frame_count) {
         const std::optional<long long> a = parse_whole_number(std::string_view(text).substr(0, dash));
         const std::optional<long long> b =
             dash == std::string::npos ? a : parse_whole_number(std::string_view(text).substr(dash + 1));
-        if (!a || !b) throw std::invalid_argument("--frames '" + text + "' is not A-B or N (0-based, inclusive)");
+        if (!a || !b) throw UsageError("--frames '" + text + "' is not A-B or N (0-based, inclusive)");
         first = *a;
         last = *b;
     }
     if (last < first)
-        throw std::invalid_argument("--frames " + text + " is a reversed range: write A-B with A <= B");
+        throw UsageError("--frames " + text + " is a reversed range: write A-B with A <= B");
     if (first < 0 || first >= frame_count)
-        throw std::invalid_argument("--frames " + text + " is outside the preset's frames 0-" +
+        throw UsageError("--frames " + text + " is outside the preset's frames 0-" +
                                     std::to_string(frame_count - 1));
     if (last >= frame_count) {
         // Farm schedulers cut sequences into equal chunks; the last one may run past the end.
@@ -59,6 +65,25 @@ FrameRange parse_frames(const std::string& text, int frame_count) {
         last = frame_count - 1;
     }
     return {int(first), int(last)};
+}
+
+// The deepest part of `dir` that exists: play creates the rest only when its first frame is ready,
+// so a refused or failed run leaves no empty folder behind (issue 14 item 12).
+fs::path existing_ancestor(const fs::path& dir) {
+    fs::path p = dir;
+    std::error_code ec;
+    while (!p.empty() && !fs::exists(fs::symlink_status(p, ec))) p = p.parent_path();
+    return p.empty() ? fs::path(".") : p;
+}
+
+// The containers ffmpeg writes H.264 into; a name that says otherwise (x.gif, a frame's .png) is
+// refused before the first frame rather than after the last.
+void check_video_name(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".mp4" || ext == ".mkv" || ext == ".mov" || ext == ".m4v") return;
+    throw UsageError("--video " + path + ": the video is H.264, so its name must end in .mp4, .mkv, .mov or .m4v" +
+                                (ext.empty() ? std::string() : " (not " + ext + ")"));
 }
 
 std::string frame_path(const fs::path& dir, const std::string& name, int frame, const char* ext) {
@@ -71,11 +96,16 @@ std::string frame_path(const fs::path& dir, const std::string& name, int frame, 
 
 void add_play_command(CLI::App& app, PlayArgs& args) {
     CLI::App* cmd = app.add_subcommand("play", "Simulate a preset and render its frames (and a video)");
-    cmd->add_option("preset", args.preset, "Preset file or built-in name (see --list); none plays the default");
-    cmd->add_option("-o,--output", args.output_dir, "Directory for NAME.####.png / .exr (created if missing)");
+    cmd->add_option("preset", args.preset, "Preset file or built-in name (see --list); none plays the default")
+        ->check(refuse_empty_path);
+    cmd->add_option("-o,--output", args.output_dir, "Directory for NAME.####.png / .exr (created if missing)")
+        ->check(refuse_empty_path);
     cmd->add_option("--frames", args.frames, "Frames A-B (0-based, inclusive) or N; default all");
     cmd->add_option("--format", args.formats, "Comma-separated: png, exr (default png)");
-    cmd->add_option("--video", args.video, "Also encode the frames with ffmpeg, e.g. out/plume.mp4");
+    cmd->add_option("--video", args.video,
+                    "Also encode the frames with ffmpeg (H.264: .mp4, .mkv, .mov or .m4v), e.g. out/plume.mp4; "
+                    "ffmpeg's log is kept as DIR/NAME.ffmpeg.log only when encoding fails")
+        ->check(refuse_empty_path);
     cmd->add_option("--size", args.size, "Override the preset's resolution, WxH");
     cmd->add_option("--method", args.method,
                     "NAME[:SETTING] (default: the preset's): ppll, reference or a comparison method (brume methods)");
@@ -102,7 +132,7 @@ int run_play(const PlayArgs& args) {
     for (const VolumeReport& v : prepare_preset(preset)) print_volume_report(v);
     const std::string method = args.method.empty() ? preset.render.method : args.method;
     const double exposure = args.exposure_set ? args.exposure : preset.render.exposure;
-    if (!std::isfinite(exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");
+    if (!std::isfinite(exposure)) throw UsageError("--exposure must be a finite number of stops");
     const FrameRange range = parse_frames(args.frames, preset.timeline.frame_count());
 
     bool png = false, exr = false;
@@ -111,20 +141,26 @@ int run_play(const PlayArgs& args) {
         const std::string f = args.formats.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         if (f == "png") png = true;
         else if (f == "exr") exr = true;
-        else throw std::invalid_argument("--format '" + f + "' is not png or exr");
+        else throw UsageError("--format '" + f + "' is not png or exr");
         if (comma == std::string::npos) break;
         start = comma + 1;
     }
-    if (!args.video.empty() && !png) throw std::invalid_argument("--video encodes the PNG frames: add png to --format");
+    if (!args.video.empty() && !png) throw UsageError("--video encodes the PNG frames: add png to --format");
 
-    // Everything that can be refused is refused before the first frame.
+    // Everything that can be refused is refused before the first frame, and nothing is created yet.
     const fs::path dir = args.output_dir.empty() ? fs::path(preset.name) : fs::path(args.output_dir);
     std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string() + (ec ? ": " + ec.message() : ""));
-    check_writable_path(dir / "probe");
+    const fs::path base = existing_ancestor(dir);
+    if (!fs::is_directory(base, ec))
+        throw std::runtime_error("cannot create output directory " + dir.string() + ": " + base.string() + " is not a directory");
+    check_writable_path(base / "probe");
     if (!args.video.empty()) {
-        check_writable_path(args.video);
+        check_video_name(args.video);
+        // A video inside the frames folder is checked where that folder will be made.
+        const fs::path video_dir = fs::path(args.video).parent_path();
+        const bool in_frames_dir = video_dir.lexically_normal() == dir.lexically_normal() && !fs::exists(dir, ec);
+        check_writable_path(in_frames_dir ? base / "probe" : fs::path(args.video));
+        check_outputs_distinct({{"--video", args.video}}, {{"the preset", args.preset}});
         if (ffmpeg_version().empty())
             throw std::runtime_error("--video needs the ffmpeg command, which is not installed "
                                      "(Debian: apt-get install ffmpeg, or run .ci/install-deps)");
@@ -137,7 +173,7 @@ int run_play(const PlayArgs& args) {
         options.max_pool_bytes = parse_bytes(args.max_memory);
         given |= kHonoursMaxMemory;
     }
-    check_method_options(method, given);
+    check_method_usage(method, given);
     std::unique_ptr<vk::Device> device;
     if (find_method(method).needs_device) {
         vk::DeviceOptions device_options;
@@ -150,14 +186,33 @@ int run_play(const PlayArgs& args) {
     g_stop_requested = false;
     auto previous_int = std::signal(SIGINT, request_stop);
     auto previous_term = std::signal(SIGTERM, request_stop);
+    auto previous_hup = std::signal(SIGHUP, request_stop);
+    struct RestoreSignals {
+        decltype(previous_int) i, t, h;
+        ~RestoreSignals() {
+            std::signal(SIGINT, i);
+            std::signal(SIGTERM, t);
+            std::signal(SIGHUP, h);
+        }
+    } restore{previous_int, previous_term, previous_hup};
 
     // Frames before the range are simulated, not rendered: the simulation is deterministic, so
     // frames A-B of a split job are exactly those of a full run (replay; see README "Farms").
+    // The preroll and the replay stop at the next step when a signal asks (issue 14 item 9).
     const auto sim_start = std::chrono::steady_clock::now();
-    Simulator sim(preset);
-    sim.advance_to_frame(range.first);
+    std::optional<Simulator> simulator;
+    try {
+        simulator.emplace(preset, &g_stop_requested);
+        simulator->advance_to_frame(range.first);
+    } catch (const SimulationStopped&) {
+        std::fprintf(stderr, "brume: interrupted during the simulation (%.1f s in), before the first frame; nothing was written\n",
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - sim_start).count());
+        return 130;
+    }
+    Simulator& sim = *simulator;
     const double replay_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - sim_start).count();
-    double sim_s = 0.0;
+    double sim_s = replay_s;  // the summary's simulation time includes the preroll and the replay
+    bool cap_noted = false;
 
     std::printf("%s: frames %d-%d of %d at %dx%d, %.4g fps, method %s%s -> %s\n", preset.name.c_str(), range.first,
                 range.last, preset.timeline.frame_count(), preset.scene.camera.width, preset.scene.camera.height,
@@ -168,11 +223,31 @@ int run_play(const PlayArgs& args) {
     Scene scene = preset.scene;
     const std::size_t static_spheres = preset.scene.spheres.size();
     int written = 0;
+    bool dir_made = false;
+    // The folders made for the frames are removed again when no frame makes it into them.
+    struct MadeFolders {
+        std::vector<fs::path> deepest_first;
+        bool keep = false;
+        ~MadeFolders() {
+            std::error_code ignored;
+            if (!keep)
+                for (const fs::path& d : deepest_first) fs::remove(d, ignored);  // only ever removes an empty folder
+        }
+    } made;
     for (int frame = range.first; frame <= range.last; ++frame) {
         if (frame > range.first) {
             const auto t0 = std::chrono::steady_clock::now();
-            sim.step_frame();
+            try {
+                sim.step_frame();
+            } catch (const SimulationStopped&) {
+                break;  // every frame written so far is complete
+            }
             sim_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        }
+        if (sim.skipped() > 0 && !cap_noted) {  // a silent cap looks like a weak emitter (issue 14 item 4)
+            std::printf("note: the particle budget max_particles = %u is full at frame %d; births are skipped while it is\n",
+                        preset.timeline.max_particles, frame);
+            cap_noted = true;
         }
         scene.spheres.resize(static_spheres);
         sim.append_spheres(scene.spheres);
@@ -181,15 +256,31 @@ int run_play(const PlayArgs& args) {
         scene.camera.height = preset.scene.camera.height;
         const Image image = renderer->render(scene, nullptr);
         refuse_non_finite(image, "frame " + std::to_string(frame));
-        if (exr) write_exr(image, frame_path(dir, preset.name, frame, "exr"));
-        if (png) write_png(image, frame_path(dir, preset.name, frame, "png"), exposure);
+        if (!dir_made) {
+            for (fs::path p = dir; !p.empty() && !fs::exists(fs::symlink_status(p, ec)); p = p.parent_path())
+                made.deepest_first.push_back(p);
+            fs::create_directories(dir, ec);
+            if (ec || !fs::is_directory(dir))
+                throw std::runtime_error("cannot create output directory " + dir.string() + (ec ? ": " + ec.message() : ""));
+            dir_made = true;
+        }
+        // A frame's EXR and PNG are committed together: an interrupted or failed run never leaves one without the other.
+        OutputSet outputs;
+        if (exr) {
+            const std::string path = frame_path(dir, preset.name, frame, "exr");
+            outputs.stage(path, exr_bytes(image, path));
+        }
+        if (png) {
+            const std::string path = frame_path(dir, preset.name, frame, "png");
+            outputs.stage(path, png_bytes(image, path, exposure));
+        }
+        outputs.commit();
+        made.keep = true;
         ++written;
         progress.frame_done(frame, std::to_string(scene.spheres.size()) + (scene.spheres.size() == 1 ? " sphere" : " spheres"));
         if (g_stop_requested) break;
     }
     progress.finish();
-    std::signal(SIGINT, previous_int);
-    std::signal(SIGTERM, previous_term);
 
     if (device && device->validation_message_count() > 0) {
         for (const std::string& m : device->take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
@@ -198,8 +289,12 @@ int run_play(const PlayArgs& args) {
     }
     std::printf("wrote %d frame%s in %.1f s (simulation %.2f s) to %s\n", written, written == 1 ? "" : "s",
                 progress.elapsed_seconds(), sim_s, dir.string().c_str());
+    if (sim.skipped() > 0)
+        std::printf("the particle budget (max_particles = %u) skipped %llu births\n", preset.timeline.max_particles,
+                    static_cast<unsigned long long>(sim.skipped()));
     if (g_stop_requested) {
-        std::fprintf(stderr, "brume: interrupted after %d frames; every written frame is complete\n", written);
+        std::fprintf(stderr, "brume: interrupted after %d frame%s; every written frame is complete\n", written,
+                     written == 1 ? "" : "s");
         return 130;
     }
     if (!args.video.empty()) {

@@ -1,15 +1,22 @@
 #include "app/render_command.h"
 
 #include "app/cli_util.h"
+#include "app/output_paths.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
+#include "render/output_set.h"
 #include "render/methods/registry.h"
 #include "render/vk/device.h"
+#include "sim/builtin_presets.h"
 #include "sim/builtin_scenes.h"
+#include "sim/camera_path.h"
 #include "sim/scene_file.h"
+#include "sim/simulator.h"
 #include "sim/vdb/volume_loader.h"
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -19,16 +26,22 @@ namespace brume::app {
 
 void add_render_command(CLI::App& app, RenderArgs& args) {
     CLI::App* cmd = app.add_subcommand("render", "Render one scene to linear EXR and/or PNG");
-    cmd->add_option("scene", args.scene, "Scene file (TOML); none renders the built-in default scene");
-    cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output");
-    cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB)");
+    cmd->add_option("scene", args.scene,
+                    "Scene file (TOML); none renders the built-in default scene. A built-in preset's name, or a "
+                    "preset file with --frame, renders one still of that preset")
+        ->check(refuse_empty_path);
+    cmd->add_option("--frame", args.frame, "With a preset: the frame to render (0-based, as in play --frames; default 0)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output")->check(refuse_empty_path);
+    cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB)")->check(refuse_empty_path);
     cmd->add_option("--method", args.method,
                     "NAME[:SETTING]: ppll (GPU, exact), reference (CPU, double precision) or a comparison method "
                     "(brume methods lists them)");
-    cmd->add_option("--stats", args.stats, "Write frame statistics as JSON");
+    cmd->add_option("--stats", args.stats, "Write frame statistics as JSON")->check(refuse_empty_path);
     cmd->add_option("--repeat", args.repeat, "Render N frames; statistics report medians")->check(CLI::Range(1, 100000));
     cmd->add_option("--size", args.size, "Override the scene's resolution, WxH");
-    cmd->add_option("--exposure", args.exposure, "PNG exposure in stops");
+    cmd->add_option("--exposure", args.exposure, "PNG exposure in stops (default 0, or a preset's)")
+        ->each([&args](const std::string&) { args.exposure_set = true; });
     cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
     cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers; any message fails the run");
     cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M (default: half the device heap)");
@@ -42,6 +55,50 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
 
 namespace {
 
+namespace fs = std::filesystem;
+
+// A preset is what `render` was given when --frame says so, or when the name is a built-in preset
+// and no file of that name exists: `brume render plume` is a still of plume's frame 0.
+bool names_a_preset(const RenderArgs& args) {
+    if (args.scene.empty()) return false;
+    if (args.frame >= 0) return true;
+    std::error_code ec;
+    return !fs::exists(args.scene, ec) && builtin_preset(args.scene).has_value();
+}
+
+// What the simulation of a preset still did, for the summary and the statistics.
+struct StillReport {
+    bool preset = false;
+    std::uint32_t max_particles = 0;
+    std::uint64_t skipped = 0;  // births the full max_particles budget skipped
+};
+
+// The scene of one frame of a preset: simulated up to the frame, with the camera of its path there.
+Scene preset_still(const RenderArgs& args, double& exposure, StillReport& report) {
+    Preset preset = resolve_preset(args.scene);
+    if (!args.size.empty()) parse_size(args.size, preset.scene.camera.width, preset.scene.camera.height);
+    const int frame = std::max(args.frame, 0);
+    const int count = preset.timeline.frame_count();
+    if (frame >= count)
+        throw UsageError("--frame " + std::to_string(frame) + " is outside the preset's frames 0-" +
+                                    std::to_string(count - 1));
+    for (const VolumeReport& v : prepare_preset(preset)) print_volume_report(v);
+    Simulator sim(preset);
+    sim.advance_to_frame(frame);
+    Scene scene = preset.scene;
+    sim.append_spheres(scene.spheres);
+    scene.camera = camera_at(preset, sim.time());
+    scene.camera.width = preset.scene.camera.width;
+    scene.camera.height = preset.scene.camera.height;
+    scene.source = preset.name + " frame " + std::to_string(frame);
+    if (!args.exposure_set) exposure = preset.render.exposure;
+    report = {true, preset.timeline.max_particles, sim.skipped()};
+    if (report.skipped > 0)  // a silent cap looks like a weak emitter (issue 14 item 4)
+        std::printf("note: the particle budget max_particles = %u skipped %llu births up to frame %d\n",
+                    report.max_particles, static_cast<unsigned long long>(report.skipped), frame);
+    return scene;
+}
+
 struct Timing {
     std::vector<std::vector<double>> pass_ms;  // per pass, per frame
     std::vector<std::string> pass_names;
@@ -49,7 +106,7 @@ struct Timing {
 };
 
 std::string stats_json(const RenderArgs& args, const Scene& scene, const std::string& device, const Timing& timing,
-                       const FrameStats& last, bool on_gpu) {
+                       const FrameStats& last, bool on_gpu, const StillReport& still) {
     std::ostringstream j;
     j.precision(10);
     j << "{\n";
@@ -59,6 +116,7 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
     j << "  \"width\": " << scene.camera.width << ",\n  \"height\": " << scene.camera.height << ",\n";
     j << "  \"spheres\": " << scene.spheres.size() << ",\n  \"boxes\": " << scene.boxes.size() << ",\n";
     j << "  \"frames\": " << timing.total_ms.size() << ",\n";
+    if (still.preset) j << "  \"skipped_births\": " << still.skipped << ",\n";
     // The light model's shadows as this method computed them (docs/accuracy.md).
     // Only ppll's exact integrator samples T_sun along its segments; the methods that composite whole
     // spheres use the per-sphere term whatever the scene asks.
@@ -91,22 +149,33 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
 }  // namespace
 
 int run_render(const RenderArgs& args) {
-    Scene scene = args.scene.empty() ? default_scene() : load_scene_file(args.scene);
-    if (!args.size.empty()) parse_size(args.size, scene.camera.width, scene.camera.height);
-    if (!args.shadows.empty())
-        scene.render.shadow_technique = args.shadows == "per-sphere" ? ShadowTechnique::PerSphere : ShadowTechnique::Accurate;
-    for (const VolumeReport& v : convert_scene_volumes(scene)) print_volume_report(v);
     std::string exr = args.exr, png = args.png;
     if (exr.empty() && png.empty()) {
         exr = "brume.exr";
         png = "brume.png";
     }
-    // Refuse before rendering rather than fail after writing some outputs and not others.
-    if (!std::isfinite(args.exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");
+    // Refuse before any work rather than fail after writing some outputs and not others.
     if (!exr.empty()) check_output_format("-o", exr, ".exr");
     if (!png.empty()) check_output_format("--png", png, ".png");
     for (const std::string& out : {exr, png, args.stats})
         if (!out.empty()) check_writable_path(out);
+    const std::vector<NamedPath> output_names = {{"-o", exr}, {"--png", png}, {"--stats", args.stats}};
+    check_outputs_distinct(output_names, {{"the scene", args.scene}});
+
+    double exposure = args.exposure;
+    const bool preset = names_a_preset(args);
+    StillReport still;
+    Scene scene = preset ? preset_still(args, exposure, still) : args.scene.empty() ? default_scene() : load_scene_file(args.scene);
+    if (!preset && !args.size.empty()) parse_size(args.size, scene.camera.width, scene.camera.height);
+    if (!args.shadows.empty())
+        scene.render.shadow_technique = args.shadows == "per-sphere" ? ShadowTechnique::PerSphere : ShadowTechnique::Accurate;
+    if (!std::isfinite(exposure)) throw UsageError("--exposure must be a finite number of stops");
+    std::vector<NamedPath> volumes;
+    for (const VdbVolume& v : scene.volumes)
+        if (v.source.file.rfind("builtin:", 0) != 0)
+            volumes.push_back({"the volume", (fs::path(v.source.base_dir) / v.source.file).string()});
+    check_outputs_distinct(output_names, volumes);
+    for (const VolumeReport& v : convert_scene_volumes(scene)) print_volume_report(v);
 
     // Options reach every method that honours them (the registry says which); one given to a
     // method that would ignore it is refused rather than silently dropped.
@@ -124,7 +193,7 @@ int run_render(const RenderArgs& args) {
         options.threads = args.threads;
         given |= kHonoursThreads;
     }
-    check_method_options(args.method, given);
+    check_method_usage(args.method, given);
     const bool on_gpu = find_method(args.method).needs_device;
 
     Timing timing;
@@ -166,14 +235,17 @@ int run_render(const RenderArgs& args) {
     }
 
     refuse_non_finite(image, "the frame");
-    if (!exr.empty()) write_exr(image, exr);
-    if (!png.empty()) write_png(image, png, args.exposure);
     last.regrows = regrows;  // over every frame this run rendered
-    if (!args.stats.empty())
-        write_file_atomically(args.stats, stats_json(args, scene, device_name, timing, last, on_gpu));
+    // All of the run's outputs or none: each is written in full before any replaces an old file.
+    OutputSet outputs;
+    if (!exr.empty()) outputs.stage(exr, exr_bytes(image, exr));
+    if (!png.empty()) outputs.stage(png, png_bytes(image, png, exposure));
+    if (!args.stats.empty()) outputs.stage(args.stats, stats_json(args, scene, device_name, timing, last, on_gpu, still));
+    outputs.commit();
 
-    std::printf("%s: %dx%d, %zu spheres, %zu boxes, method %s on %s: %.2f ms (median of %d)", scene.source.c_str(),
-                scene.camera.width, scene.camera.height, scene.spheres.size(), scene.boxes.size(), args.method.c_str(),
+    std::printf("%s: %dx%d, %s, %s, method %s on %s: %.2f ms (median of %d)", scene.source.c_str(), scene.camera.width,
+                scene.camera.height, count_of(scene.spheres.size(), "sphere", "spheres").c_str(),
+                count_of(scene.boxes.size(), "box", "boxes").c_str(), args.method.c_str(),
                 device_name.c_str(), median(timing.total_ms), args.repeat);
     if (last.list_stats)
         std::printf(", %llu fragments, longest list %u", (unsigned long long)last.fragments, last.max_list_length);

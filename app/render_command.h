@@ -9,7 +9,8 @@
 namespace brume::app {
 
 struct RenderArgs {
-    std::string scene;  // empty: the built-in default scene
+    std::string scene;  // empty: the built-in default scene; or a preset (name or file) with --frame
+    int frame = -1;     // --frame: a still of this frame of a preset; -1: not given
     std::string exr;
     std::string png;
     std::string method = "ppll";
@@ -20,6 +21,7 @@ struct RenderArgs {
     std::string shadows;  // empty: the scene's [render] shadow_technique
     std::uint64_t pool_nodes = 0;
     double exposure = 0.0;
+    bool exposure_set = false;  // otherwise a preset's own exposure applies
     int repeat = 1;
     int threads = 0;
     bool validate = false;

@@ -1,6 +1,7 @@
 #include "app/video.h"
 
 #include "app/process.h"
+#include "render/atomic_file.h"
 
 #include <unistd.h>
 
@@ -40,12 +41,16 @@ std::string ffmpeg_version() {
 
 void encode_video(const std::string& pattern, int first, int count, double fps, const std::filesystem::path& output,
                   const std::filesystem::path& log) {
-    const std::filesystem::path dir = output.has_parent_path() ? output.parent_path() : ".";
-    // Hidden, beside the output, keeping its extension (ffmpeg picks the container from it).
-    std::string temp_name = ".";
-    temp_name += output.filename().string();
-    temp_name += ".tmp-" + std::to_string(::getpid()) + output.extension().string();
-    const std::filesystem::path temp = dir / temp_name;
+    // Hidden, beside the output, keeping its extension (ffmpeg picks the container from it). Brume
+    // creates and locks it, ffmpeg writes into it: a run killed outright leaves it unlocked, and the
+    // next run's cleanup removes it (render/atomic_file.h).
+    remove_stale_temporaries(output);
+    std::filesystem::path temp;
+    const int lock = create_locked_temporary(output, output.extension().string(), temp);
+    struct Unlock {
+        int fd;
+        ~Unlock() { ::close(fd); }
+    } unlock{lock};
     char rate[32];
     std::snprintf(rate, sizeof rate, "%.6g", fps);
     const std::vector<std::string> args = {
@@ -61,8 +66,13 @@ void encode_video(const std::string& pattern, int first, int count, double fps, 
                                  ") encoding " + output.string() + "; its log " + log.string() + " ends:" + tail_of(log, 6));
     }
     std::error_code ec;
-    std::filesystem::rename(temp, output, ec);
-    if (ec) throw std::runtime_error("cannot write " + output.string() + ": " + ec.message());
+    std::filesystem::rename(temp, resolve_output(output).path, ec);
+    if (ec) {
+        std::filesystem::remove(temp, ec);
+        throw std::runtime_error("cannot write " + output.string() + ": " + ec.message());
+    }
+    // The log is for a failed encoding; after a good one it would only clutter the frames.
+    std::filesystem::remove(log, ec);
 }
 
 }  // namespace brume::app

@@ -1,6 +1,8 @@
 #include "render/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -8,6 +10,7 @@
 #include <random>
 #include <string>
 #include <system_error>
+#include <utility>
 
 namespace brume {
 
@@ -21,91 +24,201 @@ std::string os_reason(int err) { return std::generic_category().message(err); }
     throw FileWriteError("cannot write " + path.string() + ": " + reason);
 }
 
-// Owns the temporary file until it has been renamed into place; on any failure closes and removes it.
-class TempFile {
-public:
-    TempFile(fs::path path, int fd) : path_(std::move(path)), fd_(fd) {}
-    TempFile(const TempFile&) = delete;
-    TempFile& operator=(const TempFile&) = delete;
-    ~TempFile() {
-        if (fd_ >= 0) ::close(fd_);
-        if (!committed_) ::unlink(path_.c_str());
-    }
-    int fd() const { return fd_; }
-    const fs::path& path() const { return path_; }
-    // Closing can report a delayed write error (NFS, quotas), so it is checked, not left to the destructor.
-    int close() {
-        const int r = ::close(fd_);
-        fd_ = -1;
-        return r;
-    }
-    void commit() { committed_ = true; }
+fs::path directory_of(const fs::path& path) { return path.has_parent_path() ? path.parent_path() : fs::path("."); }
 
-private:
-    fs::path path_;
-    int fd_;
-    bool committed_ = false;
-};
+// The prefix of every temporary file for `target`; the name starts with '.' so listings hide it,
+// and the target's name is cut so the whole stays within NAME_MAX.
+std::string temp_prefix(const fs::path& target) { return "." + target.filename().string().substr(0, 200) + ".tmp-"; }
 
-// Creates a uniquely named file beside the target; the name starts with '.' so listings hide it.
-TempFile create_temp_beside(const fs::path& path) {
-    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-    // Keep the temporary name within NAME_MAX even when the target's name is already long.
-    const std::string stem = path.filename().string().substr(0, 200);
-    std::random_device random;
-    for (int attempt = 0; attempt < 64; ++attempt) {
-        char suffix[16];
-        std::snprintf(suffix, sizeof suffix, "%08x", static_cast<unsigned>(random()));
-        fs::path temp = dir / ("." + stem + ".tmp-" + suffix);
-        // 0666 before the umask: the finished file gets the permissions of any newly created file.
-        const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0) return TempFile(std::move(temp), fd);
-        if (errno != EEXIST) {
-            const int err = errno;
-            fail_write(path, "cannot create a temporary file in " + dir.string() + ": " + os_reason(err));
+bool same_file(const struct stat& a, const struct stat& b) { return a.st_dev == b.st_dev && a.st_ino == b.st_ino; }
+
+// Writes all of `bytes` to `fd`, retrying short writes and EINTR; returns 0 or the errno.
+int write_all(int fd, std::string_view bytes) {
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            return errno;
         }
+        done += static_cast<std::size_t>(n);
     }
-    fail_write(path, "cannot find a free temporary file name in " + dir.string());
+    return 0;
 }
 
 }  // namespace
 
-// Write, flush to disk, then rename: readers see either the old file or the complete new one.
-void write_file_atomically(const fs::path& path, std::string_view bytes) {
-    if (!path.has_filename()) fail_write(path, "not a file name");
-    TempFile temp = create_temp_beside(path);
-    std::size_t done = 0;
-    while (done < bytes.size()) {
-        const ssize_t n = ::write(temp.fd(), bytes.data() + done, bytes.size() - done);
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            const int err = errno;
-            fail_write(path, "writing " + temp.path().string() + ": " + os_reason(err));
+OutputTarget resolve_output(const fs::path& path) {
+    if (path.empty()) fail_write(path, "an empty file name");
+    // stat follows every link, /proc's fd links included, to what a write would reach.
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) {
+        if (S_ISREG(st.st_mode)) {
+            std::error_code ec;
+            const fs::path real = fs::canonical(path, ec);  // the temporary file goes beside the real file
+            return {ec ? path : real, false};
         }
-        done += static_cast<std::size_t>(n);
+        if (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)) return {path, true};
+        const std::string what = S_ISDIR(st.st_mode)    ? "a directory"
+                                 : S_ISBLK(st.st_mode)  ? "a block device"
+                                 : S_ISSOCK(st.st_mode) ? "a socket"
+                                                        : "not a regular file";
+        fail_write(path, "it is " + what + " (Brume replaces only regular files and writes into character devices and FIFOs)");
     }
-    // Without fsync a crash soon after the rename can leave an empty file where the old good one was.
-    if (::fsync(temp.fd()) != 0) {
+    if (errno != ENOENT) {
         const int err = errno;
-        fail_write(path, "flushing " + temp.path().string() + ": " + os_reason(err));
+        fail_write(path, os_reason(err));
     }
-    if (temp.close() != 0) {
-        const int err = errno;
-        fail_write(path, "closing " + temp.path().string() + ": " + os_reason(err));
+    // Nothing there, or a link to a name not made yet: follow the links to the name to create.
+    fs::path p = path;
+    for (int hops = 0;; ++hops) {
+        if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return {p, false};
+        if (hops >= 40) fail_write(path, "too many levels of symbolic links");
+        std::error_code ec;
+        const fs::path next = fs::read_symlink(p, ec);
+        if (ec) fail_write(path, "reading the symbolic link " + p.string() + ": " + ec.message());
+        p = next.is_absolute() ? next : directory_of(p) / next;
     }
-    if (::rename(temp.path().c_str(), path.c_str()) != 0) {
-        const int err = errno;
-        fail_write(path, "renaming " + temp.path().string() + " into place: " + os_reason(err));
-    }
-    temp.commit();
 }
 
+void remove_stale_temporaries(const fs::path& path) {
+    const fs::path target = resolve_output(path).path;
+    const std::string prefix = temp_prefix(target);
+    const fs::path dir = directory_of(target);
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const fs::path entry = it->path();
+        if (entry.filename().string().rfind(prefix, 0) != 0) continue;
+        // A writer holds its temporary file's lock until it renames the file or dies (the kernel
+        // drops the locks of a killed process), so a lock we can take means nobody will finish it.
+        const int fd = ::open(entry.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+        if (fd < 0) continue;
+        struct stat held {}, named {};
+        if (::fstat(fd, &held) == 0 && S_ISREG(held.st_mode) && ::flock(fd, LOCK_EX | LOCK_NB) == 0 &&
+            ::lstat(entry.c_str(), &named) == 0 && same_file(held, named))
+            ::unlink(entry.c_str());
+        ::close(fd);
+    }
+}
+
+int create_locked_temporary(const fs::path& path, const std::string& suffix, fs::path& temp) {
+    const fs::path target = resolve_output(path).path;
+    const fs::path dir = directory_of(target);
+    std::random_device random;
+    for (int attempt = 0; attempt < 64; ++attempt) {
+        char tag[16];
+        std::snprintf(tag, sizeof tag, "%08x", static_cast<unsigned>(random()));
+        fs::path name = dir / (temp_prefix(target) + tag + suffix);
+        // 0666 before the umask: the finished file gets the permissions of any newly created file.
+        const int fd = ::open(name.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0) {
+            if (errno == EEXIST) continue;
+            const int err = errno;
+            fail_write(path, "cannot create a temporary file in " + dir.string() + ": " + os_reason(err));
+        }
+        // A cleaner could have taken the name between open and flock and removed it: then the name
+        // no longer leads to this file, and another is made.
+        struct stat held {}, named {};
+        if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && ::fstat(fd, &held) == 0 && ::lstat(name.c_str(), &named) == 0 &&
+            same_file(held, named)) {
+            temp = std::move(name);
+            return fd;
+        }
+        ::close(fd);
+    }
+    fail_write(path, "cannot find a free temporary file name in " + dir.string());
+}
+
+fs::path link_old_file(const fs::path& target) {
+    struct stat st {};
+    if (::lstat(target.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return {};
+    std::random_device random;
+    for (int attempt = 0; attempt < 64; ++attempt) {
+        char tag[16];
+        std::snprintf(tag, sizeof tag, "%08x", static_cast<unsigned>(random()));
+        fs::path name = directory_of(target) / (temp_prefix(target) + tag + ".old");
+        if (::link(target.c_str(), name.c_str()) == 0) return name;
+        if (errno != EEXIST) return {};
+    }
+    return {};
+}
+
+StagedFile::StagedFile(const fs::path& path, std::string_view bytes) : path_(path) {
+    if (!path.has_filename()) fail_write(path, "not a file name");
+    target_ = resolve_output(path);
+    if (target_.in_place) {  // a device or FIFO cannot be replaced, so the bytes wait for commit()
+        held_.assign(bytes);
+        return;
+    }
+    remove_stale_temporaries(path);
+    fd_ = create_locked_temporary(path, "", temp_);
+    // A constructor that throws runs no destructor: the temporary file is removed here.
+    try {
+        // A replaced file keeps its permissions (a group-writable output stays group-writable).
+        struct stat old {};
+        if (::stat(target_.path.c_str(), &old) == 0 && S_ISREG(old.st_mode)) (void)::fchmod(fd_, old.st_mode & 07777);
+        if (const int err = write_all(fd_, bytes)) fail_write(path, "writing " + temp_.string() + ": " + os_reason(err));
+        // Without fsync a crash soon after the rename can leave an empty file where the old good one was.
+        if (::fsync(fd_) != 0) {
+            const int err = errno;
+            fail_write(path, "flushing " + temp_.string() + ": " + os_reason(err));
+        }
+    } catch (...) {
+        ::unlink(temp_.c_str());
+        ::close(fd_);
+        throw;
+    }
+}
+
+StagedFile::StagedFile(StagedFile&& other) noexcept
+    : path_(std::move(other.path_)),
+      target_(std::move(other.target_)),
+      temp_(std::exchange(other.temp_, fs::path())),
+      held_(std::move(other.held_)),
+      fd_(std::exchange(other.fd_, -1)) {}
+
+StagedFile::~StagedFile() {
+    if (!temp_.empty()) ::unlink(temp_.c_str());
+    if (fd_ >= 0) ::close(fd_);
+}
+
+void StagedFile::commit() {
+    if (target_.in_place) {
+        const int fd = ::open(target_.path.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
+        if (fd < 0) {
+            const int err = errno;
+            fail_write(path_, os_reason(err));
+        }
+        const int err = write_all(fd, held_);
+        ::close(fd);
+        if (err) fail_write(path_, os_reason(err));
+        return;
+    }
+    if (temp_.empty()) return;  // committed already
+    if (::rename(temp_.c_str(), target_.path.c_str()) != 0) {
+        const int err = errno;
+        fail_write(path_, "renaming " + temp_.string() + " into place: " + os_reason(err));
+    }
+    temp_.clear();
+    // Closing can report a delayed write error (NFS, quotas); the data was flushed by fsync already,
+    // and closing last keeps the lock until the name is gone.
+    ::close(std::exchange(fd_, -1));
+}
+
+void write_file_atomically(const fs::path& path, std::string_view bytes) {
+    StagedFile staged(path, bytes);
+    staged.commit();
+}
 
 void check_writable_path(const fs::path& path) {
     if (!path.has_filename()) fail_write(path, "not a file name");
+    const OutputTarget target = resolve_output(path);
+    if (target.in_place) {
+        if (::access(target.path.c_str(), W_OK) != 0) fail_write(path, os_reason(errno));
+        return;
+    }
     std::error_code ec;
-    if (fs::is_directory(path, ec)) fail_write(path, "it is a directory");
-    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    const fs::path dir = directory_of(target.path);
     if (!fs::exists(dir, ec)) fail_write(path, "directory " + dir.string() + " does not exist");
     if (!fs::is_directory(dir, ec)) fail_write(path, dir.string() + " is not a directory");
     if (::access(dir.c_str(), W_OK) != 0) fail_write(path, "directory " + dir.string() + ": " + os_reason(errno));

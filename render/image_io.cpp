@@ -124,16 +124,21 @@ double png_dither(int i, int j, int c) {
     return double(x >> 11) * 0x1.0p-53 - 0.5;
 }
 
-void write_exr(const Image& image, const fs::path& path) {
+std::string exr_bytes(const Image& image, const fs::path& path) {
     check_image(image, path);
-    std::string bytes;
     try {
-        bytes = encode_exr(image);
+        return encode_exr(image);
     } catch (const std::exception& e) {
         fail_write(path, std::string("EXR encoding failed: ") + e.what());
     }
-    write_image_file(path, bytes);
 }
+
+std::string png_bytes(const Image& image, const fs::path& path, double exposure_stops) {
+    check_image(image, path);
+    return encode_png(image, exposure_stops, path);
+}
+
+void write_exr(const Image& image, const fs::path& path) { write_image_file(path, exr_bytes(image, path)); }
 
 Image read_exr(const fs::path& path) {
     const std::string name = path.string();
@@ -172,8 +177,7 @@ Image read_exr(const fs::path& path) {
 }
 
 void write_png(const Image& image, const fs::path& path, double exposure_stops) {
-    check_image(image, path);
-    write_image_file(path, encode_png(image, exposure_stops, path));
+    write_image_file(path, png_bytes(image, path, exposure_stops));
 }
 
 }  // namespace brume

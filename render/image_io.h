@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 
 namespace brume {
 
@@ -20,6 +21,11 @@ public:
 // Linear radiance as 32-bit FLOAT R, G, B channels, written exactly as given: no tone mapping, and
 // NaN or Inf pixels are kept (they are evidence, not noise).
 void write_exr(const Image& image, const std::filesystem::path& path);
+
+// The bytes write_exr and write_png would write, for outputs committed together (render/output_set.h).
+// `path` only names the file in an ImageIoError.
+std::string exr_bytes(const Image& image, const std::filesystem::path& path);
+std::string png_bytes(const Image& image, const std::filesystem::path& path, double exposure_stops = 0.0);
 
 // Reads the R, G and B channels as float; a missing channel reads as 0.
 Image read_exr(const std::filesystem::path& path);

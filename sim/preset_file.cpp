@@ -17,7 +17,8 @@ Preset parse_preset_toml(std::string_view text, const std::string& source_name) 
     read_scene_sections(in, p.scene);
     read_preset_sections(in, p);
     p.scene.source = source_name;
-    if (p.name.empty()) p.name = std::filesystem::path(source_name).stem().string();
+    // A name taken from the file's stem is cut to the same bound a written name must meet.
+    if (p.name.empty()) p.name = std::filesystem::path(source_name).stem().string().substr(0, kMaxPresetName);
     return p;
 }
 

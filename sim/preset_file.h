@@ -50,6 +50,9 @@ inline constexpr double kMaxFps = 240.0;
 inline constexpr double kMaxDurationSeconds = 3600.0;  // also the bound on preroll
 inline constexpr int kMaxSubsteps = 64;
 inline constexpr std::uint32_t kMaxParticles = 10'000'000;
+// [preset] name: NAME.####.png and its hidden temporary ".NAME.####.png.tmp-XXXXXXXX" must fit in a
+// file name (255 bytes); 100 leaves room, and a longer name is no name a person types.
+inline constexpr std::size_t kMaxPresetName = 100;
 inline constexpr std::uint32_t kMaxBurstCount = 10'000'000;
 inline constexpr double kMaxEmissionRate = 10'000'000.0;  // particles per second
 inline constexpr double kMaxTimeSeconds = 1e6;             // emission windows, bursts, camera keys (>= 0)

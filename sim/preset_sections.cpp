@@ -194,7 +194,12 @@ void read_preset(const Reader& in, const toml::node& node, const KeyPath& path, 
         if (!ok)
             in.fail(*n, np,
                     "must be letters, digits, '-', '_' and '.', not starting with '.' (it names output files; got " +
-                        toml_text::quoted(p.name) + ")");
+                        toml_text::quoted(toml_text::excerpt(p.name)) + ")");
+        // NAME.####.png and its hidden temporary must fit a file name (255 bytes) wherever the file moves.
+        if (p.name.size() > kMaxPresetName)
+            in.fail(*n, np,
+                    "must be at most " + std::to_string(kMaxPresetName) + " characters (it names output files; got " +
+                        std::to_string(p.name.size()) + ")");
     }
     if (const toml::node* n = t.get("description")) p.description = in.one_line(*n, path / "description");
 }
@@ -474,10 +479,12 @@ void read_camera_path(const Reader& in, const toml::node& node, const KeyPath& p
             const KeyPath p = path / "keys";
             const toml::array& a = in.inline_table_array(keys, p, kMaxListEntries, "camera keys",
                                                          "[{ time = 0.0, position = [0, 1, 6], look_at = [0, 1, 0] }]");
-            if (a.size() < 2) in.fail(keys, p, "needs at least 2 keys (got " + std::to_string(a.size()) + ")");
+            // Each key is read before they are counted, so a typo in a lone key is named, not hidden
+            // behind "needs at least 2 keys".
             in.read_each(a, p, cp.keys, [&](const Reader& r, const toml::table& key, const KeyPath& key_path) {
                 return read_camera_key(r, key, key_path, camera, cp.keys);
             });
+            if (a.size() < 2) in.fail(keys, p, "needs at least 2 keys (got " + std::to_string(a.size()) + ")");
             break;
         }
         case CameraPath::Kind::Orbit: {

@@ -98,6 +98,9 @@ std::optional<std::string_view> suggest(std::string_view unknown, std::span<cons
     std::optional<std::string_view> best;
     std::size_t best_distance = 3;  // suggest only within distance 2
     for (const std::string_view k : known) {
+        // The distance is at least the difference in length: a huge key costs nothing here (it
+        // once cost a matrix of its length times the name's, 1.4 GB for an 8 MB key).
+        if (unknown.size() > k.size() + 2 || k.size() > unknown.size() + 2) continue;
         const std::size_t dist = edit_distance(unknown, k);
         if (dist < best_distance) {
             best = k;
@@ -105,6 +108,13 @@ std::optional<std::string_view> suggest(std::string_view unknown, std::span<cons
         }
     }
     return best;
+}
+
+std::string excerpt(std::string_view s, std::size_t limit) {
+    if (s.size() <= limit) return std::string(s);
+    std::size_t cut = limit;
+    while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xc0) == 0x80) --cut;  // not inside a character
+    return std::string(s.substr(0, cut)) + "... (" + std::to_string(s.size()) + " bytes)";
 }
 
 // Text from a file is printed quoted and escaped, so a message stays one readable line.

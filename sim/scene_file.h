@@ -79,6 +79,9 @@ void append_number(std::string& out, std::string_view key, double v);
 std::optional<std::string_view> suggest(std::string_view unknown, std::span<const std::string_view> known);
 // A TOML basic string, quoted and escaped so that it stays on one line.
 std::string quoted(std::string_view s);
+// Text from a file as a message echoes it: at most `limit` bytes (cut at a UTF-8 character boundary),
+// then "... (N bytes)", so an 8 MB key or value never makes an 8 MB error line.
+std::string excerpt(std::string_view s, std::size_t limit = 64);
 // The whole file; a missing or unreadable file is a SceneFileError naming it and the OS reason.
 std::string read_file(const std::filesystem::path& path);
 // A density grid's `file` and `grid` keys (base_dir is not written: it is where the file is read from),

@@ -17,7 +17,7 @@ constexpr std::size_t kChunk = 256;
 
 }  // namespace
 
-Simulator::Simulator(const Preset& preset) : preset_(preset) {
+Simulator::Simulator(const Preset& preset, const std::atomic<bool>* stop) : preset_(preset), stop_(stop) {
     const Timeline& tl = preset_.timeline;
     if (!(tl.fps > 0.0) || !std::isfinite(tl.fps)) throw std::invalid_argument("simulator: fps must be positive");
     if (tl.substeps < 1) throw std::invalid_argument("simulator: substeps must be at least 1");
@@ -48,18 +48,27 @@ void Simulator::reset() {
     forces_.phases(0.0, phases_.data());
     add_births(0.0, 0.0, true);
     advance_new(0);  // age 0: only pushed out of boxes
-    while (step_ < preroll_steps_) substep();
+    while (step_ < preroll_steps_) {
+        check_stop();
+        substep();
+    }
 }
 
 void Simulator::step_frame() {
-    for (std::uint64_t s = 0; s < substeps_; ++s) substep();
+    for (std::uint64_t s = 0; s < substeps_; ++s) {
+        check_stop();
+        substep();
+    }
 }
 
 void Simulator::advance_to_frame(int frame) {
     if (frame < 0) throw std::invalid_argument("simulator: frame must be non-negative, got " + std::to_string(frame));
     const std::uint64_t target = preroll_steps_ + std::uint64_t(frame) * substeps_;
     if (step_ > target) reset();
-    while (step_ < target) substep();
+    while (step_ < target) {
+        check_stop();
+        substep();
+    }
 }
 
 int Simulator::frame() const { return int((step_ - preroll_steps_) / substeps_); }

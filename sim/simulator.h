@@ -26,17 +26,28 @@
 #include "sim/preset.h"
 #include "sim/scene.h"
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace brume {
 
+// Thrown by a simulator whose stop flag was raised (Ctrl-C during a long preroll or replay).
+class SimulationStopped : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
 class Simulator {
 public:
     // Throws std::invalid_argument for a timeline it cannot step (fps or substeps not positive,
-    // preroll negative) or more than 65536 emitters (the id's emitter field).
-    explicit Simulator(const Preset& preset);
+    // preroll negative) or more than 65536 emitters (the id's emitter field). When `stop` is given,
+    // every step checks it, and a raised flag ends the preroll or any stepping with SimulationStopped:
+    // a preroll or replay can run for minutes, and a signal handler can only set a flag.
+    explicit Simulator(const Preset& preset, const std::atomic<bool>* stop = nullptr);
 
     void step_frame();
     // Steps forward to frame f (f >= 0), replaying from the start if f is behind the current frame.
@@ -74,7 +85,13 @@ private:
     void remove_dead(std::size_t first);
     double time_at(std::uint64_t step) const { return double(step) / steps_per_second_; }
 
+    void check_stop() const {
+        if (stop_ && stop_->load(std::memory_order_relaxed))
+            throw SimulationStopped("the simulation was stopped at step " + std::to_string(step_));
+    }
+
     Preset preset_;
+    const std::atomic<bool>* stop_ = nullptr;
     ForceField forces_;
     BoxObstacles obstacles_;
     double steps_per_second_ = 1.0;

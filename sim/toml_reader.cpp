@@ -12,7 +12,10 @@ namespace brume::toml_read {
 using toml_text::shortest;
 using toml_text::suggest;
 
-std::string quote_key(std::string_view k) {
+std::string quote_key(std::string_view k_full) {
+    // Key paths are for messages: a key of megabytes is shown by its start and its length.
+    const std::string shown = toml_text::excerpt(k_full);
+    const std::string_view k = k_full.size() > shown.size() ? std::string_view(shown) : k_full;
     const bool bare = !k.empty() && std::all_of(k.begin(), k.end(), [](char c) {
         return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
                c == '-';
@@ -319,7 +322,7 @@ bool Reader::boolean(const toml::node& n, const KeyPath& path) const {
 std::string Reader::one_line(const toml::node& n, const KeyPath& path) const {
     const std::string_view s = string(n, path);
     if (std::any_of(s.begin(), s.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
-        fail(n, path, "must be one line of text without control characters (got " + toml_text::quoted(s) + ")");
+        fail(n, path, "must be one line of text without control characters (got " + toml_text::quoted(toml_text::excerpt(s)) + ")");
     return std::string(s);
 }
 
@@ -329,7 +332,7 @@ std::size_t Reader::choice(const toml::node& n, const KeyPath& path, std::span<c
     if (it != names.end()) return static_cast<std::size_t>(it - names.begin());
     std::string problem = "must be one of";
     for (std::size_t i = 0; i < names.size(); ++i) problem += std::string(i ? ", " : " ") + toml_text::quoted(names[i]);
-    problem += " (got " + toml_text::quoted(s);
+    problem += " (got " + toml_text::quoted(toml_text::excerpt(s));
     if (const auto close = suggest(s, names)) problem += "; did you mean " + toml_text::quoted(*close) + "?";
     fail(n, path, problem + ")");
 }

@@ -573,6 +573,187 @@ vdb_scene_refused vdb_scene.bad_scale '[[vdb]]
 file = "cloud.vdb"
 scale = -2.0' "bad.toml:3" "vdb[0].scale"
 
+# --- 14. Outputs never destroy what stands at their path, their inputs or each other (issue 14 items 10-13). ---
+od=$work/outputs
+mkdir -p "$od/real"
+small=(--size 16x12)
+# A symbolic link is followed to the file it names; the link itself stays.
+ln -s real/target.exr "$od/link.exr"
+run render "$data/small.toml" "${small[@]}" -o "$od/link.exr"
+if expect_success output.symlink_followed; then
+    if [ -L "$od/link.exr" ] && has_magic "$od/real/target.exr" $EXR_MAGIC; then ok output.symlink_followed
+    else fail output.symlink_followed "link replaced or target not written: $(listing "$od") / $(listing "$od/real")"; fi
+fi
+# A FIFO is written into, not replaced by a regular file.
+mkfifo "$od/pipe.exr"
+timeout 60 cat "$od/pipe.exr" >"$od/from_pipe" &
+reader=$!
+run render "$data/small.toml" "${small[@]}" -o "$od/pipe.exr"
+if [ ! -p "$od/pipe.exr" ]; then
+    kill "$reader" 2>/dev/null
+    fail output.fifo_written_into "the FIFO was replaced by a regular file"
+elif ! expect_success output.fifo_written_into; then
+    kill "$reader" 2>/dev/null
+else
+    wait "$reader"
+    has_magic "$od/from_pipe" $EXR_MAGIC && ok output.fifo_written_into || fail output.fifo_written_into "no EXR came through"
+fi
+wait "$reader" 2>/dev/null
+# A character device is written into: /dev/null as both outputs is fine, and nothing is created.
+run render "$data/small.toml" "${small[@]}" -o /dev/null --png /dev/null
+expect_success output.dev_null && [ -c /dev/null ] && ok output.dev_null
+# A directory or a socket at the path is refused by name before any work.
+mkdir -p "$od/adir.exr"
+run render "$data/small.toml" "${small[@]}" -o "$od/adir.exr"
+expect_error output.directory "$od/adir.exr" "directory" && [ -d "$od/adir.exr" ] && ok output.directory
+# Outputs never overwrite the scene, and two outputs never share a file.
+cp "$data/small.toml" "$od/scene"
+cp "$data/small.toml" "$od/scene.toml"
+scene_sum=$(cksum <"$od/scene.toml")
+run render "$od/scene.toml" "${small[@]}" --png "$od/s.png" --stats "$od/scene.toml"
+expect_error output.stats_over_scene "--stats" "would overwrite" "$od/scene.toml" &&
+    [ "$(cksum <"$od/scene.toml")" = "$scene_sum" ] && [ ! -e "$od/s.png" ] && ok output.stats_over_scene
+run render "$od/scene" "${small[@]}" -o "$od/scene"
+expect_error output.exr_over_scene "-o" "would overwrite" && cmp -s "$od/scene" "$od/scene.toml" && ok output.exr_over_scene
+ln -s scene.toml "$od/scene_link.json"
+run render "$od/scene.toml" "${small[@]}" --stats "$od/scene_link.json"
+expect_error output.stats_over_scene_link "would overwrite" && [ "$(cksum <"$od/scene.toml")" = "$scene_sum" ] &&
+    ok output.stats_over_scene_link
+run render "$data/small.toml" "${small[@]}" -o "$od/same" --png "$od/same"
+expect_error output.same_twice "-o" "--png" "same file" && [ ! -e "$od/same" ] && ok output.same_twice
+# An empty path is a command-line error, not "use the defaults" (which wrote brume.exr and brume.png here).
+(cd "$od/real" && "$brume" render "$data/small.toml" "${small[@]}" -o "" >"$out" 2>"$err"; echo $? >"$od/rc")
+rc=$(cat "$od/rc")
+expect_error output.empty_name "empty file name" && [ "$rc" -eq 2 ] && dir_holds "$od/real" target.exr && ok output.empty_name
+# A temporary file a killed run left behind (no one holds its lock) is removed by the next write.
+touch "$od/real/.target.exr.tmp-0badf00d"
+run render "$data/small.toml" "${small[@]}" -o "$od/real/target.exr"
+expect_success output.stale_temp_removed && dir_holds "$od/real" target.exr && ok output.stale_temp_removed
+# A run whose last output fails (a file size limit, as a full disk would) replaces none of the earlier ones.
+# The statistics name the scene, so a scene behind a 1,600-character path makes the JSON the one output
+# over a 1 KiB limit; the 1x1 EXR and PNG fit.
+mix=$od/mix
+long=$mix
+for _ in 1 2 3 4 5 6 7 8; do long=$long/$(printf 'd%.0s' $(seq 200)); done
+mkdir -p "$long"
+cp "$data/small.toml" "$long/scene.toml"
+run render "$data/small.toml" --size 1x1 -o "$mix/out.exr" --png "$mix/out.png" --stats "$mix/out.json"
+expect_success output.mixed_setup || true
+mix_before=$(cd "$mix" && cksum out.exr out.png out.json)
+(ulimit -f 1; trap '' XFSZ; "$brume" render "$long/scene.toml" --size 1x1 --exposure 1 -o "$mix/out.exr" \
+    --png "$mix/out.png" --stats "$mix/out.json" >"$out" 2>"$err"; echo $? >"$od/rc")
+rc=$(cat "$od/rc")
+if expect_error output.mixed_never "$mix/out.json"; then
+    if [ "$(cd "$mix" && cksum out.exr out.png out.json)" != "$mix_before" ]; then
+        fail output.mixed_never "the failed run replaced some of its outputs"
+    elif [ -n "$(ls -A "$mix" | grep '^\.')" ]; then
+        fail output.mixed_never "temporary files left: $(listing "$mix")"
+    else
+        ok output.mixed_never
+    fi
+fi
+
+# --- 15. The command line as a new user meets it (issue 14, "The command line"). ---------------------------
+nu=$work/newuser
+mkdir -p "$nu"
+# A mistyped subcommand is named, with the ones that exist.
+run previewx
+expect_error usage.unknown_subcommand "unknown subcommand 'previewx'" "render" && [ "$rc" -eq 2 ] && ok usage.unknown_subcommand
+# An option error points to its subcommand's help, with the status docs/decisions.md gives (2).
+run bench layers --bogus
+expect_error usage.subcommand_help "--bogus" "brume bench --help" && [ "$rc" -eq 2 ] && ok usage.subcommand_help
+# Option values checked after parsing are command-line errors too: status 2, as docs/decisions.md says.
+run play crossing --frames 5-2 -o never_dir
+expect_error usage.status_frames "reversed" && [ "$rc" -eq 2 ] && ok usage.status_frames || echo "  (status $rc)"
+run render "$data/small.toml" --size abc -o never.exr
+expect_error usage.status_size "abc" && [ "$rc" -eq 2 ] && ok usage.status_size || echo "  (status $rc)"
+run render "$data/small.toml" --method magic -o never.exr
+expect_error usage.status_method "magic" && [ "$rc" -eq 2 ] && ok usage.status_method || echo "  (status $rc)"
+# Help is per benchmark: bench layers --help shows its options, not bench sim's.
+run bench layers --help
+expect_success usage.bench_help && grep -q -- "--layers" "$out" && ! grep -q -- "--particles" "$out" && ok usage.bench_help ||
+    echo "  ($(grep -c -- '--' "$out") option lines)"
+# One still of a preset: the same pixels as that frame of play.
+run play crossing --frames 7 --size 16x12 -o "$nu/played"
+run render crossing --frame 7 --size 16x12 --png "$nu/still.png"
+if expect_success render.preset_still; then
+    if cmp -s "$nu/played/crossing.0007.png" "$nu/still.png"; then ok render.preset_still
+    else fail render.preset_still "render crossing --frame 7 differs from play's frame 7"; fi
+fi
+# Counts agree with their nouns: crossing has one box.
+grep -q ", 1 box," "$out" && ok render.plurals || fail render.plurals "$(head -n 1 "$out")"
+# A full particle budget is said and counted in the statistics of a preset still (issue 14 item 4).
+printf '[timeline]\nfps = 10.0\nduration = 0.5\nmax_particles = 5\n[[emitter]]\nshape = "point"\ncenter = [0.0, 0.5, 0.0]\nrate = 150.0\nlifetime = 10.0\nparticle_radius = 0.1\nextinction = 1.0\n' >"$nu/capped.toml"
+run render "$nu/capped.toml" --frame 3 --size 8x8 -o "$nu/capped.exr" --stats "$nu/capped.json"
+expect_success render.budget_counted && grep -q "max_particles = 5" "$out" && grep -Eq '"skipped_births": [1-9]' "$nu/capped.json" &&
+    ok render.budget_counted
+run render crossing --frame 144 --size 16x12 --png "$nu/never.png"
+expect_error render.preset_frame_range "--frame 144" "0-143" && [ ! -e "$nu/never.png" ] && ok render.preset_frame_range
+
+# A lone camera key with a typo names the typo, not "needs at least 2 keys".
+printf '[timeline]\nduration = 0.5\n[camera_path]\ntype = "keyframes"\nkeys = [{ time = 0.0, positon = [0.0, 1.0, 5.0], look_at = [0.0, 1.0, 0.0] }]\n' >"$nu/cam1.toml"
+run play "$nu/cam1.toml" -o "$nu/cam1" --size 8x8
+expect_error camera.lone_key_typo "cam1.toml:5" "positon" && [ ! -e "$nu/cam1" ] && ok camera.lone_key_typo
+
+# --- 16. Huge strings: what is echoed is bounded, names are checked where they are read (issue 14 item 8). ---
+hs=$work/huge_strings
+mkdir -p "$hs"
+{ echo "[camera]"; head -c 8000000 /dev/zero | tr '\0' x; echo " = 1"; } >"$hs/key.toml"
+run render "$hs/key.toml" -o "$hs/never.exr"
+if expect_error strings.huge_key "key.toml:2" "unknown key" "(8000000 bytes)"; then
+    if [ "$(wc -c <"$err")" -lt 400 ]; then ok strings.huge_key; else fail strings.huge_key "a $(wc -c <"$err")-byte message"; fi
+fi
+{ echo "[render]"; printf 'shadow_technique = "'; head -c 100000 /dev/zero | tr '\0' z; echo '"'; } >"$hs/enum.toml"
+run render "$hs/enum.toml" -o "$hs/never.exr"
+expect_error strings.huge_value "shadow_technique" "(100000 bytes)" && [ "$(wc -c <"$err")" -lt 400 ] && ok strings.huge_value
+{ echo "[preset]"; printf 'name = "'; head -c 250 /dev/zero | tr '\0' n; echo '"'; echo "[timeline]"; echo "duration = 0.5"; } >"$hs/name.toml"
+run play "$hs/name.toml" -o "$hs/frames" --size 8x8
+expect_error strings.long_preset_name "name.toml:2" "preset.name" "at most 100" && [ ! -e "$hs/frames" ] &&
+    ok strings.long_preset_name
+
+# --- 17. The README's Tour renders the scenes it names: they are shipped. -------------------------------------
+tour=$work/tour
+mkdir -p "$tour"
+examples=$(cd "$data/../../examples" 2>/dev/null && pwd)
+run render "$examples/scene.toml" --size 32x24 -o "$tour/out.exr" --png "$tour/out.png" --stats "$tour/out.json"
+expect_success readme.tour_scene && has_magic "$tour/out.png" $PNG_MAGIC && ok readme.tour_scene
+run render plume --frame 40 --size 16x12 --png "$tour/plume.png"
+expect_success readme.tour_preset_still && has_magic "$tour/plume.png" $PNG_MAGIC && ok readme.tour_preset_still
+
+# --- 18. A seeded sample of fuzzed inputs through the binary (tests/test_fuzz_inputs.cpp runs thousands
+# through the readers): no signal, no hang, one bounded error line, an existing output left as it was. ---
+fz=$work/fuzz
+mkdir -p "$fz/out"
+run render "$data/small.toml" --size 4x4 -o "$fz/out/out.exr"
+expect_success fuzz.setup || true
+RANDOM=14
+fuzz_bad=""
+for k in $(seq 1 16); do
+    if [ $((k % 4)) -eq 0 ]; then src=$data/../../presets/crossing.toml; extra=(--frame 0); else src=$data/small.toml; extra=(); fi
+    size=$(wc -c <"$src")
+    f=$fz/case$k.toml
+    case $((RANDOM % 5)) in
+        0) head -c $((RANDOM % size)) "$src" >"$f" ;;
+        1) cp "$src" "$f"
+           printf "\\x$(printf %02x $((RANDOM % 256)))" | dd of="$f" bs=1 seek=$((RANDOM % size)) conv=notrunc status=none ;;
+        2) sed "$((RANDOM % 20 + 1))s/[0-9][0-9.]*/1e308/" "$src" >"$f" ;;
+        3) sed "$((RANDOM % 20 + 1))s/[0-9][0-9.]*/\"$(head -c 20000 /dev/zero | tr '\0' q)\"/" "$src" >"$f" ;;
+        *) cp "$src" "$f"
+           awk -v n=$((RANDOM % 200 + 30)) 'BEGIN { printf "a"; for (i = 0; i < n; ++i) printf ".a"; print " = 1" }' >>"$f" ;;
+    esac
+    before=$(cksum <"$fz/out/out.exr")
+    timeout 60 "$brume" render "$f" "${extra[@]}" --size 4x4 -o "$fz/out/out.exr" >"$out" 2>"$err"
+    rc=$?
+    if [ "$rc" -ge 124 ]; then fuzz_bad="$fuzz_bad case$k:status-$rc"
+    elif [ "$rc" -ne 0 ]; then
+        if [ "$(wc -l <"$err")" -ne 1 ] || ! grep -q '^brume: error: ' "$err" || [ "$(wc -c <"$err")" -gt 2100 ]; then
+            fuzz_bad="$fuzz_bad case$k:message($(wc -l <"$err")-lines,$(wc -c <"$err")-bytes)"
+        elif [ "$(cksum <"$fz/out/out.exr")" != "$before" ]; then fuzz_bad="$fuzz_bad case$k:output-changed"; fi
+    fi
+    dir_holds "$fz/out" out.exr || fuzz_bad="$fuzz_bad case$k:files($(listing "$fz/out"))"
+done
+[ -z "$fuzz_bad" ] && ok fuzz.cli_sample || fail fuzz.cli_sample "$fuzz_bad (inputs kept in $fz)"
+
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1
 if [ "$failed" -ne 0 ]; then

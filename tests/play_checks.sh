@@ -47,7 +47,11 @@ if cmp -s full/crossing.0000.exr full/crossing.0005.exr; then fail farm.frames_m
 if command -v ffmpeg >/dev/null 2>&1; then
     if "$brume" play crossing -o vid --frames 0-5 --size 64x48 --video vid/crossing.mp4 >vid.log 2>&1 &&
         [ "$(head -c 8 vid/crossing.mp4 2>/dev/null | tail -c 4)" = "ftyp" ]; then
-        ok video
+        if [ -e vid/crossing.ffmpeg.log ] || ls -A vid | grep -q '^\.'; then
+            fail video "a good encoding left its log or a temporary file: $(ls -A vid | tr '\n' ' ')"
+        else
+            ok video
+        fi
     else
         fail video "$(tail -2 vid.log)"
     fi
@@ -82,6 +86,94 @@ if [ "$rc" -ne 0 ] && grep -q "frames" bad.log && [ ! -e bad/crossing.0005.png ]
 "$brume" play no-such-preset >bad2.log 2>&1
 rc=$?
 if [ "$rc" -ne 0 ] && grep -q "plume" bad2.log; then ok bad.unknown_preset_lists_names; else fail bad.unknown_preset_lists_names "rc $rc: $(tail -1 bad2.log)"; fi
+
+# SIGHUP (a closed terminal) ends a run as SIGINT does: the frame in progress is finished, exit 130
+# (issue 14 item 13; it used to kill at once).
+"$brume" play plume -o hup --size 64x48 --format png,exr >hup.log 2>&1 &
+pid=$!
+for _ in $(seq 1 200); do
+    [ -e hup/plume.0000.png ] && break
+    sleep 0.05
+done
+kill -HUP "$pid" 2>/dev/null
+wait "$pid"
+rc=$?
+unpaired=""
+for f in hup/*.png; do [ -e "${f%.png}.exr" ] || unpaired="$unpaired $f"; done
+for f in hup/*.exr; do [ -e "${f%.exr}.png" ] || unpaired="$unpaired $f"; done
+if [ "$rc" -ne 130 ]; then fail sighup "exit status $rc, expected 130"
+elif [ -n "$unpaired" ] || ls -A hup | grep -q '^\.'; then fail sighup "unpaired or temporary files:$unpaired"
+elif ! grep -q "interrupted" hup.log; then fail sighup "no message"
+else ok sighup; fi
+
+# Ctrl-C during a long preroll stops it within moments, and nothing is written (issue 14 item 9).
+cat >long_preroll.toml <<'EOF'
+[timeline]
+fps = 24.0
+duration = 1.0
+substeps = 4
+preroll = 3600.0
+[[emitter]]
+shape = "point"
+center = [0.0, 0.5, 0.0]
+rate = 2000.0
+lifetime = 5.0
+particle_radius = 0.1
+extinction = 1.0
+EOF
+"$brume" play long_preroll.toml -o preroll --size 16x12 >preroll.log 2>&1 &
+pid=$!
+sleep 2
+kill -INT "$pid" 2>/dev/null
+stopped=no
+for _ in $(seq 1 100); do
+    kill -0 "$pid" 2>/dev/null || { stopped=yes; break; }
+    sleep 0.05
+done
+if [ "$stopped" = no ]; then
+    kill -KILL "$pid" 2>/dev/null
+    wait "$pid" 2>/dev/null
+    fail preroll_interrupt "still running 5 s after SIGINT"
+else
+    wait "$pid"
+    rc=$?
+    if [ "$rc" -ne 130 ]; then fail preroll_interrupt "exit status $rc: $(tail -1 preroll.log)"
+    elif [ -e preroll ]; then fail preroll_interrupt "an interrupted preroll created its output folder"
+    elif ! grep -q "interrupted during the simulation" preroll.log; then fail preroll_interrupt "$(tail -1 preroll.log)"
+    else ok preroll_interrupt; fi
+fi
+
+# A full particle budget is said once and counted (issue 14 item 4).
+cat >capped.toml <<'EOF'
+[timeline]
+fps = 10.0
+duration = 0.5
+max_particles = 5
+[[emitter]]
+shape = "point"
+center = [0.0, 0.5, 0.0]
+rate = 150.0
+lifetime = 10.0
+particle_radius = 0.1
+extinction = 1.0
+EOF
+"$brume" play capped.toml -o capped --size 16x12 >capped.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ]; then fail budget_note "exit status $rc: $(tail -1 capped.log)"
+elif [ "$(grep -c "max_particles = 5 is full" capped.log)" -ne 1 ]; then fail budget_note "not said once: $(head -3 capped.log)"
+elif ! grep -Eq "skipped [1-9][0-9]* births" capped.log; then fail budget_note "no count: $(tail -2 capped.log)"
+else ok budget_note; fi
+
+# A refused or failed run creates no output folder; a video name ffmpeg cannot write is refused first.
+"$brume" play crossing -o nodir_device --device no-such-device >nd.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && [ ! -e nodir_device ]; then ok failed_run_no_folder; else fail failed_run_no_folder "rc $rc, folder: $(ls -d nodir_device 2>&1)"; fi
+"$brume" play crossing -o gif --frames 0-1 --size 16x12 --video gif/out.gif >gif.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && grep -q ".mp4" gif.log && [ ! -e gif ]; then ok video_name_checked_first; else fail video_name_checked_first "rc $rc: $(tail -1 gif.log)"; fi
+"$brume" play crossing -o frame_video --frames 0-1 --size 16x12 --video frame_video/crossing.0000.png >fv.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && [ ! -e frame_video ]; then ok video_not_a_frame; else fail video_not_a_frame "rc $rc: $(tail -1 fv.log)"; fi
 
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1

@@ -1,0 +1,75 @@
+#include "app/output_paths.h"
+
+#include "app/cli_util.h"
+#include "render/atomic_file.h"
+
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+
+namespace brume::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// What a path reaches: an existing file by device and inode (so hard links and links match), a file
+// still to be made by its normalised absolute name.
+struct Identity {
+    bool exists = false;
+    bool device = false;
+    dev_t dev = 0;
+    ino_t ino = 0;
+    fs::path name;
+    bool operator==(const Identity& o) const {
+        return exists == o.exists && (exists ? dev == o.dev && ino == o.ino : name == o.name);
+    }
+};
+
+Identity identify(const std::string& path, bool follow_output_links) {
+    Identity id;
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) {
+        id.exists = true;
+        id.device = S_ISCHR(st.st_mode);
+        id.dev = st.st_dev;
+        id.ino = st.st_ino;
+        return id;
+    }
+    // A new file: a dangling link leads to the name it will be made under.
+    const fs::path target = follow_output_links ? resolve_output(path).path : fs::path(path);
+    std::error_code ec;
+    id.name = fs::weakly_canonical(fs::absolute(target, ec), ec);
+    if (ec) id.name = fs::absolute(target).lexically_normal();
+    return id;
+}
+
+}  // namespace
+
+void check_outputs_distinct(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
+    std::vector<std::pair<const NamedPath*, Identity>> seen;
+    for (const NamedPath& in : inputs)
+        if (!in.path.empty()) {
+            Identity id = identify(in.path, false);
+            if (id.exists) seen.emplace_back(&in, id);  // a missing input is reported by its reader
+        }
+    const std::size_t input_count = seen.size();
+    for (const NamedPath& out : outputs) {
+        if (out.path.empty()) continue;
+        const Identity id = identify(out.path, true);
+        for (std::size_t k = 0; k < seen.size(); ++k) {
+            if (!(seen[k].second == id)) continue;
+            const NamedPath& other = *seen[k].first;
+            if (k < input_count)
+                throw UsageError(out.option + " " + out.path + " would overwrite " + other.option + " " +
+                                            other.path + ": name another output file");
+            if (id.device) continue;  // writing twice into /dev/null replaces nothing
+            throw UsageError(out.option + " " + out.path + " and " + other.option + " " + other.path +
+                                        " are the same file: each output needs its own name");
+        }
+        seen.emplace_back(&out, id);
+    }
+}
+
+}  // namespace brume::app

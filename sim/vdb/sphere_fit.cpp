@@ -108,8 +108,9 @@ public:
         return grid_sq_ > 0.0 ? std::sqrt(d2 / grid_sq_) : 0.0;
     }
 
-    // `iterations` Adam steps, the step size decaying tenfold over them; forward() must have run.
-    void optimise(int iterations) {
+    // `iterations` Adam steps, the step size decaying tenfold over them, or fewer: it stops at the first step
+    // whose error is within `tolerance`. forward() must have run.
+    void optimise(int iterations, double tolerance) {
         std::vector<Moments> moments(params_.size());
         std::vector<std::array<double, 5>> grads(params_.size());
         constexpr double b1 = 0.9, b2 = 0.999, eps = 1e-12;
@@ -134,7 +135,7 @@ public:
                 p.log_m -= lr_t * step[4];
             }
             conserve_mass();
-            forward();
+            if (forward() <= tolerance) return;
         }
     }
 
@@ -367,7 +368,11 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
     SphereFit out;
     if (grid.values.empty() || *std::max_element(grid.values.begin(), grid.values.end()) == 0.0f) return out;
     const auto start = std::chrono::steady_clock::now();
-    const std::size_t cap = options.max_spheres > 0 ? options.max_spheres : kDefaultFitSphereCap;
+    // Without an explicit cap: kDefaultFitSphereCap, and never more than one sphere per 8 active voxels, past
+    // which a tiling (one sphere per voxel at most) is the cheaper answer.
+    const std::size_t cap = options.max_spheres > 0
+                                ? options.max_spheres
+                                : std::clamp<std::size_t>(std::size_t(grid.active_voxels / 8), 1, kDefaultFitSphereCap);
     // The fitting views, rebuilt finer as the spheres multiply: at least kRaysPerParameter rays for each of a
     // sphere's five parameters, or the fit would match the views it sees and not the grid between them.
     constexpr double kRaysPerParameter = 8.0;
@@ -388,8 +393,10 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
     use_views(resolution_for(settings.seed_spheres));
     fitter.set(seed_lattice(grid, options, std::min(settings.seed_spheres, cap)));
     fitter.forward();
+    double previous_error = 0.0;
+    std::size_t previous_spheres = 0;
     for (int round = 1;; ++round) {
-        fitter.optimise(settings.iterations);
+        fitter.optimise(settings.iterations, options.tolerance);
         fitter.prune();
         const double error = fitter.forward();
         out.rounds = round;
@@ -398,7 +405,17 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
         out.met_tolerance = error <= options.tolerance;
         if (out.met_tolerance || fitter.size() >= cap) break;
-        const std::size_t grown = std::min(cap, std::size_t(std::ceil(double(fitter.size()) * settings.growth)));
+        // Error falls about as a power of the count (docs/vdb.md): near the tolerance, grow by what that power
+        // predicts (with a 10% margin) rather than a whole growth step, so the count overshoots less.
+        double factor = settings.growth;
+        if (previous_error > error && previous_spheres < fitter.size()) {
+            const double power = std::log(previous_error / error) / std::log(double(fitter.size()) / double(previous_spheres));
+            if (power > 0.05) factor = std::clamp(1.1 * std::pow(error / options.tolerance, 1.0 / power), 1.1, settings.growth);
+        }
+        previous_error = error;
+        previous_spheres = fitter.size();
+        const std::size_t grown =
+            std::min(cap, std::max(fitter.size() + 1, std::size_t(std::ceil(double(fitter.size()) * factor))));
         fitter.densify(grown - fitter.size());
         if (resolution_for(grown) > resolution) use_views(resolution_for(grown));
         fitter.forward();

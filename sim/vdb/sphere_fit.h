@@ -23,8 +23,9 @@
 
 namespace brume {
 
-// With no --max-spheres, fitting gives up past this many spheres: fitting costs grow with the count and
-// a tiling (grid_to_spheres) is the better tool for clouds that need more.
+// With no --max-spheres, fitting gives up past this many spheres, or one per 8 active voxels if fewer:
+// fitting costs grow with the count and a tiling (grid_to_spheres) is the better tool for clouds that
+// need more.
 inline constexpr std::size_t kDefaultFitSphereCap = 20'000;
 
 struct SphereFitSettings {

@@ -43,7 +43,7 @@ DensityGrid unit_ball() {
     return centred_grid(54, 0.04, [](const glm::dvec3& p) { return glm::length(p) < 1.0 ? 1.0 : 0.0; });
 }
 
-// Three overlapping spheres, density the sum of their extinctions (scale 1), voxels of 0.05.
+// Three overlapping spheres, density the sum of their extinctions (scale 1), voxels of 1/32.
 std::vector<Sphere> three_spheres() {
     std::vector<Sphere> s(3);
     s[0].center = {-0.35, 0.1, 0.0}, s[0].radius = 0.5, s[0].extinction = 2.0;
@@ -54,7 +54,7 @@ std::vector<Sphere> three_spheres() {
 
 DensityGrid three_sphere_grid() {
     const std::vector<Sphere> spheres = three_spheres();
-    return centred_grid(40, 0.05, [&](const glm::dvec3& p) {
+    return centred_grid(64, 0.03125, [&](const glm::dvec3& p) {
         double d = 0.0;
         for (const Sphere& s : spheres)
             if (glm::length(p - s.center) < s.radius) d += s.extinction;
@@ -117,13 +117,15 @@ TEST(VdbFit, ASumOfThreeKnownSpheresIsRecovered) {
     SphereCloudOptions o;
     const SphereFitSettings settings;
     const OpticalDepthViews views(grid, 1.0, grid_fit_views(grid, settings.view_resolution));
-    const double truth_error = views.measure(truth).relative_rms;  // the voxelisation's own, about 5%
-    o.tolerance = 1.5 * truth_error;
+    const double truth_error = views.measure(truth).relative_rms;  // the voxelisation's own, about 3%
+    o.tolerance = 1.2 * truth_error;
     const SphereFit fit = fit_spheres(grid, o, settings);
     EXPECT_TRUE(fit.met_tolerance);
-    EXPECT_LE(fit.spheres.size(), 12u);
+    EXPECT_LE(fit.spheres.size(), 16u);  // 14 measured: splitting finds the three, with a few to shape the edges
     // Recovered: from views the fit never saw, its optical depth is close to the three spheres' own.
-    for (const Camera& c : unseen_views(grid)) EXPECT_LT(depth_difference(fit.spheres, truth, c), 0.08);
+    for (const Camera& c : unseen_views(grid)) {
+        EXPECT_LT(depth_difference(fit.spheres, truth, c), 0.05);
+    }
 }
 
 TEST(VdbFit, ErrorHoldsFromUnseenViewsAndMassIsConserved) {

@@ -20,6 +20,7 @@ namespace brume {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr int kFitViews = 13;  // grid_fit_views
 
 // A camera whose view just holds the grid's bounding sphere, looking along `dir`.
 Camera view_along(const DensityGrid& grid, glm::dvec3 dir, const glm::dvec3& up, int resolution) {
@@ -357,8 +358,12 @@ void check(const SphereCloudOptions& o, const SphereFitSettings& s) {
 
 std::vector<Camera> grid_fit_views(const DensityGrid& grid, int resolution) {
     std::vector<Camera> views = grid_axis_views(grid, resolution);
-    const glm::dvec3 diagonals[4] = {{1, 1, 1}, {-1, 1, 1}, {1, -1, 1}, {1, 1, -1}};
-    for (const glm::dvec3& d : diagonals) views.push_back(view_along(grid, d, {0, 1, 0}, resolution));
+    const glm::dvec3 diagonals[10] = {{1, 1, 1},  {-1, 1, 1}, {1, -1, 1}, {1, 1, -1}, {1, 1, 0},
+                                      {1, -1, 0}, {0, 1, 1},  {0, 1, -1}, {1, 0, 1}, {-1, 0, 1}};
+    for (const glm::dvec3& d : diagonals) {
+        const glm::dvec3 up = std::abs(glm::normalize(d).y) > 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+        views.push_back(view_along(grid, d, up, resolution));
+    }
     return views;
 }
 
@@ -377,7 +382,7 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
     // sphere's five parameters, or the fit would match the views it sees and not the grid between them.
     constexpr double kRaysPerParameter = 8.0;
     const auto resolution_for = [&](std::size_t spheres) {
-        const int needed = int(std::ceil(std::sqrt(kRaysPerParameter * 5.0 * double(spheres) / 7.0) / 16.0)) * 16;
+        const int needed = int(std::ceil(std::sqrt(kRaysPerParameter * 5.0 * double(spheres) / double(kFitViews)) / 16.0)) * 16;
         return std::clamp(needed, settings.view_resolution, std::max(settings.view_resolution, 256));
     };
     int resolution = 0;

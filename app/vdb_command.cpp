@@ -135,7 +135,7 @@ int run_vdb_import(const VdbImportArgs& args) {
                 "%.6g)\n"
                 "absolute RMS %.3f%% of the largest optical depth; mean transmittance difference %.4f (the image error "
                 "of an ambient-lit render)\n",
-                im.fitted ? "seven fitting views" : "axis views", c.width, c.height, static_cast<long long>(im.error.rays), 100.0 * im.error.relative_rms,
+                im.fitted ? "25 fitting views" : "axis views", c.width, c.height, static_cast<long long>(im.error.rays), 100.0 * im.error.relative_rms,
                 100.0 * im.error.relative_max, im.error.max_grid_depth, 100.0 * im.error.bias, im.sphere_mass,
                 im.grid_mass, 100.0 * im.error.absolute_rms, im.error.transmittance_mean);
     return 0;

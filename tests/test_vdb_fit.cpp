@@ -118,13 +118,13 @@ TEST(VdbFit, ASumOfThreeKnownSpheresIsRecovered) {
     const SphereFitSettings settings;
     const OpticalDepthViews views(grid, 1.0, grid_fit_views(grid, settings.view_resolution));
     const double truth_error = views.measure(truth).relative_rms;  // the voxelisation's own, about 3%
-    o.tolerance = 1.2 * truth_error;
+    o.tolerance = 1.1 * truth_error;  // tight: a looser fit could differ from the truth by both errors added
     const SphereFit fit = fit_spheres(grid, o, settings);
     EXPECT_TRUE(fit.met_tolerance);
-    EXPECT_LE(fit.spheres.size(), 16u);  // 14 measured: splitting finds the three, with a few to shape the edges
+    EXPECT_LE(fit.spheres.size(), 16u);  // splitting finds the three, with a few more to shape the edges
     // Recovered: from views the fit never saw, its optical depth is close to the three spheres' own.
     for (const Camera& c : unseen_views(grid)) {
-        EXPECT_LT(depth_difference(fit.spheres, truth, c), 0.05);
+        EXPECT_LT(depth_difference(fit.spheres, truth, c), 0.05) << fit.spheres.size() << " spheres, truth " << truth_error;
     }
 }
 

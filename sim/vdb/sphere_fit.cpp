@@ -20,7 +20,7 @@ namespace brume {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kFitViews = 13;  // grid_fit_views
+constexpr int kFitViews = 25;  // grid_fit_views
 
 // A camera whose view just holds the grid's bounding sphere, looking along `dir`.
 Camera view_along(const DensityGrid& grid, glm::dvec3 dir, const glm::dvec3& up, int resolution) {
@@ -358,10 +358,14 @@ void check(const SphereCloudOptions& o, const SphereFitSettings& s) {
 
 std::vector<Camera> grid_fit_views(const DensityGrid& grid, int resolution) {
     std::vector<Camera> views = grid_axis_views(grid, resolution);
-    const glm::dvec3 diagonals[10] = {{1, 1, 1},  {-1, 1, 1}, {1, -1, 1}, {1, 1, -1}, {1, 1, 0},
-                                      {1, -1, 0}, {0, 1, 1},  {0, 1, -1}, {1, 0, 1}, {-1, 0, 1}};
-    for (const glm::dvec3& d : diagonals) {
-        const glm::dvec3 up = std::abs(glm::normalize(d).y) > 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+    // A Fibonacci spiral over the hemisphere z > 0 (a view from -d sees nearly the rays a view from d does):
+    // evenly spread directions, the more of them the fewer lines of sight a fit can match and miss the grid.
+    constexpr double golden = 2.39996322972865332;  // pi (3 - sqrt 5)
+    for (int k = 0; k < kFitViews - 3; ++k) {
+        const double z = 1.0 - (k + 0.5) / double(kFitViews - 3);
+        const double rho = std::sqrt(1.0 - z * z), phi = golden * k;
+        const glm::dvec3 d(rho * std::cos(phi), rho * std::sin(phi), z);
+        const glm::dvec3 up = std::abs(d.y) > 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
         views.push_back(view_along(grid, d, up, resolution));
     }
     return views;
@@ -380,7 +384,7 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
                                 : std::clamp<std::size_t>(std::size_t(grid.active_voxels / 8), 1, kDefaultFitSphereCap);
     // The fitting views, rebuilt finer as the spheres multiply: at least kRaysPerParameter rays for each of a
     // sphere's five parameters, or the fit would match the views it sees and not the grid between them.
-    constexpr double kRaysPerParameter = 8.0;
+    constexpr double kRaysPerParameter = 12.0;
     const auto resolution_for = [&](std::size_t spheres) {
         const int needed = int(std::ceil(std::sqrt(kRaysPerParameter * 5.0 * double(spheres) / double(kFitViews)) / 16.0)) * 16;
         return std::clamp(needed, settings.view_resolution, std::max(settings.view_resolution, 256));

@@ -134,6 +134,7 @@ int run_bench_vdb(const BenchArgs& args) {
             // How the cells were made: an octree (its size cap and spread threshold) or a resampled lattice.
             char cells[32];
             if (spacing < 0.0) std::snprintf(cells, sizeof cells, "fit");
+            else if (cap < 0) std::snprintf(cells, sizeof cells, "one sphere");
             else if (spacing > 0.0) std::snprintf(cells, sizeof cells, "lattice %.2f", spacing);
             else if (cap == 1) std::snprintf(cells, sizeof cells, "voxels");
             else std::snprintf(cells, sizeof cells, "tree %d, %.3f", cap, threshold);
@@ -156,6 +157,13 @@ int run_bench_vdb(const BenchArgs& args) {
             const OpticalDepthError e = OpticalDepthViews(grid, 1.0, grid_axis_views(grid, o.axis_view_resolution)).measure(spheres);
             row("voxels", spheres, 1, 0.0, 0.0, 1, seconds_since(start), e);
             s.points.emplace_back(double(spheres.size()), e.relative_rms);
+        }
+        if (sample == "ball") {  // its model: one sphere of radius 1, the grid's density
+            Sphere analytic;
+            analytic.radius = 1.0;
+            analytic.extinction = 1.0;
+            const OpticalDepthError e = OpticalDepthViews(grid, 1.0, grid_axis_views(grid, SphereCloudOptions{}.axis_view_resolution)).measure({analytic});
+            row("analytic", {analytic}, -1, 0.0, 0.0, 0, 0.0, e);
         }
         for (const double tolerance : tolerances) {
             SphereCloudOptions o;

@@ -584,6 +584,10 @@ vdb_scene_refused vdb_scene.both_limits '[[vdb]]
 file = "cloud.vdb"
 tolerance = 0.1
 max_spheres = 100' "bad.toml:4" "max_spheres"
+vdb_scene_refused vdb_scene.placed_too_far '[[vdb]]
+file = "builtin:fog-sphere:16"
+scale = 1e7
+tolerance = 0.5' "vdb[0]" "reaches" "past the 1e+07 a scene allows"
 vdb_scene_refused vdb_scene.bad_scale '[[vdb]]
 file = "cloud.vdb"
 scale = -2.0' "bad.toml:3" "vdb[0].scale"

@@ -45,6 +45,9 @@ void add_vdb_commands(CLI::App& app, VdbInfoArgs& info, VdbImportArgs& import) {
                     "Sphere radius / its cell's equal-volume radius: 1 leaves ~10% lattice ripple, 2 (default) ~0.4%")
         ->check(CLI::Range(kMinSphereScale, kMaxSphereScale))
         ->capture_default_str();
+    cmd->add_flag("--fit", import.fit,
+                  "Fit sphere centres, radii and extinctions to the grid's optical depth (far fewer spheres than "
+                  "tiling); stops at --tolerance, or at --max-spheres if that comes first");
 }
 
 void add_vdb_export_commands(CLI::App& app, VdbExportArgs& export_args, VdbSampleArgs& sample) {
@@ -101,26 +104,40 @@ int run_vdb_import(const VdbImportArgs& args) {
     options.extinction_scale = args.extinction_scale;
     options.albedo = {args.albedo[0], args.albedo[1], args.albedo[2]};
     options.sphere_scale = args.sphere_scale;
-    const VdbImport im = import_vdb(args.file, args.grid, options, args.albedo_grid);
+    options.fit = args.fit;
+    // The fit reports each round on stderr (stdout keeps the summary): one line per round, so the falling
+    // error reads the same on a terminal and in a log.
+    const auto progress = [](const SphereFitProgress& p) {
+        std::fprintf(stderr, "fit round %2d: %7zu spheres, RMS optical-depth error %6.2f%% (%.1f s)\n", p.round, p.spheres,
+                     100.0 * p.error, p.seconds);
+    };
+    const VdbImport im = import_vdb(args.file, args.grid, options, args.albedo_grid, progress);
     write_file_atomically(args.output, scene_to_toml(im.scene));
     const Camera& c = im.scene.camera;
-    char cells[64];
-    if (im.lattice_spacing > 0.0) std::snprintf(cells, sizeof cells, "a lattice of %.3g-voxel cells", im.lattice_spacing);
+    char cells[96];
+    if (im.fitted)
+        std::snprintf(cells, sizeof cells, "fitted in %d rounds%s", im.fit_rounds,
+                      im.met_tolerance ? "" : ", stopped by --max-spheres above the tolerance");
+    else if (im.lattice_spacing > 0.0) std::snprintf(cells, sizeof cells, "a lattice of %.3g-voxel cells", im.lattice_spacing);
     else if (im.max_cell_voxels == 1) std::snprintf(cells, sizeof cells, "one sphere per voxel");
     else std::snprintf(cells, sizeof cells, "octree cells of at most %d voxels, spread %.3g", im.max_cell_voxels, im.split_threshold);
     char goal[64];
-    if (args.max_spheres > 0) std::snprintf(goal, sizeof goal, "at most %zu spheres", args.max_spheres);
+    if (args.fit && args.max_spheres > 0)
+        std::snprintf(goal, sizeof goal, "tolerance %g, at most %zu spheres", args.tolerance, args.max_spheres);
+    else if (args.max_spheres > 0) std::snprintf(goal, sizeof goal, "at most %zu spheres", args.max_spheres);
     else std::snprintf(goal, sizeof goal, "tolerance %g", args.tolerance);
     const std::string tint = im.albedo_grid.empty() ? "" : ", albedo from grid \"" + im.albedo_grid + "\"";
     std::printf("%s: %zu spheres from %llu active voxels of grid \"%s\"%s (%s: %s; %d clouds measured, %.2f s)\n",
                 args.output.c_str(), im.scene.spheres.size(), static_cast<unsigned long long>(im.active_voxels),
                 args.grid.c_str(), tint.c_str(), goal, cells, im.clouds_tried, im.seconds);
-    std::printf("optical depth against the trilinear grid over the axis views and the %dx%d camera (%lld rays meet "
+    std::printf("optical depth against the trilinear grid over the %s and the %dx%d camera (%lld rays meet "
                 "the cloud): RMS %.2f%%, max %.2f%% (of the largest %.4g), bias %+.2f%%; extinction mass %.6g (grid "
-                "%.6g)\n",
-                c.width, c.height, static_cast<long long>(im.error.rays), 100.0 * im.error.relative_rms,
+                "%.6g)\n"
+                "absolute RMS %.3f%% of the largest optical depth; mean transmittance difference %.4f (the image error "
+                "of an ambient-lit render)\n",
+                im.fitted ? "25 fitting views" : "axis views", c.width, c.height, static_cast<long long>(im.error.rays), 100.0 * im.error.relative_rms,
                 100.0 * im.error.relative_max, im.error.max_grid_depth, 100.0 * im.error.bias, im.sphere_mass,
-                im.grid_mass);
+                im.grid_mass, 100.0 * im.error.absolute_rms, im.error.transmittance_mean);
     return 0;
 }
 

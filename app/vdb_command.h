@@ -28,6 +28,7 @@ struct VdbImportArgs {
     std::vector<double> albedo{1.0, 1.0, 1.0};
     std::optional<std::string> albedo_grid;  // unset: the file's "albedo" grid if any; "": none
     double sphere_scale = 2.0;
+    bool fit = false;  // fit the spheres (sim/vdb/sphere_fit.h) instead of tiling
 };
 
 struct VdbExportArgs {

@@ -510,9 +510,24 @@ vdb_refused vdb_export.size_and_resolution "--voxel-size" "--resolution" -- \
 vdb_refused vdb_export.bad_extinction_scale "--extinction-scale" -- \
     vdb-export "$vdb/puff.toml" --extinction-scale 0 -o "$vkeep/out.vdb"
 vdb_refused vdb_export.bad_scene "bad_nan_radius.toml" -- vdb-export "$data/bad_nan_radius.toml" -o "$vkeep/out.vdb"
+vdb_refused vdb_export.huge_voxel "voxel size 1e+30" "outside" -- \
+    vdb-export "$vdb/puff.toml" --voxel-size 1e30 -o "$vkeep/out.vdb"
 vdb_refused vdb_sample.unknown_name "nebula" "cloud" -- vdb-sample nebula -o "$vkeep/out.vdb"
 vdb_refused vdb_sample.bad_resolution "--resolution" -- vdb-sample cloud --resolution 4 -o "$vkeep/out.vdb"
 vdb_refused vdb_sample.no_output "-o" -- vdb-sample cloud
+# vdb-import --fit: fits, says so, and writes the scene; a fit that runs into its default sphere cap above
+# the tolerance is refused, naming what it reached, and writes nothing.
+run vdb-import builtin:fog-sphere:16 --fit --tolerance 0.1 -o "$vdb/fit.toml"
+if expect_success vdb_import.fit; then
+    if ! grep -q "fitted in" "$out"; then fail vdb_import.fit "no 'fitted in' in: $(head -n 1 "$out")"
+    elif ! grep -q "fit round  1" "$err"; then fail vdb_import.fit "no progress on stderr: $(first_err)"
+    elif [ ! -s "$vdb/fit.toml" ]; then fail vdb_import.fit "no scene written"
+    else ok vdb_import.fit; fi
+fi
+run vdb-import builtin:sheet:16 --fit --tolerance 0.001 -o "$vdb/fit_unreachable.toml"
+expect_error vdb_import.fit_unreachable "builtin:sheet:16" "fitting stopped at" "default cap" &&
+    { [ ! -e "$vdb/fit_unreachable.toml" ] || fail vdb_import.fit_unreachable "wrote the scene anyway"; } &&
+    [ ! -e "$vdb/fit_unreachable.toml" ] && ok vdb_import.fit_unreachable
 # An output that cannot be written is refused before any work, and no directory is made for it.
 run vdb-export "$vdb/puff.toml" -o "$work/vdb_no/dir/out.vdb"
 expect_error vdb_export.missing_dir "$work/vdb_no/dir/out.vdb" && ok vdb_export.missing_dir
@@ -569,6 +584,10 @@ vdb_scene_refused vdb_scene.both_limits '[[vdb]]
 file = "cloud.vdb"
 tolerance = 0.1
 max_spheres = 100' "bad.toml:4" "max_spheres"
+vdb_scene_refused vdb_scene.placed_too_far '[[vdb]]
+file = "builtin:fog-sphere:16"
+scale = 1e7
+tolerance = 0.5' "vdb[0]" "reaches" "past the 1e+07 a scene allows"
 vdb_scene_refused vdb_scene.bad_scale '[[vdb]]
 file = "cloud.vdb"
 scale = -2.0' "bad.toml:3" "vdb[0].scale"

@@ -336,6 +336,16 @@ TEST(VdbSplatErrors, BadOptionsAreNamed) {
     EXPECT_NE(splat_error(s, o).find("extinction scale"), std::string::npos);
 }
 
+TEST(VdbSplatErrors, VoxelsThatLoseTheDensityAreRefused) {
+    // Issue 14: --voxel-size 1e30 wrote an empty grid and exited 0. Out of the range vdb-import reads, refused
+    // by range; inside it but so coarse that the density underflows a float, refused by the mass it lost.
+    const std::vector<Sphere> s{sphere({0, 0, 0}, 0.2, 1.0)};
+    EXPECT_NE(splat_error(s, at_voxel(1e30)).find("outside"), std::string::npos) << splat_error(s, at_voxel(1e30));
+    const std::vector<Sphere> faint{sphere({0, 0, 0}, 1e-3, 1e-20)};
+    const std::string e = splat_error(faint, at_voxel(1e6));
+    EXPECT_NE(e.find("does not survive as floats"), std::string::npos) << e;
+}
+
 TEST(VdbSplatErrors, AbsurdGridsAreRefusedBeforeAllocating) {
     // 10 units at voxel 1e-3: 10^12 voxels. Refused at once, naming the count and a voxel size that fits.
     const std::vector<Sphere> s{sphere({0, 0, 0}, 5.0, 1.0)};

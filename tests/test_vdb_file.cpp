@@ -154,5 +154,26 @@ TEST_F(VdbFile, OnlyUniformScaleTransformsAreRead) {
     EXPECT_NE(msg.find("voxels of 1 x 2 x 1 scene units"), std::string::npos) << msg;
 }
 
+TEST_F(VdbFile, TransformsOutsideTheRenderableRangeAreRefused) {
+    // Issue 14: a voxel of 1e20 rendered every pixel NaN (squared distances overflow float) and exited 0.
+    // The range is checked where the transform enters, naming the voxel size and the reach.
+    DensityGrid box = uniform_box();
+    box.voxel_size = 1e20;
+    std::string msg = read_error(write("huge.vdb", encode_vdb(box)));
+    EXPECT_NE(msg.find("has voxels of 1e+20 scene units"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("within 1e+07 of the origin"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("voxels of at least 1e-06"), std::string::npos) << msg;
+    // Sensible voxels far out: the reach alone is refused.
+    box = uniform_box();
+    box.origin = {3e7, 0.0, 0.0};
+    msg = read_error(write("far.vdb", encode_vdb(box)));
+    EXPECT_NE(msg.find("reaches 3"), std::string::npos) << msg;
+    // At the edge of the range, still read.
+    box = uniform_box();
+    box.origin = {9e6, 0.0, 0.0};
+    write("near.vdb", encode_vdb(box));
+    EXPECT_NO_THROW(read_density_grid(dir_ / "near.vdb"));
+}
+
 }  // namespace
 }  // namespace brume

@@ -31,9 +31,11 @@ void clip_to_box(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo,
     }
 }
 
-// Conservative pixel rectangle [i0, i1) x [j0, j1) of a sphere: empty behind the eye, else the projection of
-// its bounding cube's corners, or the whole image when a corner is not in front of the eye.
-void pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1, int& j0, int& j1) {
+}  // namespace
+
+// The projection of the sphere's bounding cube's corners, or the whole image when a corner is not in front
+// of the eye.
+void sphere_pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1, int& j0, int& j1) {
     // Wholly behind the eye: no ray (t >= 0) meets it. (A camera inside a cloud has half the cloud there.)
     if (glm::dot(s.center - rays.eye, rays.forward) < -s.radius) {
         i0 = i1 = j0 = j1 = 0;
@@ -59,8 +61,6 @@ void pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1, int& 
     j0 = std::clamp(int(std::floor(y_lo - 0.5)) - 1, 0, rays.height);
     j1 = std::clamp(int(std::ceil(y_hi - 0.5)) + 2, 0, rays.height);
 }
-
-}  // namespace
 
 double grid_optical_depth(const DensityGrid& grid, double extinction_scale, const glm::dvec3& origin,
                           const glm::dvec3& unit_dir) {
@@ -97,7 +97,7 @@ std::vector<double> sphere_optical_depths(const std::vector<Sphere>& spheres, co
     std::vector<double> depth(std::size_t(rays.width) * std::size_t(rays.height), 0.0);
     for (const Sphere& s : spheres) {
         int i0, i1, j0, j1;
-        pixel_rect(rays, s, i0, i1, j0, j1);
+        sphere_pixel_rect(rays, s, i0, i1, j0, j1);
         for (int j = j0; j < j1; ++j)
             for (int i = i0; i < i1; ++i) {
                 const glm::dvec3 d = rays.pixel_direction(i, j);
@@ -128,12 +128,13 @@ std::vector<double> grid_depths(const DensityGrid& grid, double extinction_scale
 }
 
 struct ErrorSums {
-    double d2 = 0.0, g2 = 0.0, d = 0.0, g = 0.0, max_d = 0.0, max_g = 0.0;
+    double d2 = 0.0, g2 = 0.0, d = 0.0, g = 0.0, max_d = 0.0, max_g = 0.0, dt = 0.0;
     long rays = 0;
     void add(double grid, double spheres) {
         if (grid == 0.0 && spheres == 0.0) return;
         ++rays;
         const double diff = spheres - grid;
+        dt += std::abs(std::exp(-spheres) - std::exp(-grid));
         d2 += diff * diff, g2 += grid * grid, d += diff, g += grid;
         max_d = std::max(max_d, std::abs(diff));
         max_g = std::max(max_g, grid);
@@ -146,9 +147,11 @@ struct ErrorSums {
             e.relative_rms = std::sqrt(d2 / g2);
             e.relative_max = max_d / max_g;
             e.bias = d / g;
+            e.absolute_rms = std::sqrt(d2 / double(rays)) / max_g;
         } else if (rays > 0) {
-            e.relative_rms = e.relative_max = e.bias = std::numeric_limits<double>::infinity();  // depth where none is
+            e.relative_rms = e.relative_max = e.bias = e.absolute_rms = std::numeric_limits<double>::infinity();  // depth where none is
         }
+        if (rays > 0) e.transmittance_mean = dt / double(rays);
         return e;
     }
 };

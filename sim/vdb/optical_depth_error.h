@@ -17,6 +17,12 @@ struct OpticalDepthError {
     double relative_rms = 0.0;  // sqrt(sum d^2 / sum grid^2): the figure tolerances bound
     double relative_max = 0.0;  // max |d| / max grid
     double bias = 0.0;          // sum d / sum grid: a systematic excess (+) or deficit (-)
+    // sqrt(mean d^2) / max grid: the same differences against one scale for the whole grid, so rays that
+    // graze an edge (small grid depth) weigh no more than any other ray
+    double absolute_rms = 0.0;
+    // mean |exp(-spheres) - exp(-grid)|: the image error of an ambient-lit, unshadowed render of albedo 1
+    // over a black background, in units of the ambient radiance (there L = L_ambient * (1 - T) exactly)
+    double transmittance_mean = 0.0;
     double max_grid_depth = 0.0;
     long rays = 0;  // rays that meet either model
 };
@@ -28,6 +34,12 @@ double grid_optical_depth(const DensityGrid& grid, double extinction_scale, cons
 // Per pixel (row-major, top row first), the optical depth of the spheres along the camera's pixel-centre
 // rays (sim/camera_rays.h), along the whole ray (t >= 0).
 std::vector<double> sphere_optical_depths(const std::vector<Sphere>& spheres, const Camera& camera);
+
+struct CameraRays;
+
+// A conservative pixel rectangle [i0, i1) x [j0, j1) of the pixels whose rays (t >= 0) can meet the sphere:
+// empty when it lies wholly behind the eye, the whole image when it reaches behind the image plane.
+void sphere_pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1, int& j0, int& j1);
 
 // Cameras looking at the grid along +x, +y and +z, `resolution` pixels square, far enough for the whole
 // support to fit. Axis-aligned rays are where the voxel lattice shows most (a sphere cloud's ripple adds
@@ -45,6 +57,8 @@ public:
     OpticalDepthError measure(const std::vector<Sphere>& spheres) const;
 
     const std::vector<Camera>& views() const { return views_; }
+    // The grid's optical depth per pixel of view v (row-major, top row first): what a fit is fitted to.
+    const std::vector<double>& grid_depths_of(std::size_t v) const { return grid_depths_[v]; }
 
 private:
     std::vector<Camera> views_;

@@ -1,6 +1,8 @@
 #include "sim/vdb/particle_splat.h"
 
+#include "sim/scene_file.h"
 #include "sim/vdb/sphere_cloud.h"
+#include "sim/vdb/vdb_file.h"
 
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>
@@ -195,6 +197,10 @@ SplatGrids splat_spheres(const std::vector<Sphere>& spheres, const SplatOptions&
                                                    : std::max({box.x, box.y, box.z}) / options.resolution;
     if (!(voxel > 0.0) || !std::isfinite(voxel))
         throw std::invalid_argument("voxel size " + number(voxel) + " is not usable for these spheres");
+    // The range vdb-import reads back (sim/vdb/vdb_file.h): a file Brume itself would refuse is no export.
+    if (voxel < kMinVoxelSize || voxel > kMaxCoordinate)
+        throw std::invalid_argument("voxel size " + number(voxel) + " is outside [" + number(kMinVoxelSize) + ", " +
+                                    number(kMaxCoordinate) + "] scene units");
 
     glm::dvec3 origin{0.0};
     Extent e = extent(spheres, origin, voxel);
@@ -268,6 +274,13 @@ SplatGrids splat_spheres(const std::vector<Sphere>& spheres, const SplatOptions&
         if (density[at] != 0.0 && at != smallest) round(at);
     if (smallest < count) round(smallest);
     for (const float v : grid.values) grid.active_voxels += v != 0.0f;
+    // Voxels far larger than the spheres thin their density below the smallest float: refuse a grid that
+    // lost its density (or part of it) rather than write an empty or lighter one.
+    const double kept = grid.mass() * options.extinction_scale;
+    if (grid.active_voxels == 0 || !(std::abs(kept - out.sphere_mass) <= 1e-6 * out.sphere_mass))
+        throw std::invalid_argument("at voxel size " + number(voxel) + " the spheres' density (mass " +
+                                    number(out.sphere_mass) + ") does not survive as floats (the grid keeps " +
+                                    number(kept) + "): use a smaller voxel size or extinction scale");
 
     if (options.albedo_grid) {
         DensityGrid& a = out.albedo;

@@ -1,6 +1,8 @@
 // The only translation unit that includes OpenVDB (about 10 s to compile): keep it that way.
 #include "sim/vdb/vdb_file.h"
 
+#include "sim/scene_file.h"
+
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Composite.h>
@@ -147,6 +149,18 @@ void fill_values(const std::string& path, const std::string& what, const vdb::Fl
     }
 }
 
+// The range where the grid's spheres can be rendered in floats (kMinVoxelSize in vdb_file.h says why).
+void check_range(const std::string& path, const std::string& what, const DensityGrid& g) {
+    const glm::dvec3 lo = g.support_min(), hi = g.support_max();
+    const double reach = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
+    if (g.voxel_size >= kMinVoxelSize && reach <= kMaxCoordinate) return;
+    std::ostringstream msg;
+    msg << what << " has voxels of " << g.voxel_size << " scene units and reaches " << reach
+        << " from the origin; Brume reads grids with voxels of at least " << kMinVoxelSize << " lying within "
+        << kMaxCoordinate << " of the origin (rescale the grid's transform)";
+    fail(path, msg.str());
+}
+
 std::string encode(const vdb::GridPtrVec& grids) {
     std::ostringstream out(std::ios::binary);
     vdb::io::Stream(out).write(grids);
@@ -208,6 +222,7 @@ std::vector<DensityGrid> decode_density_grids(const std::string& bytes, const st
         if (out.active_voxels == 0) fail(source, what + " is empty (no active voxels)");
         read_transform(source, what, grid->transform(), out);
         fill_values(source, what, *grid, out);
+        check_range(source, what, out);
         result.push_back(std::move(out));
     }
     return result;

@@ -73,6 +73,11 @@ struct SampleVolumeInfo {
     const char* description;
 };
 inline constexpr int kMinSampleResolution = 8;
+// A grid is read only when its voxels are at least this large and its box lies within kMaxCoordinate
+// (sim/scene_file.h) of the origin, the range scene files accept: beyond it squared distances overflow the
+// renderer's floats (a voxel of 1e20 rendered every pixel NaN), below it radii underflow. (OpenVDB itself
+// refuses to write voxels much under 1e-5, whose transform's determinant it treats as zero.)
+inline constexpr double kMinVoxelSize = 1e-6;
 inline constexpr int kMaxSampleResolution = 512;  // 512^3 dense floats: 0.5 GiB
 std::span<const SampleVolumeInfo> sample_volumes();
 // Throws VdbError for an unknown name (listing the known ones) or a resolution out of range.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace brume {
@@ -26,15 +27,42 @@ Camera frame_box(Camera camera, const glm::dvec3& lo, const glm::dvec3& hi) {
 
 Camera frame_grid_camera(const DensityGrid& grid) { return frame_box(Camera{}, grid.world_min(), grid.world_max()); }
 
-VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions& options) {
+namespace {
+
+// A fit within tolerance, or stopped by an explicit max_spheres, is a result; a fit that ran into the
+// default cap without meeting the tolerance is an error naming what it reached.
+SphereCloud fitted_cloud(const DensityGrid& grid, const SphereCloudOptions& options,
+                         const std::function<void(const SphereFitProgress&)>& progress, VdbImport& out) {
+    const SphereFit fit = fit_spheres(grid, options, {}, progress);
+    out.fitted = true;
+    out.fit_rounds = fit.rounds;
+    out.met_tolerance = fit.met_tolerance;
+    if (!fit.met_tolerance && options.max_spheres == 0 && !fit.spheres.empty()) {
+        char text[512];
+        std::snprintf(text, sizeof text,
+                      "fitting stopped at %zu spheres (the default cap: %zu, or one per 8 active voxels) at %.3g%% RMS optical-depth error, above the "
+                      "tolerance %.3g%%; raise --tolerance, allow more with --max-spheres, or tile (no --fit)",
+                      fit.spheres.size(), kDefaultFitSphereCap, 100.0 * fit.error.relative_rms, 100.0 * options.tolerance);
+        throw std::runtime_error(text);
+    }
+    SphereCloud cloud;
+    cloud.spheres = fit.spheres;
+    cloud.error = fit.error;
+    return cloud;
+}
+
+}  // namespace
+
+VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions& options,
+                              const std::function<void(const SphereFitProgress&)>& progress) {
     const auto start = std::chrono::steady_clock::now();
     SphereCloudOptions with_camera = options;
     const Camera camera = frame_grid_camera(grid);
     with_camera.views.push_back(camera);
-    SphereCloud cloud = grid_to_spheres(grid, with_camera);
+    VdbImport out;
+    SphereCloud cloud = options.fit ? fitted_cloud(grid, with_camera, progress, out) : grid_to_spheres(grid, with_camera);
     if (cloud.spheres.empty())
         throw std::runtime_error("grid \"" + grid.name + "\" has no density (every active voxel is 0)");
-    VdbImport out;
     out.split_threshold = cloud.split_threshold;
     out.max_cell_voxels = cloud.max_cell_voxels;
     out.lattice_spacing = cloud.lattice_spacing;
@@ -50,7 +78,8 @@ VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions&
 }
 
 VdbImport import_vdb(const std::filesystem::path& path, const std::string& grid_name, const SphereCloudOptions& options,
-                     const std::optional<std::string>& albedo_grid) {
+                     const std::optional<std::string>& albedo_grid,
+                     const std::function<void(const SphereFitProgress&)>& progress) {
     DensitySource source;
     source.file = path.string();
     source.grid = grid_name;
@@ -61,7 +90,7 @@ VdbImport import_vdb(const std::filesystem::path& path, const std::string& grid_
     if (grids.size() > 1) with_albedo.albedo_grid = &grids[1];
     VdbImport out;
     try {
-        out = import_density_grid(grids[0], with_albedo);
+        out = import_density_grid(grids[0], with_albedo, progress);
     } catch (const std::invalid_argument&) {
         throw;
     } catch (const std::runtime_error& e) {  // no density, an unreachable tolerance

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace brume {
@@ -97,7 +98,21 @@ std::vector<VolumeReport> convert_scene_volumes(Scene& scene, const std::vector<
             if (scene.spheres.size() + cloud.spheres.size() > kMaxSpheres)
                 throw std::runtime_error(std::to_string(cloud.spheres.size()) + " spheres would take the scene past " +
                                          std::to_string(kMaxSpheres) + "; raise the tolerance or set max_spheres");
-            for (const Sphere& s : cloud.spheres) scene.spheres.push_back(volume_to_world(v.transform, s));
+            // The grid was read within range (sim/vdb/vdb_file.h), but a transform can carry it past what a scene
+            // file may hold, where the renderer's floats overflow (issue 14: NaN images with exit 0).
+            for (const Sphere& s : cloud.spheres) {
+                const Sphere w = volume_to_world(v.transform, s);
+                const double reach = std::max({std::abs(w.center.x), std::abs(w.center.y), std::abs(w.center.z)}) + w.radius;
+                if (!(reach <= kMaxCoordinate)) {
+                    char text[200];
+                    std::snprintf(text, sizeof text,
+                                  "placed by its transform, the volume reaches %.4g scene units from the origin, past "
+                                  "the %g a scene allows; lower its scale or translate",
+                                  reach, kMaxCoordinate);
+                    throw std::runtime_error(text);
+                }
+                scene.spheres.push_back(w);
+            }
             report.spheres = cloud.spheres.size();
             report.active_voxels = grids[0].active_voxels;
             report.error = cloud.error;

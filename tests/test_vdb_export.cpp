@@ -162,12 +162,22 @@ TEST(VdbSplatLattice, VoxelsAreAnchoredAtTheOriginAndResolutionSpansTheLongestSi
     SplatOptions o;
     o.resolution = 30;  // the box is 3 long in x
     const DensityGrid g = spheres_to_density_grid(s, o);
-    EXPECT_DOUBLE_EQ(g.voxel_size, 0.1);
+    // 0.1 would give 31 voxels (the lattice starts at the origin, not at the box): the voxel widens
+    // until the longest side holds 30.
+    EXPECT_GT(g.voxel_size, 0.1);
+    EXPECT_LT(g.voxel_size, 0.1 * 31.0 / 30.0 * 1.001);
     EXPECT_EQ(g.origin, glm::dvec3(0.0));  // a pure-scale transform: frames at one voxel size share voxels
-    EXPECT_EQ(g.min.x, -2);                 // x from -0.2: voxel -2 spans [-0.25, -0.15)
-    EXPECT_EQ(g.size.x, 31);
+    EXPECT_EQ(g.size.x, 30);
     EXPECT_LE(g.size.y, 12);
     EXPECT_EQ(g.name, "density");
+    // Other resolutions never exceed what was asked, except that a box straddling the origin's
+    // lattice line needs two voxels however wide they are.
+    for (int resolution : {1, 2, 7, 64, 128}) {
+        o.resolution = resolution;
+        const DensityGrid r = spheres_to_density_grid(s, o);
+        EXPECT_LE(std::max({r.size.x, r.size.y, r.size.z}), std::max(resolution, 2)) << resolution;
+        EXPECT_GE(r.size.x, resolution - 1) << resolution;
+    }
 }
 
 TEST(VdbSplatLattice, SpheresWithoutMassAreSkipped) {

@@ -193,7 +193,7 @@ SplatGrids splat_spheres(const std::vector<Sphere>& spheres, const SplatOptions&
                                                     : "no sphere has both a radius and an extinction above 0: "
                                                       "nothing to make a density grid of");
     const glm::dvec3 box = box_hi - box_lo;
-    const double voxel = options.voxel_size > 0.0 ? options.voxel_size
+    double voxel = options.voxel_size > 0.0 ? options.voxel_size
                                                    : std::max({box.x, box.y, box.z}) / options.resolution;
     if (!(voxel > 0.0) || !std::isfinite(voxel))
         throw std::invalid_argument("voxel size " + number(voxel) + " is not usable for these spheres");
@@ -203,13 +203,24 @@ SplatGrids splat_spheres(const std::vector<Sphere>& spheres, const SplatOptions&
                                     number(kMaxCoordinate) + "] scene units");
 
     glm::dvec3 origin{0.0};
-    Extent e = extent(spheres, origin, voxel);
-    const double index_limit = double(1 << 30);  // OpenVDB's coordinates are int32; keep well inside
-    if (glm::any(glm::greaterThan(glm::max(glm::abs(e.lo), glm::abs(e.hi)), glm::dvec3(index_limit)))) {
-        origin = box_lo;  // far from the world origin at this voxel size: index from the spheres instead
+    Extent e;
+    glm::dvec3 dims;
+    // A lattice anchored at the origin rarely starts where the box does, so B / resolution voxels
+    // cover resolution + 1 cells: widen the voxel until the longest side holds `resolution` at most
+    // (a box straddling a lattice line of the origin keeps 2, however wide the voxel).
+    for (int attempt = 0;; ++attempt) {
+        origin = glm::dvec3(0.0);
         e = extent(spheres, origin, voxel);
+        const double index_limit = double(1 << 30);  // OpenVDB's coordinates are int32; keep well inside
+        if (glm::any(glm::greaterThan(glm::max(glm::abs(e.lo), glm::abs(e.hi)), glm::dvec3(index_limit)))) {
+            origin = box_lo;  // far from the world origin at this voxel size: index from the spheres instead
+            e = extent(spheres, origin, voxel);
+        }
+        dims = e.hi - e.lo + 1.0;
+        const double longest = std::max({dims.x, dims.y, dims.z});
+        if (options.voxel_size > 0.0 || longest <= options.resolution || attempt == 16) break;
+        voxel *= std::max(longest / options.resolution, 1.0 + 1e-9);
     }
-    const glm::dvec3 dims = e.hi - e.lo + 1.0;
     if (dims.x * dims.y * dims.z > double(kMaxSplatVoxels)) throw std::invalid_argument(too_many_voxels(dims, voxel));
 
     DensityGrid& grid = out.density;

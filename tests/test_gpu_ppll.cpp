@@ -176,11 +176,7 @@ TEST_F(Ppll, NearlySortedListsLongerThanTheWindowTakeTheOrderedPath) {
 TEST_F(Ppll, MoreOverlappingMediaThanTheWindowHoldsTakeTheGeneralPathExactly) {
     // 100 nearly coincident spheres: every one is open at once, so the window cannot hold the
     // pending exits; those pixels are resolved again by the general path, and stay exact.
-    Scene s = small_scene(48, 48);
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<double> jitter(-0.01, 0.01);
-    for (int i = 0; i < 100; ++i)
-        s.spheres.push_back(sphere({jitter(rng), jitter(rng), jitter(rng)}, 1.0, 0.02, {0.9, 0.6 + 0.003 * i, 0.5}));
+    const Scene s = testing::nearly_coincident_scene(48, 48);
     PpllMethod ppll(device());
     FrameStats stats;
     const Image img = ppll.render(s, &stats);
@@ -195,28 +191,13 @@ TEST_F(Ppll, MoreOverlappingMediaThanTheWindowHoldsTakeTheGeneralPathExactly) {
 // is nearly sorted and must always be exact. Coincident spheres keep every medium open at once;
 // the general path resolves them exactly where the device lets its loops run long enough
 // (lavapipe: 400 nodes, not 800), and otherwise the frame is refused: never a wrong image.
-struct LongList {
-    int nodes;
-    bool coincident;
-    bool thick;
-};
+using testing::LongList;
 
 class PpllLongLists : public GpuTest, public ::testing::WithParamInterface<LongList> {};
 
 TEST_P(PpllLongLists, AreExactOrRefusedNeverWrong) {
     const LongList p = GetParam();
-    Scene s = small_scene(15, 15);
-    s.render.min_transmittance = p.thick ? 1e-4 : 0.0;
-    for (int i = 0; i < p.nodes; ++i) {
-        if (p.coincident) {
-            // Optical depth through the centre: 1 (thin) or 40 (thick).
-            s.spheres.push_back(sphere({0, 0, 0}, 0.5, (p.thick ? 40.0 : 1.0) / p.nodes, {0.9, 0.7, 0.5}));
-        } else {
-            const double spacing = 2.0 / p.nodes;  // centres from z = 1 down to z = -1, radius 0.4 spacing
-            s.spheres.push_back(sphere({0, 0, 1.0 - spacing * i}, 0.4 * spacing, (p.thick ? 100.0 : 1.0) / 0.8,
-                                       {0.9, 0.7, 0.5}));
-        }
-    }
+    const Scene s = testing::long_list_scene(p);
     PpllMethod ppll(device());
     FrameStats stats;
     try {
@@ -242,10 +223,7 @@ INSTANTIATE_TEST_SUITE_P(Lengths, PpllLongLists,
                                            LongList{800, true, false}, LongList{800, true, true},
                                            LongList{3000, true, false}, LongList{3000, true, true},
                                            LongList{20000, true, false}, LongList{20000, true, true}),
-                         [](const ::testing::TestParamInfo<LongList>& info) {
-                             return std::to_string(info.param.nodes) + (info.param.coincident ? "_coincident" : "_chain") +
-                                    (info.param.thick ? "_thick" : "_thin");
-                         });
+                         [](const ::testing::TestParamInfo<LongList>& info) { return testing::long_list_name(info.param); });
 
 TEST_F(Ppll, LayersSceneHasExactlyTheStatedLayersEverywhere) {
     for (int layers : {2, 8}) {

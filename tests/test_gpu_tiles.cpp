@@ -63,11 +63,7 @@ TEST_F(Tiles, CountsTheSameIntervalsAsPpll) {
 // More media overlap than the open window holds (100 coincident spheres, 100 open at once): those
 // pixels go to the general path, and stay exact.
 TEST_F(Tiles, DeepOverlapTakesTheGeneralPathExactly) {
-    Scene s = testing::small_scene(48, 36);
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<double> jitter(-0.01, 0.01);
-    for (int i = 0; i < 100; ++i)
-        s.spheres.push_back(sphere({jitter(rng), jitter(rng), jitter(rng)}, 1.0, 0.02, {0.9, 0.6 + 0.003 * i, 0.5}));
+    const Scene s = testing::nearly_coincident_scene(48, 36);
     TilesMethod tiles(device());
     FrameStats stats;
     const Image img = tiles.render(s, &stats);
@@ -97,30 +93,16 @@ TEST_F(Tiles, AccurateShadowsAsPpllHasThem) {
     EXPECT_GT(compare_images(a, tiles.render(plain), 1e-3).pixels_over, 100u) << "the shadows are missing";
 }
 
-// As for ppll (test_gpu_ppll.cpp): lists of 800, 3,000 and 20,000 nodes on one pixel's ray, a chain
-// of disjoint spheres (nearly sorted, always exact) or coincident spheres (every medium open at
-// once: the general path, exact where the loop budget allows, else the frame is refused).
-struct LongList {
-    int nodes;
-    bool coincident;
-    bool thick;
-};
+// As for ppll (test_gpu_ppll.cpp): lists of 800, 3,000 and 20,000 nodes on one pixel's ray
+// (testing::long_list_scene). A chain is always exact; coincident media go to the general path,
+// exact where the loop budget allows, else the frame is refused.
+using testing::LongList;
 
 class TilesLongLists : public GpuTest, public ::testing::WithParamInterface<LongList> {};
 
 TEST_P(TilesLongLists, AreExactOrRefusedNeverWrong) {
     const LongList p = GetParam();
-    Scene s = testing::small_scene(15, 15);
-    s.render.min_transmittance = p.thick ? 1e-4 : 0.0;
-    for (int i = 0; i < p.nodes; ++i) {
-        if (p.coincident) {
-            s.spheres.push_back(sphere({0, 0, 0}, 0.5, (p.thick ? 40.0 : 1.0) / p.nodes, {0.9, 0.7, 0.5}));
-        } else {
-            const double spacing = 2.0 / p.nodes;
-            s.spheres.push_back(sphere({0, 0, 1.0 - spacing * i}, 0.4 * spacing, (p.thick ? 100.0 : 1.0) / 0.8,
-                                       {0.9, 0.7, 0.5}));
-        }
-    }
+    const Scene s = testing::long_list_scene(p);
     TilesMethod tiles(device());
     FrameStats stats;
     try {
@@ -143,10 +125,7 @@ INSTANTIATE_TEST_SUITE_P(Lengths, TilesLongLists,
                                            LongList{400, true, false}, LongList{400, true, true},
                                            LongList{800, true, false}, LongList{3000, true, true},
                                            LongList{20000, true, false}),
-                         [](const ::testing::TestParamInfo<LongList>& info) {
-                             return std::to_string(info.param.nodes) + (info.param.coincident ? "_coincident" : "_chain") +
-                                    (info.param.thick ? "_thick" : "_thin");
-                         });
+                         [](const ::testing::TestParamInfo<LongList>& info) { return testing::long_list_name(info.param); });
 
 }  // namespace
 }  // namespace brume

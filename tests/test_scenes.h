@@ -13,6 +13,7 @@
 #include <cmath>
 #include <optional>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace brume::testing {
@@ -184,6 +185,46 @@ inline glm::dvec3 single_sphere_radiance(const Scene& s, int i, int j) {
     const std::optional<Chord> c = chord(rays.eye, d, s.spheres.at(0), behind.t);
     const double t = c ? std::exp(-s.spheres[0].extinction * (c->t1 - c->t0)) : 1.0;
     return s.spheres[0].albedo * source_radiance(s, d) * (1.0 - t) + t * behind.radiance;
+}
+
+// 100 nearly coincident unit spheres at the origin (jitter 0.01): every medium is open at once, more
+// than any register window of the exact resolves holds, so their general paths must take over.
+inline Scene nearly_coincident_scene(int w, int h) {
+    Scene s = small_scene(w, h);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+    for (int i = 0; i < 100; ++i)
+        s.spheres.push_back(sphere({jitter(rng), jitter(rng), jitter(rng)}, 1.0, 0.02, {0.9, 0.6 + 0.003 * i, 0.5}));
+    return s;
+}
+
+// One pixel's list of `nodes` spheres at 15 x 15 (the centre pixel's ray is the view axis): a chain of
+// disjoint spheres along the axis (nearly sorted), or coincident spheres (every medium open at once).
+// Thin: optical depth 1 through the centre and no early stop; thick: 40 (coincident) or 100 (chain),
+// stopping at transmittance 1e-4.
+struct LongList {
+    int nodes;
+    bool coincident;
+    bool thick;
+};
+
+inline Scene long_list_scene(const LongList& p) {
+    Scene s = small_scene(15, 15);
+    s.render.min_transmittance = p.thick ? 1e-4 : 0.0;
+    for (int i = 0; i < p.nodes; ++i) {
+        if (p.coincident) {
+            s.spheres.push_back(sphere({0, 0, 0}, 0.5, (p.thick ? 40.0 : 1.0) / p.nodes, {0.9, 0.7, 0.5}));
+        } else {
+            const double spacing = 2.0 / p.nodes;  // centres from z = 1 down to z = -1, radius 0.4 spacing
+            s.spheres.push_back(sphere({0, 0, 1.0 - spacing * i}, 0.4 * spacing, (p.thick ? 100.0 : 1.0) / 0.8,
+                                       {0.9, 0.7, 0.5}));
+        }
+    }
+    return s;
+}
+
+inline std::string long_list_name(const LongList& p) {
+    return std::to_string(p.nodes) + (p.coincident ? "_coincident" : "_chain") + (p.thick ? "_thick" : "_thin");
 }
 
 }  // namespace brume::testing

@@ -4,6 +4,7 @@
 #include "app/cli_util.h"
 #include "render/atomic_file.h"
 #include "sim/vdb/density_source.h"
+#include "sim/vdb/optical_depth_error.h"
 #include "sim/vdb/sphere_cloud.h"
 #include "sim/vdb/sphere_fit.h"
 
@@ -49,24 +50,6 @@ std::vector<double> parse_tolerances(const std::string& text) {
 
 // Fits stop here, so that a tolerance a grid cannot reach (the sheet's voxel-level floor) costs a bounded time.
 constexpr std::size_t kBenchFitCap = 4000;
-
-// Three oblique cameras from outside the grid that neither conversion measures itself against.
-std::vector<Camera> unseen_views(const DensityGrid& grid) {
-    std::vector<Camera> views;
-    const glm::dvec3 centre = 0.5 * (grid.support_min() + grid.support_max());
-    const double radius = 0.5 * glm::length(grid.support_max() - grid.support_min());
-    const glm::dvec3 dirs[3] = {{0.3, 0.8, -0.5}, {-0.9, 0.2, 0.4}, {0.1, -0.45, -0.9}};
-    for (const glm::dvec3& d : dirs) {
-        Camera c;
-        c.position = centre + glm::normalize(d) * (2.5 * radius);
-        c.look_at = centre;
-        c.up = {0, 0, 1};
-        c.fov_y_deg = 50.0;
-        c.width = c.height = 96;
-        views.push_back(c);
-    }
-    return views;
-}
 
 // The issue-13 ball: density 1 inside radius 1, voxels of 2 / n (0.04 at n = 50), centres symmetric about
 // the origin. Not a built-in sample (those are made with OpenVDB's tools); one analytic sphere is its model.
@@ -126,7 +109,7 @@ int run_bench_vdb(const BenchArgs& args) {
         const double read_s = seconds_since(read_start);
         const std::string label = sample + " " + std::to_string(n) + "^3";
         VdbSeries s{label, {}};
-        const OpticalDepthViews unseen(grid, 1.0, unseen_views(grid));
+        const OpticalDepthViews unseen(grid, 1.0, grid_unseen_views(grid, 96));
         const auto row = [&](const std::string& tolerance, const std::vector<Sphere>& cloud, int cap, double threshold,
                              double spacing, int tried, double convert_s, const OpticalDepthError& e) {
             const std::size_t spheres = cloud.size();

@@ -62,24 +62,6 @@ DensityGrid three_sphere_grid() {
     });
 }
 
-// Oblique views none of the fitting views share, from outside the grid.
-std::vector<Camera> unseen_views(const DensityGrid& grid) {
-    std::vector<Camera> views;
-    const glm::dvec3 centre = 0.5 * (grid.support_min() + grid.support_max());
-    const double radius = 0.5 * glm::length(grid.support_max() - grid.support_min());
-    const glm::dvec3 dirs[3] = {{0.3, 0.8, -0.5}, {-0.9, 0.2, 0.4}, {0.1, -0.45, -0.9}};
-    for (const glm::dvec3& d : dirs) {
-        Camera c;
-        c.position = centre + glm::normalize(d) * (2.5 * radius);
-        c.look_at = centre;
-        c.up = {0, 0, 1};
-        c.fov_y_deg = 50.0;
-        c.width = c.height = 72;
-        views.push_back(c);
-    }
-    return views;
-}
-
 // The relative RMS difference of two sphere sets' optical depths over a camera's pixels.
 double depth_difference(const std::vector<Sphere>& a, const std::vector<Sphere>& b, const Camera& camera) {
     const std::vector<double> da = sphere_optical_depths(a, camera), db = sphere_optical_depths(b, camera);
@@ -123,7 +105,7 @@ TEST(VdbFit, ASumOfThreeKnownSpheresIsRecovered) {
     EXPECT_TRUE(fit.met_tolerance);
     EXPECT_LE(fit.spheres.size(), 16u);  // splitting finds the three, with a few more to shape the edges
     // Recovered: from views the fit never saw, its optical depth is close to the three spheres' own.
-    for (const Camera& c : unseen_views(grid)) {
+    for (const Camera& c : grid_unseen_views(grid, 72)) {
         EXPECT_LT(depth_difference(fit.spheres, truth, c), 0.05) << fit.spheres.size() << " spheres, truth " << truth_error;
     }
 }
@@ -138,7 +120,7 @@ TEST(VdbFit, ErrorHoldsFromUnseenViewsAndMassIsConserved) {
     EXPECT_LE(fit.error.relative_rms, o.tolerance);
     // Far fewer spheres than voxels: the point of fitting.
     EXPECT_LT(fit.spheres.size(), grid.active_voxels / 100);
-    const OpticalDepthViews unseen(grid, o.extinction_scale, unseen_views(grid));
+    const OpticalDepthViews unseen(grid, o.extinction_scale, grid_unseen_views(grid, 72));
     EXPECT_LE(unseen.measure(fit.spheres).relative_rms, 1.25 * o.tolerance);
     EXPECT_NEAR(spheres_extinction_mass(fit.spheres), grid.mass() * o.extinction_scale, 1e-9 * grid.mass() * o.extinction_scale);
     for (const Sphere& s : fit.spheres) {

@@ -198,4 +198,21 @@ OpticalDepthError measure_optical_depth_error(const DensityGrid& grid, double ex
     return OpticalDepthViews(grid, extinction_scale, {camera}).measure(spheres);
 }
 
+std::vector<Camera> grid_unseen_views(const DensityGrid& grid, int resolution) {
+    std::vector<Camera> views;
+    const glm::dvec3 centre = 0.5 * (grid.support_min() + grid.support_max());
+    const double radius = 0.5 * glm::length(grid.support_max() - grid.support_min());
+    const glm::dvec3 dirs[3] = {{0.3, 0.8, -0.5}, {-0.9, 0.2, 0.4}, {0.1, -0.45, -0.9}};
+    for (const glm::dvec3& d : dirs) {
+        Camera c;
+        c.position = centre + glm::normalize(d) * (2.5 * radius);
+        c.look_at = centre;
+        c.up = {0, 0, 1};
+        c.fov_y_deg = 50.0;
+        c.width = c.height = resolution;
+        views.push_back(c);
+    }
+    return views;
+}
+
 }  // namespace brume

@@ -46,6 +46,10 @@ void sphere_pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1
 // up coherently along them), so they make a conservative test of any conversion.
 std::vector<Camera> grid_axis_views(const DensityGrid& grid, int resolution);
 
+// Three oblique cameras from outside the grid, `resolution` pixels square, that neither the axis views
+// nor a fit's own views share: where a conversion is checked on views it never measured against.
+std::vector<Camera> grid_unseen_views(const DensityGrid& grid, int resolution);
+
 // The grid's optical depth along every pixel ray of a set of views, computed once (the expensive part),
 // against which any number of sphere clouds are then measured: a conversion tries several.
 class OpticalDepthViews {

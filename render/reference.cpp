@@ -9,7 +9,7 @@
 // on the multiset of its events, so binning, sphere order and thread count cannot change a single bit.
 #include "render/reference.h"
 
-#include "render/ray_box.h"
+#include "render/opaque_surfaces.h"
 #include "render/sun_light.h"
 #include "sim/camera_rays.h"
 #include "sim/parallel_for.h"
@@ -138,10 +138,10 @@ double adaptive_gauss(const F& f, double a, double b, double whole, double tol, 
 class Tracer {
 public:
     Tracer(const Scene& scene, ReferenceShadows technique)
-        : boxes_(scene.boxes),
-          lighting_(scene.lighting),
+        : lighting_(scene.lighting),
           min_transmittance_(scene.render.min_transmittance),
           sun_light_(scene),
+          opaque_(scene, sun_light_),
           exact_shadows_(sun_light_.shadows() && technique == ReferenceShadows::Exact) {
         const std::vector<double> centre_sun = technique == ReferenceShadows::PerSphere
                                                    ? sun_transmittance_at_centres(scene)
@@ -161,37 +161,7 @@ public:
     const std::vector<Medium>& media() const { return media_; }
 
     // The opaque hit along o + t d (distance, +inf if none) and the radiance behind the media.
-    double opaque_hit(const dvec3& o, const dvec3& d, dvec3& behind) const {
-        double t_opaque = kInf;
-        behind = lighting_.background;
-        int hit_box = -1, hit_axis = -1;
-        for (std::size_t k = 0; k < boxes_.size(); ++k) {
-            int axis = -1;
-            const double t = ray_box_distance(boxes_[k], o, d, &axis);
-            if (t < t_opaque) {
-                t_opaque = t;
-                hit_box = int(k);
-                hit_axis = axis;
-            }
-        }
-        if (hit_box >= 0) behind = box_radiance(hit_box, hit_axis, o, d, t_opaque);
-        return t_opaque;
-    }
-
-    // radiance + diffuse * (L_ambient + L_sun max(0, n.l) T_sun(hit)); from inside the box no face is
-    // crossed, so only the ambient term is reflected.
-    dvec3 box_radiance(int k, int axis, const dvec3& o, const dvec3& d, double t) const {
-        const Box& box = boxes_[std::size_t(k)];
-        if (box.diffuse == dvec3(0.0)) return box.radiance;
-        dvec3 irradiance = lighting_.ambient;
-        if (axis >= 0) {
-            // The face met is the one whose outward normal opposes the ray along that axis.
-            const double toward_sun = -lighting_.sun_direction[axis] / glm::length(lighting_.sun_direction);
-            const double n_dot_l = d[axis] > 0.0 ? -toward_sun : toward_sun;
-            if (n_dot_l > 0.0) irradiance += lighting_.sun * (n_dot_l * sun_light_.transmittance(o + t * d, k));
-        }
-        return box.radiance + box.diffuse * irradiance;
-    }
+    double opaque_hit(const dvec3& o, const dvec3& d, dvec3& behind) const { return opaque_.hit(o, d, behind); }
 
     // Entry and exit events of the candidate spheres' clipped intervals, unsorted.
     void collect_events(const dvec3& o, const dvec3& d, double t_opaque, const std::vector<std::uint32_t>& candidates,
@@ -317,11 +287,11 @@ private:
     }
 
     std::vector<Medium> media_;
-    std::vector<Box> boxes_;
     Lighting lighting_;
     dvec3 sun_unit_;
     double min_transmittance_;
     SunLight sun_light_;
+    OpaqueSurfaces opaque_;  // after sun_light_, which it reads
     bool exact_shadows_;
 };
 

@@ -36,7 +36,7 @@ TEST(MethodRegistry, ExactMethodsAreTheOnesThatMatchTheReference) {
     std::set<std::string> exact;
     for (const MethodEntry& m : method_catalogue())
         if (m.exact) exact.insert(m.name);
-    EXPECT_EQ(exact, (std::set<std::string>{"ppll", "ppll-general", "tiles", "reference", "auto"}));
+    EXPECT_EQ(exact, (std::set<std::string>{"ppll", "ppll-general", "tiles", "trace", "reference", "auto"}));
 }
 
 TEST(MethodRegistry, OptionsReachEveryMethodThatHonoursThem) {

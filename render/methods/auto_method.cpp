@@ -12,13 +12,20 @@ AutoMethod::AutoMethod(vk::Device& device, AutoOptions options)
     : GpuMethod(device),
       options_(options),
       ppll_(device, options.ppll),
-      reference_(device, options.threads),
+      trace_(device, CpuTracer::Fast, options.threads),
       power_sorted_(device, SortedCompositor::Billboard::Spherical, SortedCompositor::SortKey::PowerDistance),
-      chosen_(&ppll_) {}
+      chosen_(&ppll_) {
+    // A CPU device runs the GPU methods on the same cores as trace, with rasterisation and SIMD lanes
+    // that wait for each other on top: there trace is expected to win, elsewhere ppll.
+    VkPhysicalDeviceProperties properties{};
+    vkGetPhysicalDeviceProperties(device.physical(), &properties);
+    if (options_.allow_cpu && properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) first_ = kTrace;
+    path_ = first_;
+}
 
 double AutoMethod::measured_cost(const std::string& path) const {
     if (path == "ppll") return cost_[kPpll];
-    if (path == "reference") return cost_[kReference];
+    if (path == "trace") return cost_[kTrace];
     return -1.0;
 }
 
@@ -42,25 +49,23 @@ std::uint64_t AutoMethod::fingerprint(const Scene& scene) const {
     return h;
 }
 
-AutoMethod::Path AutoMethod::choose(bool scene_changed, bool reference_allowed) {
+AutoMethod::Path AutoMethod::choose(bool scene_changed) {
     measuring_ = false;
-    if (!reference_allowed) return kPpll;
-    if (cost_[kPpll] < 0.0) {  // the first intersecting frame, or ppll not measured yet
+    if (!options_.allow_cpu) return kPpll;
+    const Path second = first_ == kPpll ? kTrace : kPpll;
+    if (cost_[first_] < 0.0) {  // the first intersecting frames: warm-up, then the first measurement
         measuring_ = true;
-        return kPpll;
+        return first_;
     }
     if (!scene_changed) return path_;
     ++changed_frames_;
-    if (cost_[kReference] < 0.0) {
+    if (cost_[second] < 0.0) {
         measuring_ = true;
-        return kReference;
+        return second;
     }
-    const Path best = cost_[kReference] < cost_[kPpll] ? kReference : kPpll;
-    if (changed_frames_ % kRemeasureEvery == 0) {
-        measuring_ = true;
-        return best == kPpll ? kReference : kPpll;
-    }
+    const Path best = cost_[kTrace] < cost_[kPpll] ? kTrace : kPpll;
     measuring_ = true;  // the path taken keeps its figure up to date
+    if (changed_frames_ % kRemeasureEvery == 0) return best == kPpll ? kTrace : kPpll;
     return best;
 }
 
@@ -75,9 +80,8 @@ void AutoMethod::prepare(FrameContext& ctx) {
         const std::uint64_t print = fingerprint(scene);
         const bool changed = print != last_fingerprint_;
         last_fingerprint_ = print;
-        const bool reference_allowed = options_.allow_reference && !scene.lighting.shadows;
-        path_ = choose(changed, reference_allowed);
-        chosen_ = path_ == kReference ? static_cast<GpuMethod*>(&reference_) : &ppll_;
+        path_ = choose(changed);
+        chosen_ = path_ == kTrace ? static_cast<GpuMethod*>(&trace_) : &ppll_;
         fragments_estimate_ = double(std::max<std::uint64_t>(estimate_fragments(scene), 1));
     }
     decide_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start_).count();

@@ -6,14 +6,14 @@
 // (sim/sphere_overlap.h, O(n log n); why: docs/decisions.md, "`auto` decides per frame on the CPU").
 //
 // Frames with intersecting spheres take the fastest exact path measured on this device: ppll, or
-// the CPU reference (on a CPU device such as lavapipe the reference is often faster:
-// docs/performance.md). The first such frame takes ppll; a path's first frame compiles its
-// pipelines and is not counted as a measurement. Each later frame whose scene differs from
-// the last one's may try a path not yet measured; after that the frame takes the path with the
-// lowest measured cost per estimated fragment, and every kRemeasureEvery changed frames the other
-// path is measured again, so the choice follows a scene that changes. A frame of the same scene as
-// the last one takes the same path, so repeated renders stay identical. The reference is left out
-// with shadows on (its shadows are exact, at seconds a frame). The stats say which path was taken
+// `trace`, the float CPU tracer (render/fast_tracer.h; on a CPU device such as lavapipe it is the
+// faster by far: docs/performance.md, "trace"). The first such frame takes the path expected to be
+// faster, trace on a CPU device and ppll on a GPU; a path's first frame is a warm-up (pipelines,
+// caches) and is not counted as a measurement. Each later frame whose scene differs from the last
+// one's may try a path not yet measured; after that the frame takes the path with the lowest
+// measured cost per estimated fragment, and every kRemeasureEvery changed frames the other path is
+// measured again, so the choice follows a scene that changes. A frame of the same scene as the last
+// one takes the same path, so repeated renders stay identical. The stats say which path was taken
 // (the "decide (cpu): ..." pass), and last_choice() names it.
 //
 // One difference remains for the sorted path: the compositor integrates every sphere, while ppll
@@ -24,7 +24,7 @@
 
 #include "render/methods/method.h"
 #include "render/methods/ppll.h"
-#include "render/methods/reference_pass.h"
+#include "render/methods/cpu_trace_pass.h"
 #include "render/methods/sorted.h"
 
 #include <array>
@@ -35,8 +35,8 @@ namespace brume {
 
 struct AutoOptions {
     PpllOptions ppll;            // the lists for the frames that take ppll (--max-memory reaches them here)
-    int threads = 0;             // the reference's threads (--threads); 0: all
-    bool allow_reference = true; // false: intersecting frames always take ppll
+    int threads = 0;             // trace's threads (--threads); 0: all
+    bool allow_cpu = true;       // false: intersecting frames always take ppll
 };
 
 class AutoMethod : public GpuMethod {
@@ -47,7 +47,7 @@ public:
     explicit AutoMethod(vk::Device& device, AutoOptions options = {});
     std::string name() const override { return "auto"; }
     bool exact() const override { return true; }
-    // Which path rendered the last frame: "power-sorted", "ppll" or "reference".
+    // Which path rendered the last frame: "power-sorted", "ppll" or "trace".
     std::string last_choice() const { return chosen_->name() == "sorted" ? "power-sorted" : chosen_->name(); }
     const PpllMethod& ppll() const { return ppll_; }
     // The measured cost of a path in ms per estimated fragment; negative until measured.
@@ -62,19 +62,20 @@ public:
     void report(FrameStats& stats, const FrameContext& ctx) override;
 
 private:
-    enum Path { kPpll = 0, kReference = 1, kPaths = 2 };
-    Path choose(bool scene_changed, bool reference_allowed);
+    enum Path { kPpll = 0, kTrace = 1, kPaths = 2 };
+    Path choose(bool scene_changed);
     std::uint64_t fingerprint(const Scene& scene) const;
 
     AutoOptions options_;
     PpllMethod ppll_;
-    ReferencePass reference_;
+    CpuTracePass trace_;
     SortedCompositor power_sorted_;
     GpuMethod* chosen_;
     double decide_ms_ = 0.0;
     // What the measurements know.
     std::array<double, kPaths> cost_{-1.0, -1.0};  // ms per estimated fragment
     std::array<bool, kPaths> warm_{false, false};  // a path's first frame (pipelines compiled) is not a measurement
+    Path first_ = kPpll;                           // the path measured first: the one expected to be faster
     Path path_ = kPpll;                            // the last intersecting frame's path
     bool measuring_ = false;                       // this frame's time goes into cost_[path_]
     int changed_frames_ = 0;                       // intersecting frames whose scene changed

@@ -2,6 +2,7 @@
 #include "render/methods/registry.h"
 
 #include "render/methods/auto_method.h"
+#include "render/methods/cpu_trace_pass.h"
 #include "render/methods/kbuffer.h"
 #include "render/methods/peel.h"
 #include "render/methods/ppll.h"
@@ -55,6 +56,10 @@ std::unique_ptr<Method> make_auto(vk::Device* device, const std::string&, const 
     return std::make_unique<AutoMethod>(*device, a);
 }
 
+std::unique_ptr<Method> make_trace(vk::Device* device, const std::string&, const MethodOptions& options) {
+    return std::make_unique<CpuTracePass>(*device, CpuTracer::Fast, options.threads);
+}
+
 std::unique_ptr<Method> make_reference(vk::Device*, const std::string&, const MethodOptions& options) {
     return std::make_unique<ReferenceMethod>(options.threads);
 }
@@ -80,11 +85,15 @@ const std::vector<MethodEntry>& method_catalogue() {
          "exact intersecting media in compute, no per-pixel lists: spheres binned to 8x8 tiles near to far, each "
          "pixel merging its tile's events in one pass",
          true, true, true, kHonoursMaxMemory, {}, &make_tiles},
+        {"trace", "", "",
+         "CPU ray tracer in float: spheres binned to 8x8 tiles near to far, each ray's events merged in a heap "
+         "in bound order, stopping once opaque; the fastest exact path on a CPU device",
+         true, true, false, kHonoursThreads, {}, &make_trace},
         {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)", false, true, false,
          kHonoursThreads, {}, &make_reference},
         {"auto", "", "",
          "per frame the cheapest exact path: power-distance sorted spheres when none intersect, else the faster of "
-         "ppll and the CPU reference as measured on this device",
+         "ppll and trace as measured on this device (trace first on a CPU device)",
          true, true, false, kHonoursMaxMemory | kHonoursThreads, {}, &make_auto},
         {"sorted", "", "",
          "painter's algorithm: planar billboards sorted back to front by centre (insertion sort reusing last "

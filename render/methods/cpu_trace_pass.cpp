@@ -1,7 +1,8 @@
-#include "render/methods/reference_pass.h"
+#include "render/methods/cpu_trace_pass.h"
 
 #include "fullscreen.vert.h"
 #include "radiance_buffer.frag.h"
+#include "render/fast_tracer.h"
 #include "render/reference.h"
 #include "render/vk/pipelines.h"
 
@@ -11,25 +12,34 @@ namespace brume {
 
 using namespace vk;
 
-ReferencePass::ReferencePass(Device& device, int threads) : GpuMethod(device), threads_(threads) {
+CpuTracePass::CpuTracePass(Device& device, CpuTracer tracer, int threads)
+    : GpuMethod(device), tracer_(tracer), threads_(threads) {
     GraphicsPipelineDesc composite;
-    composite.name = "reference_composite";
+    composite.name = tracer == CpuTracer::Reference ? "reference_composite" : "trace_composite";
     composite.vertex = BRUME_SPIRV(spv_fullscreen_vert);
     composite.fragment = BRUME_SPIRV(spv_radiance_buffer_frag);
     composite.color_formats = {FrameResources::kHdrFormat};
     composite_pipeline_ = create_graphics_pipeline(device_, descriptors_.pipeline_layout(), composite);
 }
 
-void ReferencePass::prepare(FrameContext& ctx) {
+void CpuTracePass::prepare(FrameContext& ctx) {
     const auto start = std::chrono::steady_clock::now();
-    ReferenceOptions options;
-    options.threads = threads_;
     // ctx.scene() is already at the target's size (the frame path supersamples by enlarging it).
-    const Image image = render_reference(ctx.scene(), options);
+    Image image;
+    if (tracer_ == CpuTracer::Reference) {
+        ReferenceOptions options;
+        options.threads = threads_;
+        image = render_reference(ctx.scene(), options);
+    } else {
+        FastTraceOptions options;
+        options.threads = threads_;
+        image = render_fast_trace(ctx.scene(), options);
+    }
     const VkExtent2D extent = ctx.extent();
     const VkDeviceSize bytes = VkDeviceSize(extent.width) * extent.height * 16;
     if (radiance_.size() != bytes) {
-        radiance_ = Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "reference.radiance");
+        radiance_ = Buffer(device_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload,
+                           tracer_ == CpuTracer::Reference ? "reference.radiance" : "trace.radiance");
         descriptors_.write_storage(gpu::BINDING_RADIANCE_BUFFER, radiance_.get());
     }
     float* out = radiance_.as<float>();
@@ -42,15 +52,15 @@ void ReferencePass::prepare(FrameContext& ctx) {
     trace_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-bool ReferencePass::record(VkCommandBuffer cmd, FrameContext& ctx, int) {
+bool CpuTracePass::record(VkCommandBuffer cmd, FrameContext& ctx, int) {
     ctx.resolve_to_hdr(cmd, composite_pipeline_.get());
     ctx.mark(cmd, "composite");
     return true;
 }
 
-void ReferencePass::report(FrameStats& stats, const FrameContext&) {
+void CpuTracePass::report(FrameStats& stats, const FrameContext&) {
     // The trace is the frame's work; it runs on the CPU, so it is listed beside the GPU passes.
-    stats.passes.insert(stats.passes.begin(), {"reference (cpu)", trace_ms_});
+    stats.passes.insert(stats.passes.begin(), {name() + " (cpu)", trace_ms_});
     stats.memory_bytes = radiance_.size();
 }
 

@@ -1,0 +1,398 @@
+#include "render/fast_tracer.h"
+
+#include "render/nearest_bounds.h"
+#include "render/opaque_surfaces.h"
+#include "render/sun_light.h"
+#include "sim/scene_file.h"
+#include "render/tile_bins.h"
+#include "sim/camera_rays.h"
+#include "sim/parallel_for.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace brume {
+namespace {
+
+using glm::dvec3;
+
+// 8x8 pixels: smoke spheres cover a few to a few tens of pixels, and a pixel tests every sphere its
+// tile lists, so a small tile wastes fewer tests; the bins cost little at this size.
+constexpr std::uint32_t kTile = 8;
+
+// A sphere as the tracer needs it, in float, its centre relative to the eye (so that float keeps
+// the precision where the rays are). 64 bytes: one cache line.
+struct alignas(64) Medium {
+    float cx, cy, cz;
+    float r2;
+    float c_minus_r2;  // |c|^2 - r^2, from double: the near root without cancellation
+    float tau;
+    float scatter[3];      // tau * albedo
+    float sun_scatter[3];  // tau * albedo * T_sun(centre) (the per-sphere technique), else = scatter
+    float emission[3];     // tau * emission
+    float pad;
+};
+static_assert(sizeof(Medium) == 64);
+
+// A sphere as one tile lists it: what the chord test needs, copied beside the tile's other spheres so
+// that a pixel reads its candidates from one short array instead of the whole scene's.
+struct TileSphere {
+    float cx, cy, cz, r2;
+    float c_minus_r2;
+    std::uint32_t bound_bits;  // float(nearest bound), the watermark
+    std::uint32_t sphere;
+    std::uint32_t pad;
+};
+
+// A tile's spheres, and for each of its pixels the ones whose padded pixel rectangle
+// (render/tile_bins.h) holds it, in the tile's order (near to far by bound): pixel p of the tile
+// (p = y * kTile + x) takes spheres[items[first[p]] ...  items[first[p + 1] - 1]]. A pixel so walks
+// only the spheres that may reach it, without a test (and a mispredicted branch) for the others.
+struct TileLists {
+    std::vector<TileSphere> spheres;
+    std::uint32_t first[kTile * kTile + 1];
+    std::vector<std::uint32_t> items;
+};
+
+// (1 - exp(-x)) / x for x >= 0 given exp(-x): the GPU's one_minus_exp_over_x (shaders/medium.glsl).
+float phi(float x, float exp_minus_x) {
+    if (x < 0.125f) return 1.0f - x / 2.0f * (1.0f - x / 3.0f * (1.0f - x / 4.0f * (1.0f - x / 5.0f * (1.0f - x / 6.0f))));
+    return (1.0f - exp_minus_x) / x;
+}
+
+// exp(y) for y <= 0, to about 2 ulp, inline: a call to expf per segment keeps the integrator's state
+// in memory across the call (the ABI clobbers every SIMD register). y = n ln2 + r with |r| <= ln2 / 2;
+// e^r by its Taylor polynomial to degree 6 (truncation below 2e-7); 2^n through the exponent bits.
+float exp_nonpositive(float y) {
+    if (!(y > -87.0f)) return 0.0f;  // below float's normal range (and -inf); NaN never reaches here
+    // Round to nearest by the 1.5 * 2^23 trick (|y log2 e| < 2^22 here): no libm call, no SSE4.1.
+    const float n = (y * 1.44269504088896341f + 12582912.0f) - 12582912.0f;
+    const float r = (y - n * 0.693145751953125f) - n * 1.42860682030941723e-6f;  // ln2 split: hi exact in n * hi
+    // Estrin's scheme: the same polynomial as Horner's, in a third of the dependent steps.
+    const float r2 = r * r, r4 = r2 * r2;
+    const float p = ((1.0f + r) + r2 * (0.5f + r * (1.0f / 6.0f))) +
+                    r4 * ((1.0f / 24.0f + r * (1.0f / 120.0f)) + r2 * (1.0f / 720.0f));
+    return p * std::bit_cast<float>(std::uint32_t(int(n) + 127) << 23);
+}
+
+// An event key: the distance's float bits (distances are >= +0, so the bits order like the floats) over
+// sphere * 2 + is_exit. Unique per ray, so the order is total.
+std::uint64_t event_key(float t, std::uint32_t sphere, bool exit) {
+    return (std::uint64_t(std::bit_cast<std::uint32_t>(t)) << 32) | (std::uint64_t(sphere) << 1) | (exit ? 1u : 0u);
+}
+float key_distance(std::uint64_t key) { return std::bit_cast<float>(std::uint32_t(key >> 32)); }
+
+// 3-point Gauss-Legendre on [-1, 1], as the GPU's accurate technique (shaders/exact_integrator.glsl).
+constexpr float kGl3Node = 0.7745966692414834f;
+constexpr float kGl3Outer = 0.5555555555555556f, kGl3Centre = 0.8888888888888888f;
+
+class FastTracer {
+public:
+    explicit FastTracer(const Scene& scene)
+        : sun_(scene),
+          opaque_(scene, sun_),
+          eye_(scene.camera.position),
+          min_transmittance_(float(scene.render.min_transmittance)),
+          accurate_shadows_(sun_.shadows() && scene.render.shadow_technique == ShadowTechnique::Accurate) {
+        const std::vector<double> centre_sun = sun_.shadows() && !accurate_shadows_
+                                                   ? sun_transmittance_at_centres(scene)
+                                                   : std::vector<double>(scene.spheres.size(), 1.0);
+        plain_ = !sun_.shadows();
+        media_.resize(scene.spheres.size());
+        for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+            const Sphere& s = scene.spheres[k];
+            const dvec3 c = s.center - eye_;
+            Medium& m = media_[k];
+            m.cx = float(c.x);
+            m.cy = float(c.y);
+            m.cz = float(c.z);
+            m.r2 = float(s.radius * s.radius);
+            m.c_minus_r2 = float(glm::dot(c, c) - s.radius * s.radius);
+            m.tau = float(s.extinction);
+            for (int a = 0; a < 3; ++a) {
+                m.scatter[a] = float(s.extinction * s.albedo[a]);
+                m.sun_scatter[a] = float(s.extinction * s.albedo[a] * centre_sun[k]);
+                m.emission[a] = float(s.extinction * s.emission[a]);
+            }
+            m.pad = 0.0f;
+            if (s.emission != dvec3(0.0)) plain_ = false;
+        }
+        const Lighting& l = scene.lighting;
+        const double sun_len = glm::length(l.sun_direction);
+        sun_unit_ = sun_len > 0.0 ? l.sun_direction / sun_len : dvec3(0.0);
+        ambient_ = l.ambient;
+        lighting_sun_ = l.sun;
+    }
+
+    // The tile's lists (TileLists) from its bin entries (pairs of sphere and float bound bits,
+    // render/tile_bins.h), near to far by bound; `rects` are the spheres' pixel rectangles, (x0, y0)
+    // the tile's corner. Two counting passes, so each pixel's list keeps the tile's order.
+    void list_tile(const std::uint32_t* entries, std::size_t count, const std::vector<PixelRect>& rects, int x0,
+                   int y0, TileLists& out) const {
+        out.spheres.resize(count);
+        std::uint32_t counts[kTile * kTile] = {};
+        const auto covered = [&](const PixelRect& r, auto&& visit) {
+            for (int y = std::max(r.y0 - y0, 0); y < std::min(r.y1 - y0, int(kTile)); ++y)
+                for (int x = std::max(r.x0 - x0, 0); x < std::min(r.x1 - x0, int(kTile)); ++x) visit(y * int(kTile) + x);
+        };
+        for (std::size_t n = 0; n < count; ++n) {
+            const std::uint32_t k = entries[2 * n];
+            const Medium& m = media_[k];
+            out.spheres[n] = TileSphere{m.cx, m.cy, m.cz, m.r2, m.c_minus_r2, entries[2 * n + 1], k, 0u};
+            covered(rects[k], [&](int p) { ++counts[p]; });
+        }
+        out.first[0] = 0;
+        for (std::uint32_t p = 0; p < kTile * kTile; ++p) out.first[p + 1] = out.first[p] + counts[p];
+        out.items.resize(out.first[kTile * kTile]);
+        std::uint32_t next[kTile * kTile];
+        std::copy(out.first, out.first + kTile * kTile, next);
+        for (std::size_t n = 0; n < count; ++n)
+            covered(rects[entries[2 * n]], [&](int p) { out.items[next[p]++] = std::uint32_t(n); });
+    }
+
+    // Radiance toward the eye along unit direction d, from the tile's spheres items[0, count) names,
+    // listed near to far by their bounds.
+    // kPlain: a scene without shadows or emission (plain_), whose integrator needs only sigma_t and
+    // sigma_s: a third of the work per event.
+    template <bool kPlain>
+    dvec3 radiance(const dvec3& d, const TileSphere* list, const std::uint32_t* items, std::size_t count,
+                   std::vector<std::uint64_t>& pending) const {
+        dvec3 behind;
+        const float t_opaque = float(opaque_.hit(eye_, d, behind));
+        const float dx = float(d.x), dy = float(d.y), dz = float(d.z);
+
+        const double cos_theta = glm::dot(sun_unit_, d);
+        const dvec3 sun_phase_d = lighting_sun_ * (3.0 / (16.0 * 3.14159265358979323846) * (1.0 + cos_theta * cos_theta));
+        Ray ray;
+        for (int a = 0; a < 3; ++a) {
+            ray.sun_phase[a] = float(sun_phase_d[a]);
+            ray.source[a] = float(ambient_[a] + sun_phase_d[a]);
+            ray.ambient[a] = float(ambient_[a]);
+        }
+        ray.d = d;
+
+        // The pending events, sorted, in pending[head, size): final ones leave from the front, new ones
+        // are inserted from the back (exits mostly stay near the back, entries arrive in about bound order).
+        pending.clear();
+        std::size_t head = 0;
+        State st;
+        for (std::size_t n = 0; n < count; ++n) {
+            const TileSphere& m = list[items[n]];
+            const std::uint32_t k = m.sphere;
+            const std::uint32_t bound_bits = m.bound_bits;
+            const float bound = std::bit_cast<float>(bound_bits);
+            if (bound >= t_opaque) break;  // this sphere and every later one lie behind the opaque surface
+            // No later sphere has an event before this one's bound: the pending events before it are final.
+            const std::uint64_t mark = std::uint64_t(bound > 0.0f ? bound_bits : 0u) << 32;
+            for (; head < pending.size() && pending[head] < mark; ++head)
+                if (!integrate<kPlain>(st, ray, pending[head])) return st.color();
+            // Chord of the ray t d through the sphere (the reference's sphere_chord, in float).
+            const float b = m.cx * dx + m.cy * dy + m.cz * dz;  // distance of closest approach
+            const float px = m.cx - b * dx, py = m.cy - b * dy, pz = m.cz - b * dz;
+            const float disc = m.r2 - (px * px + py * py + pz * pz);
+            if (!(disc > 0.0f)) continue;
+            const float s = std::sqrt(disc);
+            const float q = b > 0.0f ? b + s : b - s;  // |q| >= s > 0
+            const float ta = q, tb = m.c_minus_r2 / q;
+            const float start = std::max(std::min(ta, tb), 0.0f);  // media holding the eye count from the eye
+            const float end = std::min(std::max(ta, tb), t_opaque);
+            if (!(end > start)) continue;
+            if (head > 0 && head * 2 >= pending.size()) {  // keep the buffer short: drop what was integrated
+                pending.erase(pending.begin(), pending.begin() + std::ptrdiff_t(head));
+                head = 0;
+            }
+            insert_sorted(pending, head, event_key(start, k, false));
+            insert_sorted(pending, head, event_key(end, k, true));
+        }
+        for (; head < pending.size(); ++head)
+            if (!integrate<kPlain>(st, ray, pending[head])) return st.color();
+        return st.color() + double(st.transmittance) * behind;
+    }
+
+    const std::vector<Medium>& media() const { return media_; }
+    bool plain() const { return plain_; }
+
+private:
+    // Inserts key into the sorted run v[head, size), scanning from the back.
+    static void insert_sorted(std::vector<std::uint64_t>& v, std::size_t head, std::uint64_t key) {
+        v.push_back(key);
+        std::size_t i = v.size() - 1;
+        for (; i > head && v[i - 1] > key; --i) v[i] = v[i - 1];
+        v[i] = key;
+    }
+
+    struct Ray {
+        dvec3 d;
+        float source[3];     // L_ambient + L_sun P(theta): the unshadowed L_s of this ray
+        float sun_phase[3];  // L_sun P(theta)
+        float ambient[3];
+    };
+    // Front-to-back state of one ray: running sums of the media it is in (shaders/exact_integrator.glsl).
+    struct State {
+        float radiance[3] = {0, 0, 0};
+        float transmittance = 1.0f;
+        float sigma_t = 0.0f;
+        float sigma_s[3] = {0, 0, 0};
+        float sigma_sun[3] = {0, 0, 0};
+        float sigma_e[3] = {0, 0, 0};
+        int inside = 0;
+        float t_prev = 0.0f;
+        dvec3 color() const { return dvec3(radiance[0], radiance[1], radiance[2]); }
+    };
+
+    // integral over [a, b] of exp(-sigma_t (t - a)) T_sun(eye + t d) dt, by the GPU's 3-point rule.
+    float sun_segment_integral(const dvec3& d, float a, float b, float sigma_t) const {
+        const float h = b - a, m = a + 0.5f * h;
+        const float tl = m - 0.5f * h * kGl3Node, tr = m + 0.5f * h * kGl3Node;
+        const auto t_sun = [&](float t) { return float(sun_.transmittance(eye_ + double(t) * d)); };
+        const float sum = kGl3Outer * std::exp(-sigma_t * (tl - a)) * t_sun(tl) +
+                          kGl3Centre * std::exp(-sigma_t * (m - a)) * t_sun(m) +
+                          kGl3Outer * std::exp(-sigma_t * (tr - a)) * t_sun(tr);
+        return sum * 0.5f * h;
+    }
+
+    // The segment up to the event, then the event; false once transmittance fell below the threshold.
+    template <bool kPlain>
+    bool integrate(State& st, const Ray& ray, std::uint64_t key) const {
+        const float t = key_distance(key);
+        const float len = t - st.t_prev;
+        if (len > 0.0f && st.inside > 0) {  // outside every medium a segment adds nothing
+            const float x = st.sigma_t * len;
+            const float segment_transmittance = exp_nonpositive(-x);
+            const float w = len * phi(x, segment_transmittance);
+            const float tw = st.transmittance * w;
+            if (kPlain) {
+                for (int a = 0; a < 3; ++a) st.radiance[a] += st.sigma_s[a] * ray.source[a] * tw;
+            } else if (accurate_shadows_) {
+                const float sun = st.transmittance * sun_segment_integral(ray.d, st.t_prev, t, st.sigma_t);
+                for (int a = 0; a < 3; ++a)
+                    st.radiance[a] += (st.sigma_s[a] * ray.ambient[a] + st.sigma_e[a]) * tw +
+                                      st.sigma_s[a] * ray.sun_phase[a] * sun;
+            } else {
+                // sigma_s L_s less the sun light the per-sphere shadows take away, plus emission.
+                for (int a = 0; a < 3; ++a)
+                    st.radiance[a] += (st.sigma_s[a] * ray.source[a] -
+                                       (st.sigma_s[a] - st.sigma_sun[a]) * ray.sun_phase[a] + st.sigma_e[a]) * tw;
+            }
+            st.transmittance *= segment_transmittance;
+            if (st.transmittance < min_transmittance_) return false;
+        }
+        st.t_prev = t;
+        const Medium& m = media_[std::uint32_t(key) >> 1];
+        if ((key & 1u) == 0u) {
+            st.sigma_t += m.tau;
+            for (int a = 0; a < 3; ++a) {
+                st.sigma_s[a] += m.scatter[a];
+                if (!kPlain) {
+                    st.sigma_sun[a] += m.sun_scatter[a];
+                    st.sigma_e[a] += m.emission[a];
+                }
+            }
+            ++st.inside;
+        } else if (--st.inside == 0) {
+            st.sigma_t = 0.0f;  // free space again: drop the rounding left by add/subtract
+            for (int a = 0; a < 3; ++a) st.sigma_s[a] = st.sigma_sun[a] = st.sigma_e[a] = 0.0f;
+        } else {
+            st.sigma_t = std::max(st.sigma_t - m.tau, 0.0f);
+            for (int a = 0; a < 3; ++a) {
+                st.sigma_s[a] = std::max(st.sigma_s[a] - m.scatter[a], 0.0f);
+                if (!kPlain) {
+                    st.sigma_sun[a] = std::max(st.sigma_sun[a] - m.sun_scatter[a], 0.0f);
+                    st.sigma_e[a] = std::max(st.sigma_e[a] - m.emission[a], 0.0f);
+                }
+            }
+        }
+        return true;
+    }
+
+    SunLight sun_;
+    OpaqueSurfaces opaque_;  // after sun_, which it reads
+    dvec3 eye_;
+    float min_transmittance_;
+    bool accurate_shadows_;
+    bool plain_ = true;
+    std::vector<Medium> media_;
+    dvec3 sun_unit_{0.0};
+    dvec3 ambient_{0.0};
+    dvec3 lighting_sun_{0.0};
+};
+
+}  // namespace
+
+Image render_fast_trace(const Scene& scene, const FastTraceOptions& options) {
+    if (!scene.volumes.empty())
+        throw std::logic_error("fast tracer: the scene's [[vdb]] volumes were not converted to spheres "
+                               "(sim/vdb/volume_loader.h convert_scene_volumes)");
+    const int width = scene.camera.width, height = scene.camera.height;
+    if (width <= 0 || height <= 0)
+        throw std::invalid_argument("fast tracer: camera of " + std::to_string(width) + "x" + std::to_string(height) +
+                                    " pixels");
+    const int k = scene.camera.supersample;
+    if (k < 1 || k > kMaxSupersample)
+        throw std::invalid_argument("fast tracer: supersample " + std::to_string(k) + " (must be 1 to " +
+                                    std::to_string(kMaxSupersample) + ")");
+
+    const FastTracer tracer(scene);
+    std::vector<double> bound;
+    nearest_event_bounds(scene, bound);
+    std::vector<std::uint32_t> order(scene.spheres.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return bound[a] < bound[b] || (bound[a] == bound[b] && a < b); });
+    TileBins bins;
+    bin_spheres(scene, width, height, kTile, order, bound, bins);
+
+    // The rectangles bin_spheres found, again, for the tiles' pixel masks (one per sphere: cheap).
+    std::vector<PixelRect> rects(scene.spheres.size(), PixelRect{0, 0, 0, 0});
+    for (std::size_t s = 0; s < scene.spheres.size(); ++s)
+        if (!sphere_pixel_rect(scene.spheres[s], scene.camera, width, height, rects[s])) rects[s] = PixelRect{0, 0, 0, 0};
+
+    const CameraRays rays = make_camera_rays(scene.camera);
+    const bool plain = tracer.plain();
+    Image image(width, height);
+    const std::size_t tiles = bins.tile_count();
+    struct Scratch {
+        TileLists lists;
+        std::vector<std::uint64_t> pending;
+    };
+    std::vector<Scratch> scratch(std::size_t(worker_count(options.threads, tiles)));
+    parallel_for(tiles, options.threads, [&](std::size_t t, int worker) {
+        Scratch& w = scratch[std::size_t(worker)];
+        const int i0 = int(t % bins.tiles_x * kTile), j0 = int(t / bins.tiles_x * kTile);
+        tracer.list_tile(bins.entries.data() + 2 * std::size_t(bins.first[t]), bins.first[t + 1] - bins.first[t], rects,
+                         i0, j0, w.lists);
+        for (int j = j0; j < std::min(j0 + int(kTile), height); ++j) {
+            for (int i = i0; i < std::min(i0 + int(kTile), width); ++i) {
+                dvec3 sum(0.0);
+                for (int b = 0; b < k; ++b)
+                    for (int a = 0; a < k; ++a) {
+                        const dvec3 d = k == 1 ? rays.pixel_direction(i, j)
+                                               : rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
+                        const std::uint32_t p = std::uint32_t((j - j0) * int(kTile) + (i - i0));
+                        const std::uint32_t* items = w.lists.items.data() + w.lists.first[p];
+                        const std::size_t count = w.lists.first[p + 1] - w.lists.first[p];
+                        sum += plain ? tracer.radiance<true>(d, w.lists.spheres.data(), items, count, w.pending)
+                                     : tracer.radiance<false>(d, w.lists.spheres.data(), items, count, w.pending);
+                    }
+                const dvec3 v = sum / double(k * k);
+                float* p = image.pixel(i, j);
+                p[0] = float(v.x);
+                p[1] = float(v.y);
+                p[2] = float(v.z);
+            }
+        }
+    });
+    return image;
+}
+
+}  // namespace brume

@@ -1,0 +1,33 @@
+// `trace`: the light model of docs/accuracy.md traced on the CPU in float, built for speed. On a
+// machine whose Vulkan device is itself the CPU (lavapipe), this is the fastest exact path Brume has:
+// the GPU methods pay there for rasterisation, atomics and SIMD lanes that wait for each other, which a
+// tracer that walks each ray alone does not (docs/performance.md, "trace").
+//
+// How: the spheres are sorted near to far by a lower bound of their event distances
+// (render/nearest_bounds.h) and binned into 8x8-pixel tiles (render/tile_bins.h). Each pixel takes its
+// tile's spheres in that order and keeps its pending events in a small binary heap; when a sphere
+// arrives, every pending event before its bound is final (no later sphere has an event before it) and
+// is integrated at once. So the events are integrated in exact order, and once transmittance falls
+// below the scene's min_transmittance the ray stops: the spheres behind are never intersected.
+//
+// What differs from the reference is float arithmetic only (the same as the GPU methods' exact
+// integrator, shaders/exact_integrator.glsl): the opaque surfaces are the reference's own
+// (render/opaque_surfaces.h, double). With shadows, the per-sphere technique is closed form as on the
+// GPU; the accurate technique takes, like ppll's, a 3-point Gauss-Legendre rule on each segment, with
+// T_sun exact at the nodes (render/sun_light.h). Bit-identical for any thread count.
+#pragma once
+
+#include "render/image.h"
+#include "sim/scene.h"
+
+namespace brume {
+
+struct FastTraceOptions {
+    int threads = 0;  // 0: every hardware thread
+};
+
+// One ray per pixel centre, or the mean of camera.supersample^2 sub-pixel rays, as the reference.
+// Throws std::invalid_argument for a camera with no pixels and std::logic_error for unconverted volumes.
+Image render_fast_trace(const Scene& scene, const FastTraceOptions& options = {});
+
+}  // namespace brume

@@ -1,0 +1,45 @@
+#include "render/opaque_surfaces.h"
+
+#include "render/ray_box.h"
+
+#include <glm/geometric.hpp>
+
+#include <limits>
+
+namespace brume {
+
+OpaqueSurfaces::OpaqueSurfaces(const Scene& scene, const SunLight& sun)
+    : boxes_(scene.boxes), lighting_(scene.lighting), sun_(sun) {}
+
+double OpaqueSurfaces::hit(const glm::dvec3& o, const glm::dvec3& d, glm::dvec3& behind) const {
+    double t_opaque = std::numeric_limits<double>::infinity();
+    behind = lighting_.background;
+    int hit_box = -1, hit_axis = -1;
+    for (std::size_t k = 0; k < boxes_.size(); ++k) {
+        int axis = -1;
+        const double t = ray_box_distance(boxes_[k], o, d, &axis);
+        if (t < t_opaque) {
+            t_opaque = t;
+            hit_box = int(k);
+            hit_axis = axis;
+        }
+    }
+    if (hit_box >= 0) behind = box_radiance(hit_box, hit_axis, o, d, t_opaque);
+    return t_opaque;
+}
+
+// From inside the box no face is crossed, so only the ambient term is reflected.
+glm::dvec3 OpaqueSurfaces::box_radiance(int k, int axis, const glm::dvec3& o, const glm::dvec3& d, double t) const {
+    const Box& box = boxes_[std::size_t(k)];
+    if (box.diffuse == glm::dvec3(0.0)) return box.radiance;
+    glm::dvec3 irradiance = lighting_.ambient;
+    if (axis >= 0) {
+        // The face met is the one whose outward normal opposes the ray along that axis.
+        const double toward_sun = -lighting_.sun_direction[axis] / glm::length(lighting_.sun_direction);
+        const double n_dot_l = d[axis] > 0.0 ? -toward_sun : toward_sun;
+        if (n_dot_l > 0.0) irradiance += lighting_.sun * (n_dot_l * sun_.transmittance(o + t * d, k));
+    }
+    return box.radiance + box.diffuse * irradiance;
+}
+
+}  // namespace brume

@@ -1,0 +1,34 @@
+// What a ray meets behind the media: the nearest box (solid, axis aligned) or the background, and the
+// radiance it sends back (docs/accuracy.md): radiance + diffuse * (L_ambient + L_sun max(0, n . l) T_sun(hit)).
+// In double precision, shared by the CPU tracers (render/reference.h, render/fast_tracer.h), so both see
+// the same opaque surfaces to the bit.
+#pragma once
+
+#include "render/sun_light.h"
+#include "sim/scene.h"
+
+#include <glm/vec3.hpp>
+
+#include <vector>
+
+namespace brume {
+
+class OpaqueSurfaces {
+public:
+    // `sun` gives T_sun at a lit face; it must outlive this object.
+    OpaqueSurfaces(const Scene& scene, const SunLight& sun);
+
+    // The distance to the nearest box along o + t d (d unit; +inf if none), and in `behind` the radiance
+    // that reaches the eye from there (the background where no box is met).
+    double hit(const glm::dvec3& o, const glm::dvec3& d, glm::dvec3& behind) const;
+
+private:
+    // The radiance of box k hit at distance t through a face of `axis` (-1: from inside, no face).
+    glm::dvec3 box_radiance(int k, int axis, const glm::dvec3& o, const glm::dvec3& d, double t) const;
+
+    std::vector<Box> boxes_;
+    Lighting lighting_;
+    const SunLight& sun_;
+};
+
+}  // namespace brume

@@ -108,7 +108,7 @@ void add_play_command(CLI::App& app, PlayArgs& args) {
         ->check(refuse_empty_path);
     cmd->add_option("--size", args.size, "Override the preset's resolution, WxH");
     cmd->add_option("--method", args.method,
-                    "NAME[:SETTING] (default: the preset's): ppll, reference or a comparison method (brume methods)");
+                    "NAME[:SETTING] (default: the preset's): auto, ppll, trace, reference or a comparison method (brume methods)");
     cmd->add_option("--exposure", args.exposure, "PNG exposure in stops (default: the preset's)")
         ->each([&args](const std::string&) { args.exposure_set = true; });
     cmd->add_flag("--list", args.list, "List the built-in presets and exit");

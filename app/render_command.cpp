@@ -35,8 +35,9 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
     cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output")->check(refuse_empty_path);
     cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB)")->check(refuse_empty_path);
     cmd->add_option("--method", args.method,
-                    "NAME[:SETTING]: ppll (GPU, exact), reference (CPU, double precision) or a comparison method "
-                    "(brume methods lists them)");
+                    "NAME[:SETTING]: auto (default: the fastest exact path on this device), ppll (GPU, exact), "
+                    "trace (CPU, exact), reference (CPU, double precision) or a comparison method (brume methods "
+                    "lists them)");
     cmd->add_option("--stats", args.stats, "Write frame statistics as JSON")->check(refuse_empty_path);
     cmd->add_option("--repeat", args.repeat, "Render N frames; statistics report medians")->check(CLI::Range(1, 100000));
     cmd->add_option("--size", args.size, "Override the scene's resolution, WxH");
@@ -50,7 +51,7 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
     cmd->add_option("--shadows", args.shadows,
                     "Shadow technique of the GPU methods when the scene has shadows: accurate (default) or per-sphere")
         ->check(CLI::IsMember({"accurate", "per-sphere"}));
-    cmd->add_option("--threads", args.threads, "CPU threads for --method reference (default: all)")->check(CLI::Range(0, 1024));
+    cmd->add_option("--threads", args.threads, "CPU threads for the CPU tracers (reference, trace, auto; default: all)")->check(CLI::Range(0, 1024));
 }
 
 namespace {
@@ -118,9 +119,9 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
     j << "  \"frames\": " << timing.total_ms.size() << ",\n";
     if (still.preset) j << "  \"skipped_births\": " << still.skipped << ",\n";
     // The light model's shadows as this method computed them (docs/accuracy.md).
-    // Only ppll's exact integrator samples T_sun along its segments; the methods that composite whole
-    // spheres use the per-sphere term whatever the scene asks.
-    const bool integrates = args.method == "ppll" || args.method.rfind("ppll:", 0) == 0;
+    // The exact methods (ppll, tiles, trace, auto) sample T_sun along their segments; the methods that
+    // composite whole spheres use the per-sphere term whatever the scene asks.
+    const bool integrates = find_method(args.method).exact;
     const char* shadows = !scene.lighting.shadows ? "off"
                           : !on_gpu              ? "exact"
                           : integrates           ? kShadowTechniqueNames[int(scene.render.shadow_technique)]

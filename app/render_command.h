@@ -13,7 +13,7 @@ struct RenderArgs {
     int frame = -1;     // --frame: a still of this frame of a preset; -1: not given
     std::string exr;
     std::string png;
-    std::string method = "ppll";
+    std::string method = "auto";
     std::string stats;
     std::string size;
     std::string device;

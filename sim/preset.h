@@ -133,7 +133,7 @@ struct CameraPath {
 };
 
 struct RenderSettingsPreset {
-    std::string method = "ppll";
+    std::string method = "auto";  // an exact method: the fastest exact path on the device by default
     double exposure = 0.0;  // PNG exposure, stops
 };
 

@@ -62,7 +62,8 @@ constexpr std::array<std::string_view, 7> kCameraPathKeys{"type",   "keys",     
 constexpr std::array<std::string_view, 3> kCameraKeyKeys{"time", "position", "look_at"};
 constexpr std::array<std::string_view, 2> kRenderSettingsKeys{"method", "exposure"};
 
-constexpr std::array<std::string_view, 2> kMethodNames{"ppll", "reference"};
+// The exact methods (render/methods/registry.cpp): a preset renders the model, never an approximation of it.
+constexpr std::array<std::string_view, 5> kMethodNames{"auto", "ppll", "tiles", "trace", "reference"};
 
 // The keys each emitter shape, force type and camera path type reads, beside the ones all share.
 constexpr std::array<std::string_view, 0> kNoKeys{};

@@ -85,11 +85,30 @@ TEST_F(Auto, IntersectingSpheresTakeTraceFirstOnACpuDeviceAndPpllWithoutIt) {
     EXPECT_EQ(e.pixels_over, 0u) << describe(e);
 }
 
+// On a CPU device an animation takes trace on every frame, measured or not: its images do not
+// depend on the machine's load.
+TEST_F(Auto, OnACpuDeviceEveryIntersectingFrameTakesTrace) {
+    Scene s = testing::random_scene(48, 36, 60, 3, false);
+    AutoMethod method(device());
+    for (int frame = 0; frame < 6; ++frame) {
+        s.camera.position.x = 0.3 + 0.05 * frame;
+        method.render(s, nullptr);
+        EXPECT_EQ(method.last_choice(), "trace") << "frame " << frame;
+    }
+    EXPECT_LT(method.measured_cost("ppll"), 0.0);
+}
+
+AutoOptions measuring() {
+    AutoOptions o;
+    o.measure_on_cpu = true;  // lavapipe is a CPU device: measure anyway, to test the measurements
+    return o;
+}
+
 // Intersecting spheres over several frames of a moving camera: auto measures trace (after a warm-up
 // frame) and ppll, then takes the one it measured faster; every frame is exact.
 TEST_F(Auto, AnAnimationTakesTheFasterExactPathItMeasured) {
     Scene s = testing::random_scene(64, 48, 60, 3, false);
-    AutoMethod method(device());
+    AutoMethod method(device(), measuring());
     std::vector<std::string> taken;
     double ppll = -1.0, trace = -1.0;  // as measured before frame 4 decides
     for (int frame = 0; frame < 6; ++frame) {
@@ -122,7 +141,7 @@ TEST_F(Auto, AnAnimationTakesTheFasterExactPathItMeasured) {
 // ppll's to float precision, whichever path took it.
 TEST_F(Auto, RepeatedFramesKeepTheirPathAndShadowedFramesAgreeWithPpll) {
     Scene s = testing::random_scene(48, 36, 40, 5, false);
-    AutoMethod method(device());
+    AutoMethod method(device(), measuring());
     for (int frame = 0; frame < 4; ++frame) {
         s.camera.position.x = 0.3 + 0.05 * frame;
         method.render(s, nullptr);
@@ -136,7 +155,7 @@ TEST_F(Auto, RepeatedFramesKeepTheirPathAndShadowedFramesAgreeWithPpll) {
     Scene lit = s;
     lit.lighting.shadows = true;
     lit.boxes.push_back(Box{{-5, -1.5, -5}, {5, -1, 5}, {0.1, 0.1, 0.1}, {0.6, 0.6, 0.6}});  // a lit floor in shadow
-    AutoMethod shadowed(device());
+    AutoMethod shadowed(device(), measuring());
     auto ppll = make_method(&device(), "ppll");
     std::vector<std::string> taken;
     for (int frame = 0; frame < 5; ++frame) {

@@ -488,7 +488,7 @@ TEST(PresetFile, AStaticSceneIsAPreset) {
     EXPECT_EQ(p.timeline.fps, defaults.timeline.fps);
     EXPECT_EQ(p.timeline.frame_count(), defaults.timeline.frame_count());
     EXPECT_EQ(p.camera_path.kind, CameraPath::Kind::Static);
-    EXPECT_EQ(p.render.method, "ppll");
+    EXPECT_EQ(p.render.method, "auto");  // the fastest exact path on the device
     EXPECT_EQ(p.scene.camera.width, defaults.scene.camera.width);
     // The same text is a scene file too.
     expect_identical(parse_scene_toml("[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = 1\n"
@@ -745,7 +745,7 @@ TEST(PresetFileErrors, UnknownNames) {
                     "(got \"magnetism\")");
     expect_rejected("[camera_path]\ntype = \"orbitt\"\n", "orbitt", "camera_path.type", "did you mean \"orbit\"?");
     expect_rejected("[render_settings]\nmethod = \"sorted\"\n", "sorted", "render_settings.method",
-                    "must be one of \"ppll\", \"reference\" (got \"sorted\")");
+                    "must be one of \"auto\", \"ppll\", \"tiles\", \"trace\", \"reference\" (got \"sorted\")");
 }
 
 TEST(PresetFileErrors, WrongTypes) {

@@ -19,7 +19,8 @@ AutoMethod::AutoMethod(vk::Device& device, AutoOptions options)
     // that wait for each other on top: there trace is expected to win, elsewhere ppll.
     VkPhysicalDeviceProperties properties{};
     vkGetPhysicalDeviceProperties(device.physical(), &properties);
-    if (options_.allow_cpu && properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) first_ = kTrace;
+    cpu_device_ = properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    if (options_.allow_cpu && cpu_device_) first_ = kTrace;
     path_ = first_;
 }
 
@@ -52,6 +53,7 @@ std::uint64_t AutoMethod::fingerprint(const Scene& scene) const {
 AutoMethod::Path AutoMethod::choose(bool scene_changed) {
     measuring_ = false;
     if (!options_.allow_cpu) return kPpll;
+    if (cpu_device_ && !options_.measure_on_cpu) return kTrace;
     const Path second = first_ == kPpll ? kTrace : kPpll;
     if (cost_[first_] < 0.0) {  // the first intersecting frames: warm-up, then the first measurement
         measuring_ = true;

@@ -7,8 +7,10 @@
 //
 // Frames with intersecting spheres take the fastest exact path measured on this device: ppll, or
 // `trace`, the float CPU tracer (render/fast_tracer.h; on a CPU device such as lavapipe it is the
-// faster by far: docs/performance.md, "trace"). The first such frame takes the path expected to be
-// faster, trace on a CPU device and ppll on a GPU; a path's first frame is a warm-up (pipelines,
+// faster by far: docs/performance.md, "trace"). On a CPU device trace is taken without measuring
+// (it was the faster at every size and scene measured there, and an image should not depend on the
+// machine's load); elsewhere the paths are measured. The first measured frame takes the path expected
+// to be faster, trace on a CPU device and ppll on a GPU; a path's first frame is a warm-up (pipelines,
 // caches) and is not counted as a measurement. Each later frame whose scene differs from the last
 // one's may try a path not yet measured; after that the frame takes the path with the lowest
 // measured cost per estimated fragment, and every kRemeasureEvery changed frames the other path is
@@ -37,6 +39,7 @@ struct AutoOptions {
     PpllOptions ppll;            // the lists for the frames that take ppll (--max-memory reaches them here)
     int threads = 0;             // trace's threads (--threads); 0: all
     bool allow_cpu = true;       // false: intersecting frames always take ppll
+    bool measure_on_cpu = false; // true: measure the two paths on a CPU device too (tests, experiments)
 };
 
 class AutoMethod : public GpuMethod {
@@ -75,6 +78,7 @@ private:
     // What the measurements know.
     std::array<double, kPaths> cost_{-1.0, -1.0};  // ms per estimated fragment
     std::array<bool, kPaths> warm_{false, false};  // a path's first frame (pipelines compiled) is not a measurement
+    bool cpu_device_ = false;
     Path first_ = kPpll;                           // the path measured first: the one expected to be faster
     Path path_ = kPpll;                            // the last intersecting frame's path
     bool measuring_ = false;                       // this frame's time goes into cost_[path_]

@@ -7,6 +7,7 @@
 #include "render/image_compare.h"
 #include "render/methods/fill_ceiling.h"
 #include "render/methods/ppll.h"
+#include "render/fast_tracer.h"
 #include "render/reference.h"
 #include "render/vk/device.h"
 #include "sim/layers_scene.h"
@@ -132,8 +133,11 @@ int run_bench(const BenchArgs& args) {
                 args.reference_frames);
     std::printf("# fill_ms = the fill ceiling: the same impostors with a shader that does nothing but cannot be skipped "
                 "(a never-taken discard); x_fill = total_ms / fill_ms\n");
-    std::printf("%-9s %6s %9s %9s %9s %9s %8s %8s %11s %9s %7s %10s %9s %9s\n", "size", "layers", "opaque", "particle",
-                "resolve", "total_ms", "fps", "paper", "Mlayers/s", "fill_ms", "x_fill", "ref_ms", "ref/ppll", "max_err");
+    std::printf("# trace = the float CPU tracer (all cores, median of %d frames; what auto takes on a CPU device): "
+                "trace_ms, its x_fill, ref/trace\n", args.frames);
+    std::printf("%-9s %6s %9s %9s %9s %9s %8s %8s %11s %9s %7s %10s %9s %9s %9s %7s %9s\n", "size", "layers", "opaque",
+                "particle", "resolve", "total_ms", "fps", "paper", "Mlayers/s", "fill_ms", "x_fill", "ref_ms", "ref/ppll",
+                "max_err", "trace_ms", "x_fill", "ref/trace");
     for (auto [w, h] : sizes) {
         for (int n : layer_counts) {
             const Scene scene = make_layers_scene(n, w, h);
@@ -170,15 +174,26 @@ int run_bench(const BenchArgs& args) {
                 const ImageDiff diff = compare_images(image, ref, 0.0);
                 max_err = diff.peak > 0 ? diff.max_abs / diff.peak : diff.max_abs;
             }
+            std::vector<double> trace_times;
+            render_fast_trace(scene);  // warm-up
+            for (int f = 0; f < args.frames; ++f) {
+                const auto t0 = std::chrono::steady_clock::now();
+                render_fast_trace(scene);
+                trace_times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            }
+            const double trace_ms = median(trace_times);
             const double paper = paper_fps(w, n);
             char size_text[32];
             std::snprintf(size_text, sizeof size_text, "%dx%d", w, h);
-            std::printf("%-9s %6d %9.2f %9.2f %9.2f %9.2f %8.1f %8s %11.1f %9.2f %6.1fx %10s %9s %9.1e\n", size_text, n,
+            std::printf("%-9s %6d %9.2f %9.2f %9.2f %9.2f %8.1f %8s %11.1f %9.2f %6.1fx %10s %9s %9.1e %9.2f %6.1fx %9s\n",
+                        size_text, n,
                         median(opaque), median(particles), median(resolve), ms, 1000.0 / ms,
                         paper > 0 ? std::to_string(int(paper)).c_str() : "-", double(n) * w * h / (ms * 1e3), fill_ms,
                         ms / fill_ms,
                         args.no_reference ? "-" : std::to_string(int(ref_ms + 0.5)).c_str(),
-                        args.no_reference ? "-" : (std::to_string(ref_ms / ms).substr(0, 5) + "x").c_str(), max_err);
+                        args.no_reference ? "-" : (std::to_string(ref_ms / ms).substr(0, 5) + "x").c_str(), max_err,
+                        trace_ms, trace_ms / fill_ms,
+                        args.no_reference ? "-" : (std::to_string(ref_ms / trace_ms).substr(0, 5) + "x").c_str());
             std::fflush(stdout);
         }
     }

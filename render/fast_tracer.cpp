@@ -211,8 +211,7 @@ public:
                 pending.erase(pending.begin(), pending.begin() + std::ptrdiff_t(head));
                 head = 0;
             }
-            insert_sorted(pending, head, event_key(start, k, false));
-            insert_sorted(pending, head, event_key(end, k, true));
+            insert_pair(pending, head, event_key(start, k, false), event_key(end, k, true));
         }
         for (; head < pending.size(); ++head)
             if (!integrate<kPlain>(st, ray, pending[head])) return st.color();
@@ -223,12 +222,15 @@ public:
     bool plain() const { return plain_; }
 
 private:
-    // Inserts key into the sorted run v[head, size), scanning from the back.
-    static void insert_sorted(std::vector<std::uint64_t>& v, std::size_t head, std::uint64_t key) {
-        v.push_back(key);
-        std::size_t i = v.size() - 1;
-        for (; i > head && v[i - 1] > key; --i) v[i] = v[i - 1];
-        v[i] = key;
+    // Inserts a sphere's entry and exit (entry < exit) into the sorted run v[head, size), scanning from
+    // the back once: what lies past the exit moves up two places, what lies between them one.
+    static void insert_pair(std::vector<std::uint64_t>& v, std::size_t head, std::uint64_t entry, std::uint64_t exit) {
+        std::size_t i = v.size();
+        v.resize(i + 2);
+        for (; i > head && v[i - 1] > exit; --i) v[i + 1] = v[i - 1];
+        v[i + 1] = exit;
+        for (; i > head && v[i - 1] > entry; --i) v[i] = v[i - 1];
+        v[i] = entry;
     }
 
     struct Ray {

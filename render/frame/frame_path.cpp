@@ -35,9 +35,11 @@ bool FramePath::render_to(Presenter& presenter, GpuMethod& method, const Scene& 
     return presenter.present(resources_, ring_);
 }
 
-void FramePath::record_shared_passes(VkCommandBuffer cmd, FrameContext& ctx) {
-    resources_.record_opaque_pass(cmd);
-    ctx.mark(cmd, "clear+opaque");
+void FramePath::record_shared_passes(VkCommandBuffer cmd, FrameContext& ctx, const GpuMethod& method) {
+    if (method.uses_opaque_pass()) {
+        resources_.record_opaque_pass(cmd);
+        ctx.mark(cmd, "clear+opaque");
+    }
     // The light pass slot: a pass that every method's shading reads (sun transmittance, a shadow
     // map) is recorded here, after the opaque pass and before any method pass.
 }
@@ -60,7 +62,7 @@ void FramePath::run(GpuMethod& method, const Scene& scene, FrameStats* stats, bo
             VkCommandBuffer cmd = (step == 0 && first_attempt ? ring_.begin_next() : ring_.begin_again()).cmd;
             if (step == 0) {
                 clock_.start(cmd);
-                record_shared_passes(cmd, ctx);
+                record_shared_passes(cmd, ctx, method);
             } else {
                 // This submission reads and writes what the previous one wrote.
                 vk::memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,

@@ -45,7 +45,7 @@ public:
 private:
     enum class Output { Readback, Sampled };
     void run(GpuMethod& method, const Scene& scene, FrameStats* stats, bool list_stats, Output output);
-    void record_shared_passes(VkCommandBuffer cmd, FrameContext& ctx);
+    void record_shared_passes(VkCommandBuffer cmd, FrameContext& ctx, const GpuMethod& method);
 
     vk::Device& device_;
     vk::FrameRing ring_;

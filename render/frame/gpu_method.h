@@ -84,6 +84,10 @@ public:
     virtual const vk::SharedDescriptors& descriptors() const { return descriptors_; }
     // Whether this method gathers list statistics (the frame path asks only methods that can).
     virtual bool has_list_stats() const { return false; }
+    // Whether this method reads the shared opaque pass (the boxes' radiance and distance). A CPU tracer
+    // finds its own boxes, and on a CPU device that pass costs as much as tracing a light scene.
+    // Asked after prepare().
+    virtual bool uses_opaque_pass() const { return true; }
     virtual void prepare(FrameContext& ctx) = 0;
     virtual bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) = 0;
     virtual After after_step(FrameContext&, int) { return After::Done; }

@@ -22,6 +22,7 @@ public:
     bool exact() const override { return true; }
     using GpuMethod::render;
 
+    bool uses_opaque_pass() const override { return false; }  // the tracers meet the boxes themselves
     void prepare(FrameContext& ctx) override;
     bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override;
     void report(FrameStats& stats, const FrameContext& ctx) override;

@@ -3,7 +3,9 @@
 # screenshots are the frames `brume play` writes, byte for byte, for three presets and two methods;
 # scrubbing backwards equals playing forwards; a scripted orbit puts the camera where the closed form
 # does and renders what `brume render` renders from there; the validation layer stays silent across
-# resizes and method switches; bad scripts and a missing display are refused in one clear line.
+# resizes and method switches; Save adds a missing key to its table; an edit the simulator does not
+# read keeps the checkpoints; "render sequence" writes brume play's frames byte for byte; brume bench
+# preview prints its table; bad scripts and a missing display are refused in one clear line.
 # Usage: preview_checks.sh BRUME SCRATCH_DIR
 set -u
 brume=$(realpath "$1")

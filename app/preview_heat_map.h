@@ -6,7 +6,6 @@
 // difference views (app/preview_compare.h): it costs a second pass and two readbacks a frame.
 #pragma once
 
-#include "render/frame/list_heat_map.h"
 #include "render/image.h"
 
 #include <array>

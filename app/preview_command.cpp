@@ -457,7 +457,11 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                 temporary = fs::is_regular_file(opened, ec)
                                 ? fs::path(opened).parent_path() / ("." + fs::path(opened).stem().string() + ".preview-sequence.toml")
                                 : fs::temp_directory_path() / ("brume-preview-" + std::to_string(::getpid()) + "-" + opened + ".toml");
-                write_file_atomically(temporary.string(), editor->saved_text());
+                // A name taken from the file's stem would be the hidden file's: the frames are named by
+                // the preset's name, so it is written into the copy ([preset] name, added if missing).
+                PresetEditor named(editor->saved_text(), temporary.string());
+                named.set("preset.name", "\"" + session.timeline().preset().name + "\"");
+                write_file_atomically(temporary.string(), named.saved_text());
                 preset_arg = temporary.string();
             }
             const VkExtent2D viewport = window.framebuffer_extent();

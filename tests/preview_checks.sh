@@ -233,6 +233,21 @@ elif [ "$same" != 3 ]; then fail render_sequence.equals_play "$same of 3 frames 
 elif cmp -s seq/plume.0003.png seq/plume.0004.png; then fail render_sequence.frames_move "frames 3 and 4 are the same"
 else ok render_sequence_equals_play; fi
 
+# The same from a file without [preset] name (the name is its stem), edited: the frames are named
+# as brume play names them for that file, and equal them.
+grep -v '^name = "plume"$' "$presets/plume.toml" >myplume.toml
+mkdir -p edited && sed 's/^rate = 220.0$/rate = 600.0/' myplume.toml >edited/myplume.toml
+printf 'wait 1\nset emitter[0].rate 600.0\nrender-sequence seq2 2-3\nquit\n' >sequence2.script
+"$brume" preview myplume.toml --size 64x48 --script sequence2.script --validate >sequence2.log 2>&1
+rc=$?
+"$brume" play edited/myplume.toml -o play.seq2 --frames 2-3 --size 64x48 --format png >play.seq2.log 2>&1
+if [ "$rc" -ne 0 ]; then fail render_sequence.stem_name "rc $rc: $(tail -2 sequence2.log)"
+elif grep -q '^name = "plume"$' myplume.toml || ! grep -q '^rate = 600.0$' edited/myplume.toml; then fail render_sequence.stem_name "the edits of the test files did not apply"
+elif ! cmp -s seq2/myplume.0002.png play.seq2/myplume.0002.png || ! cmp -s seq2/myplume.0003.png play.seq2/myplume.0003.png; then
+    fail render_sequence.stem_name "frames differ or are misnamed: $(ls seq2 | tr '\n' ' ')"
+elif ls -a | grep -q 'preview-sequence'; then fail render_sequence.stem_name "the hidden copy of the preset was left behind"
+else ok render_sequence_named_by_stem; fi
+
 # brume bench preview: a window per preset, the figures side by side; with no display, one line.
 env -u DISPLAY -u WAYLAND_DISPLAY "$brume" bench preview >bench-nodisplay.log 2>&1
 rc=$?

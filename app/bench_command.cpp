@@ -65,7 +65,7 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
     cmd->add_option("--presets", args.presets, "bench preview: presets, comma-separated (default: every shipped preset)");
     cmd->add_option("--sizes", args.sizes, "Resolutions, e.g. 800x600,1024x768");
     cmd->add_option("--layers", args.layers, "Layer counts, e.g. 2-16:2 or 2,8,16 (even)");
-    cmd->add_option("--frames", args.frames, "ppll frames per point (median reported)")->check(CLI::Range(1, 10000));
+    cmd->add_option("--frames", args.frames, "ppll frames per point (median reported); bench preview: headless frames per preset")->check(CLI::Range(1, 10000));
     cmd->add_option("--reference-frames", args.reference_frames, "CPU reference frames per point")->check(CLI::Range(1, 100));
     cmd->add_flag("--no-reference", args.no_reference, "Skip the CPU reference");
     cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");

@@ -8,6 +8,7 @@
 #include "app/preview_edit.h"
 #include "app/preview_imgui.h"
 #include "app/preview_panel.h"
+#include "app/preview_pending_edit.h"
 #include "app/preview_reference.h"
 #include "app/preview_reload.h"
 #include "app/preview_script.h"
@@ -87,6 +88,11 @@ struct ScriptTargets {
     SequenceRender& sequence;
     // Starts brume play of frames first-last into dir with the preview's options; throws when refused.
     std::function<void(const std::string& dir, int first, int last, const std::string& formats)> start_sequence;
+    // Applies an edited preset (read, not prepared): at once, or on a worker when preparing it is
+    // slow (app/preview_pending_edit.h); true when it went to the worker.
+    std::function<bool(Preset edited, const std::string& key)> submit_edit;
+    PendingEdit& pending_edit;
+    std::string& pending_edit_error;
 };
 
 // Runs script commands until one has to wait for shown frames, or the script ends. Returns false
@@ -95,7 +101,9 @@ class ScriptRunner {
 public:
     explicit ScriptRunner(std::vector<ScriptCommand> commands) : commands_(commands.begin(), commands.end()) {}
 
-    bool active() const { return !commands_.empty() || reload_wait_.active || reference_wait_ || sequence_wait_; }
+    bool active() const {
+        return !commands_.empty() || reload_wait_.active || reference_wait_ || sequence_wait_ || edit_wait_;
+    }
     // After each shown frame: counts down a wait, and writes a capture asked for by the last command.
     void frame_shown(SwapchainPresenter& presenter) {
         if (frames_to_wait_ > 0) --frames_to_wait_;
@@ -136,6 +144,14 @@ public:
                         r.seconds);
             std::fflush(stdout);
         }
+        if (edit_wait_) {
+            if (targets.pending_edit.busy()) return true;
+            edit_wait_ = false;
+            if (!targets.pending_edit_error.empty())
+                throw std::runtime_error(edit_where_ + ": set: " + targets.pending_edit_error);
+            std::printf("set prepared: the view shows the edit\n");
+            std::fflush(stdout);
+        }
         if (sequence_wait_) {
             if (targets.sequence.running()) return true;
             sequence_wait_ = false;
@@ -148,7 +164,7 @@ public:
             std::fflush(stdout);
         }
         while (frames_to_wait_ == 0 && capture_.path.empty() && !reload_wait_.active && !reference_wait_ &&
-               !sequence_wait_ && !commands_.empty()) {
+               !sequence_wait_ && !edit_wait_ && !commands_.empty()) {
             const ScriptCommand c = commands_.front();
             commands_.pop_front();
             try {
@@ -183,8 +199,13 @@ private:
             break;
         case ScriptCommand::Kind::Set: {
             Preset edited = targets.editor->set(c.text, c.value);
-            targets.prepare(edited);
-            session.apply_edit(edited, c.text);
+            if (targets.submit_edit(std::move(edited), c.text)) {
+                std::printf("set %s = %s (preparing on a worker)\n", c.text.c_str(), c.value.c_str());
+                edit_wait_ = true;
+                edit_where_ = c.where;
+                targets.preset_edit_stale = true;
+                break;
+            }
             std::printf("set %s = %s (%s)\n", c.text.c_str(), c.value.c_str(),
                         edit_affects_simulation(c.text)
                             ? "the simulation restarts from frame 0"
@@ -258,6 +279,8 @@ private:
     std::deque<ScriptCommand> commands_;
     bool sequence_wait_ = false;
     std::string sequence_where_;
+    bool edit_wait_ = false;
+    std::string edit_where_;
     bool reference_wait_ = false;
     std::string reference_where_;
     struct ReloadWait {
@@ -484,15 +507,26 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                 return e.what();
             }
         };
-        ScriptTargets targets{session, path,      window, presenter, panel_visible, watcher ? &*watcher : nullptr,
-                              editor,  prepare_edit, panel.preset_edit.stale, reference, start_reference,
-                              sequence, start_sequence};
+        PendingEdit pending_edit;
+        std::string pending_edit_error;
+        const auto submit_edit = [&](Preset edited, const std::string& key) {
+            if (preparing_is_slow(edited)) {
+                pending_edit_error.clear();
+                pending_edit.start(std::move(edited), key, prepare_edit);
+                return true;
+            }
+            prepare_edit(edited);
+            session.apply_edit(edited, key);
+            return false;
+        };
+        panel.preset_edit.preparing = [&pending_edit] { return pending_edit.busy(); };
+        ScriptTargets targets{session,  path,           window,       presenter, panel_visible, watcher ? &*watcher : nullptr,
+                              editor,   prepare_edit,   panel.preset_edit.stale, reference, start_reference,
+                              sequence, start_sequence, submit_edit,  pending_edit, pending_edit_error};
         panel.preset_edit.read = [&editor] { return editor->values(); };
         panel.preset_edit.set = [&](const std::string& key, const std::string& value) -> std::string {
             try {
-                Preset edited = editor->set(key, value);
-                prepare_edit(edited);
-                session.apply_edit(edited, key);
+                submit_edit(editor->set(key, value), key);
                 return {};
             } catch (const std::exception& e) {
                 return e.what();
@@ -540,6 +574,7 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             if (watcher) {
                 std::string error;
                 if (std::optional<Preset> reloaded = watcher->poll(seconds_since(run_start), error)) {
+                    pending_edit.discard();  // edits of the old text no longer apply
                     session.replace_preset(*reloaded);
                     editor = make_editor(args.preset);  // edits start again from the file
                     panel.preset_edit.stale = true;
@@ -554,6 +589,15 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                 }
                 std::fflush(stdout);
                 std::fflush(stderr);
+            }
+            if (pending_edit.busy()) {
+                quiet_frames = 0;  // the panel says it is preparing, and the view changes when it is done
+                if (std::optional<std::pair<Preset, std::string>> done = pending_edit.poll(pending_edit_error)) {
+                    session.apply_edit(done->first, done->second);
+                    panel.preset_edit.stale = true;
+                } else if (!pending_edit_error.empty()) {
+                    panel.preset_edit.error = pending_edit_error;
+                }
             }
             if (!script.run(targets)) break;
             if (reference.running()) {

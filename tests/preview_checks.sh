@@ -215,6 +215,20 @@ elif ! grep -q "^set emitter\[0\].rate = 300.0 (the simulation restarts from fra
 elif [ -z "$sun_png" ] || ! cmp -s sun.png "$sun_png"; then fail edit_keeps_simulation.equals_play "differs from play of the edited file"
 else ok edit_keeps_simulation_it_does_not_change; fi
 
+# An edit of a preset with a density grid is prepared (the grid converted again) on a worker while
+# the window keeps running; once it is shown, the frame equals brume play of the file edited the same way.
+sed 's/^extinction_scale = 3.0$/extinction_scale = 1.5/' "$presets/vdb-cloud.toml" >vdb-edited.toml
+"$brume" play vdb-edited.toml -o play.vdb --frames 4-4 --size 64x48 --format png >play.vdb.log 2>&1
+printf 'frame 4\nwait 1\nscreenshot vdb-before.png\nset vdb[0].extinction_scale 1.5\nwait 1\nscreenshot vdb-after.png\nquit\n' >vdb.script
+"$brume" preview vdb-cloud --size 64x48 --script vdb.script --validate >vdb.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ]; then fail edit_on_worker "rc $rc: $(tail -1 vdb.log)"
+elif ! grep -q '^extinction_scale = 1.5$' vdb-edited.toml; then fail edit_on_worker "the sed edit did not apply"
+elif ! grep -q '^set vdb\[0\].extinction_scale = 1.5 (preparing on a worker)$' vdb.log; then fail edit_on_worker.worker "$(grep '^set' vdb.log)"
+elif cmp -s vdb-before.png vdb-after.png; then fail edit_on_worker.changes "the edit did not change the frame"
+elif ! cmp -s vdb-after.png play.vdb/vdb-cloud.0004.png; then fail edit_on_worker.equals_play "differs from play of the edited file"
+else ok edit_prepared_on_worker_equals_play; fi
+
 # Render sequence: brume play in the background, with the view's method and size and the edited
 # preset; byte for byte what brume play writes with the same options.
 printf 'wait 1\nmethod soft\nset emitter[0].rate 600.0\nrender-sequence seq 3-5\nwait 1\nquit\n' >sequence.script

@@ -1,6 +1,7 @@
 // `brume bench layers`: the full-screen-layers benchmark of Barta & Kovács' Tables 1-2 for ppll, with
 // the CPU reference timed on the same frames. `brume bench sim`: milliseconds per simulation step.
-// `brume bench vdb` (app/bench_vdb.h): OpenVDB import, spheres against error.
+// `brume bench vdb` (app/bench_vdb.h): OpenVDB import, spheres against error. `brume bench preview`
+// (app/bench_preview.h): the preview window's frame, part by part, for every shipped preset.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -36,6 +37,9 @@ struct BenchArgs {
     std::string vdb_sample = "cloud";
     std::string vdb_sizes = "128,256";
     std::string tolerances = "0.02,0.05,0.1,0.2";
+    // bench preview
+    int preview_frames = 60;
+    std::string presets;  // empty: every shipped preset
 };
 
 void add_bench_command(CLI::App& app, BenchArgs& args);

@@ -8,9 +8,11 @@
 #include "app/preview_edit.h"
 #include "app/preview_imgui.h"
 #include "app/preview_panel.h"
+#include "app/preview_pending_edit.h"
 #include "app/preview_reference.h"
 #include "app/preview_reload.h"
 #include "app/preview_script.h"
+#include "app/preview_sequence.h"
 #include "app/preview_session.h"
 #include "app/preview_window.h"
 #include "render/atomic_file.h"
@@ -34,6 +36,7 @@
 #include <memory>
 #include <sstream>
 #include <optional>
+#include <unistd.h>
 
 namespace brume::app {
 namespace {
@@ -82,6 +85,14 @@ struct ScriptTargets {
     bool& preset_edit_stale;  // the panel's list of values, read again after a scripted edit
     ReferenceCheck& reference;
     std::function<void()> start_reference;
+    SequenceRender& sequence;
+    // Starts brume play of frames first-last into dir with the preview's options; throws when refused.
+    std::function<void(const std::string& dir, int first, int last, const std::string& formats)> start_sequence;
+    // Applies an edited preset (read, not prepared): at once, or on a worker when preparing it is
+    // slow (app/preview_pending_edit.h); true when it went to the worker.
+    std::function<bool(Preset edited, const std::string& key)> submit_edit;
+    PendingEdit& pending_edit;
+    std::string& pending_edit_error;
 };
 
 // Runs script commands until one has to wait for shown frames, or the script ends. Returns false
@@ -90,7 +101,9 @@ class ScriptRunner {
 public:
     explicit ScriptRunner(std::vector<ScriptCommand> commands) : commands_(commands.begin(), commands.end()) {}
 
-    bool active() const { return !commands_.empty() || reload_wait_.active || reference_wait_; }
+    bool active() const {
+        return !commands_.empty() || reload_wait_.active || reference_wait_ || sequence_wait_ || edit_wait_;
+    }
     // After each shown frame: counts down a wait, and writes a capture asked for by the last command.
     void frame_shown(SwapchainPresenter& presenter) {
         if (frames_to_wait_ > 0) --frames_to_wait_;
@@ -131,8 +144,27 @@ public:
                         r.seconds);
             std::fflush(stdout);
         }
+        if (edit_wait_) {
+            if (targets.pending_edit.busy()) return true;
+            edit_wait_ = false;
+            if (!targets.pending_edit_error.empty())
+                throw std::runtime_error(edit_where_ + ": set: " + targets.pending_edit_error);
+            std::printf("set prepared: the view shows the edit\n");
+            std::fflush(stdout);
+        }
+        if (sequence_wait_) {
+            if (targets.sequence.running()) return true;
+            sequence_wait_ = false;
+            const SequenceRender& q = targets.sequence;
+            if (q.status() != 0)
+                throw std::runtime_error(sequence_where_ + ": render-sequence: brume play exited with status " +
+                                         std::to_string(q.status()) + ": " + q.last_line());
+            std::printf("render-sequence: %d of %d frames written by brume play: %s\n", q.frames_done(), q.frames_total(),
+                        q.last_line().c_str());
+            std::fflush(stdout);
+        }
         while (frames_to_wait_ == 0 && capture_.path.empty() && !reload_wait_.active && !reference_wait_ &&
-               !commands_.empty()) {
+               !sequence_wait_ && !edit_wait_ && !commands_.empty()) {
             const ScriptCommand c = commands_.front();
             commands_.pop_front();
             try {
@@ -167,9 +199,18 @@ private:
             break;
         case ScriptCommand::Kind::Set: {
             Preset edited = targets.editor->set(c.text, c.value);
-            targets.prepare(edited);
-            session.replace_preset(edited);
-            std::printf("set %s = %s\n", c.text.c_str(), c.value.c_str());
+            if (targets.submit_edit(std::move(edited), c.text)) {
+                std::printf("set %s = %s (preparing on a worker)\n", c.text.c_str(), c.value.c_str());
+                edit_wait_ = true;
+                edit_where_ = c.where;
+                targets.preset_edit_stale = true;
+                break;
+            }
+            std::printf("set %s = %s (%s)\n", c.text.c_str(), c.value.c_str(),
+                        edit_affects_simulation(c.text)
+                            ? "the simulation restarts from frame 0"
+                            : ("simulated frames kept: 0-" + std::to_string(timeline.simulated_until()) + ", " +
+                               std::to_string(timeline.checkpoints().size()) + " checkpoints").c_str());
             targets.preset_edit_stale = true;
             break;
         }
@@ -190,9 +231,15 @@ private:
             break;
         case ScriptCommand::Kind::Screenshot:
             session.screenshot(path, window.framebuffer_extent(), c.text);
-            std::printf("screenshot %s: frame %d at %ux%u, method %s\n", c.text.c_str(), timeline.frame(),
+            std::printf("screenshot %s: frame %d at %ux%u, method %s", c.text.c_str(), timeline.frame(),
                         window.framebuffer_extent().width, window.framebuffer_extent().height,
                         session.method_spec().c_str());
+            if (session.heat_map()) {
+                const ListLengthFigures& f = session.heat_figures();
+                std::printf(", heat map: longest %.17g, mean %.17g over %llu pixels, %llu nodes", f.longest, f.mean,
+                            static_cast<unsigned long long>(f.nonempty_pixels), static_cast<unsigned long long>(f.total));
+            }
+            std::printf("\n");
             break;
         case ScriptCommand::Kind::Capture:
             check_writable_path(c.text);
@@ -207,6 +254,16 @@ private:
             reference_where_ = c.where;
             break;
         case ScriptCommand::Kind::Panel: targets.panel_visible = c.number != 0; break;
+        case ScriptCommand::Kind::HeatMap: session.set_heat_map(c.number != 0); break;
+        case ScriptCommand::Kind::RenderSequence:
+            if (c.number2 >= timeline.frame_count())
+                throw std::invalid_argument("render-sequence: frame " + std::to_string(c.number2) +
+                                            " is outside the preset's frames 0-" + std::to_string(timeline.frame_count() - 1));
+            targets.start_sequence(c.text, int(c.number), int(c.number2), "png");
+            sequence_wait_ = true;
+            sequence_where_ = c.where;
+            std::printf("render-sequence %s: frames %lld-%lld started\n", c.text.c_str(), c.number, c.number2);
+            break;
         case ScriptCommand::Kind::Camera: {
             const Camera cam = session.camera();
             std::printf("camera position %.17g %.17g %.17g look_at %.17g %.17g %.17g\n", cam.position.x, cam.position.y,
@@ -220,6 +277,10 @@ private:
     }
 
     std::deque<ScriptCommand> commands_;
+    bool sequence_wait_ = false;
+    std::string sequence_where_;
+    bool edit_wait_ = false;
+    std::string edit_where_;
     bool reference_wait_ = false;
     std::string reference_where_;
     struct ReloadWait {
@@ -250,11 +311,13 @@ struct Timing {
         }
         auto blend = [](double& s, double v) { s = s == 0.0 ? v : 0.9 * s + 0.1 * v; };
         blend(smoothed.simulate, t.simulate);
+        blend(smoothed.upload, t.upload);
         blend(smoothed.render, t.render);
         blend(smoothed.ui, t.ui);
         blend(smoothed.present, t.present);
         blend(smoothed.frame, t.frame);
         total.simulate += t.simulate;
+        total.upload += t.upload;
         total.render += t.render;
         total.ui += t.ui;
         total.present += t.present;
@@ -296,7 +359,7 @@ void add_preview_command(CLI::App& app, PreviewArgs& args) {
     cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M");
 }
 
-int run_preview(const PreviewArgs& args) {
+int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
     // Everything that can be refused is refused before a window opens.
     Preset preset = resolve_preset(args.preset.empty() ? default_preset_name() : args.preset);
     int width = 0, height = 0;
@@ -366,6 +429,7 @@ int run_preview(const PreviewArgs& args) {
     vk::Device device(device_options);
 
     int shown_frames = 0;
+    int last_frame = 0;
     AdaptiveResolution adaptive;
     adaptive.set_enabled(!args.fixed_resolution);
     Timing timing;
@@ -402,14 +466,67 @@ int run_preview(const PreviewArgs& args) {
         };
         panel.reference = &reference;
         panel.start_reference = start_reference;
-        ScriptTargets targets{session, path,      window, presenter, panel_visible, watcher ? &*watcher : nullptr,
-                              editor,  prepare_edit, panel.preset_edit.stale, reference, start_reference};
+        // Render sequence: brume play itself, with the options the view has (app/preview_sequence.h).
+        SequenceRender sequence;
+        const std::string opened = args.preset.empty() ? default_preset_name() : args.preset;
+        const auto start_sequence = [&](const std::string& dir, int first, int last, const std::string& formats) {
+            if (sequence.running()) throw std::runtime_error("a sequence is still rendering");
+            std::string preset_arg = opened;
+            fs::path temporary;
+            if (editor->edited()) {
+                // The edits, written as Save writes them, beside the opened file so that its relative
+                // paths (grids) resolve as they do for it; the preset's name is in the text.
+                std::error_code ec;
+                temporary = fs::is_regular_file(opened, ec)
+                                ? fs::path(opened).parent_path() / ("." + fs::path(opened).stem().string() + ".preview-sequence.toml")
+                                : fs::temp_directory_path() / ("brume-preview-" + std::to_string(::getpid()) + "-" + opened + ".toml");
+                // A name taken from the file's stem would be the hidden file's: the frames are named by
+                // the preset's name, so it is written into the copy ([preset] name, added if missing).
+                PresetEditor named(editor->saved_text(), temporary.string());
+                named.set("preset.name", "\"" + session.timeline().preset().name + "\"");
+                write_file_atomically(temporary.string(), named.saved_text());
+                preset_arg = temporary.string();
+            }
+            const VkExtent2D viewport = window.framebuffer_extent();
+            char exposure_text[40];
+            std::snprintf(exposure_text, sizeof exposure_text, "%.17g", session.exposure());
+            std::vector<std::string> play{preset_arg, "--output", dir, "--frames", std::to_string(first) + "-" + std::to_string(last),
+                                          "--size", std::to_string(viewport.width) + "x" + std::to_string(viewport.height),
+                                          "--method", session.method_spec(), "--exposure", exposure_text, "--format", formats};
+            if (!args.device.empty()) play.insert(play.end(), {"--device", args.device});
+            if (!args.max_memory.empty()) play.insert(play.end(), {"--max-memory", args.max_memory});
+            if (args.validate) play.push_back("--validate");
+            sequence.start(play, last - first + 1, temporary);
+        };
+        panel.sequence = &sequence;
+        panel.start_sequence = [&](const std::string& dir, int first, int last, const std::string& formats) -> std::string {
+            try {
+                start_sequence(dir, first, last, formats);
+                return {};
+            } catch (const std::exception& e) {
+                return e.what();
+            }
+        };
+        PendingEdit pending_edit;
+        std::string pending_edit_error;
+        const auto submit_edit = [&](Preset edited, const std::string& key) {
+            if (preparing_is_slow(edited)) {
+                pending_edit_error.clear();
+                pending_edit.start(std::move(edited), key, prepare_edit);
+                return true;
+            }
+            prepare_edit(edited);
+            session.apply_edit(edited, key);
+            return false;
+        };
+        panel.preset_edit.preparing = [&pending_edit] { return pending_edit.busy(); };
+        ScriptTargets targets{session,  path,           window,       presenter, panel_visible, watcher ? &*watcher : nullptr,
+                              editor,   prepare_edit,   panel.preset_edit.stale, reference, start_reference,
+                              sequence, start_sequence, submit_edit,  pending_edit, pending_edit_error};
         panel.preset_edit.read = [&editor] { return editor->values(); };
         panel.preset_edit.set = [&](const std::string& key, const std::string& value) -> std::string {
             try {
-                Preset edited = editor->set(key, value);
-                prepare_edit(edited);
-                session.replace_preset(edited);
+                submit_edit(editor->set(key, value), key);
                 return {};
             } catch (const std::exception& e) {
                 return e.what();
@@ -457,6 +574,7 @@ int run_preview(const PreviewArgs& args) {
             if (watcher) {
                 std::string error;
                 if (std::optional<Preset> reloaded = watcher->poll(seconds_since(run_start), error)) {
+                    pending_edit.discard();  // edits of the old text no longer apply
                     session.replace_preset(*reloaded);
                     editor = make_editor(args.preset);  // edits start again from the file
                     panel.preset_edit.stale = true;
@@ -472,10 +590,25 @@ int run_preview(const PreviewArgs& args) {
                 std::fflush(stdout);
                 std::fflush(stderr);
             }
+            if (pending_edit.busy()) {
+                quiet_frames = 0;  // the panel says it is preparing, and the view changes when it is done
+                if (std::optional<std::pair<Preset, std::string>> done = pending_edit.poll(pending_edit_error)) {
+                    session.apply_edit(done->first, done->second);
+                    panel.preset_edit.stale = true;
+                } else if (!pending_edit_error.empty()) {
+                    panel.preset_edit.error = pending_edit_error;
+                }
+            }
             if (!script.run(targets)) break;
             if (reference.running()) {
                 reference.poll();
                 quiet_frames = 0;  // the panel shows the result when it comes
+            }
+            if (sequence.running()) {
+                const int before = sequence.frames_done();
+                sequence.poll();
+                // The panel's progress moves when a frame is written (and when the run ends).
+                if (sequence.frames_done() != before || !sequence.running()) quiet_frames = 0;
             }
 
             PartTimes part;
@@ -508,19 +641,24 @@ int run_preview(const PreviewArgs& args) {
             presenter.set_exposure(session.exposure());
             t = Clock::now();
             bool shown = false;
-            if (session.compare_mode() == CompareMode::Off) {
-                shown = path.render_to(timed, session.method(), session.scene(internal.width, internal.height),
-                                       &session.last_stats(), panel.list_stats);
+            double scene_ms = 0.0;
+            if (session.compare_mode() == CompareMode::Off && !session.heat_map()) {
+                const Scene scene = session.scene(internal.width, internal.height);
+                scene_ms = seconds_since(t) * 1000.0;
+                shown = path.render_to(timed, session.method(), scene, &session.last_stats(), panel.list_stats);
+                part.upload = scene_ms + path.last_upload_ms();
             } else {
+                // Two frames or more and readbacks: the upload of each is in the render time.
                 const Image composite = session.frame_image(path, internal.width, internal.height, &session.last_stats());
                 const auto t_present = Clock::now();
                 shown = comparison.present(presenter, composite);
                 timed.last_seconds = seconds_since(t_present);
             }
             part.present = timed.last_seconds * 1000.0;
-            part.render = seconds_since(t) * 1000.0 - part.present;
+            part.render = seconds_since(t) * 1000.0 - part.present - part.upload;
             if (shown) {
                 ++shown_frames;
+                last_frame = session.timeline().frame();
                 script.frame_shown(presenter);
             }
             part.frame = seconds_since(frame_start) * 1000.0;
@@ -537,10 +675,27 @@ int run_preview(const PreviewArgs& args) {
     if (scripted && timing.frames > 0) {
         const double n = timing.frames;
         std::printf("preview: %d frames shown; the last %d at internal resolution %ux%u of %ux%u: %.1f FPS, mean ms "
-                    "per frame: simulate %.2f, render %.2f, ui %.2f, present %.2f\n",
+                    "per frame: simulate %.2f, upload %.2f, render %.2f, ui %.2f, present %.2f\n",
                     shown_frames, timing.frames, timing.tallied_extent.width, timing.tallied_extent.height,
                     last_viewport.width, last_viewport.height, 1000.0 * n / timing.total.frame,
-                    timing.total.simulate / n, timing.total.render / n, timing.total.ui / n, timing.total.present / n);
+                    timing.total.simulate / n, timing.total.upload / n, timing.total.render / n, timing.total.ui / n,
+                    timing.total.present / n);
+        if (figures) {
+            figures->shown_frames = shown_frames;
+            figures->tallied_frames = timing.frames;
+            figures->last_frame = last_frame;
+            figures->internal_width = timing.tallied_extent.width;
+            figures->internal_height = timing.tallied_extent.height;
+            figures->viewport_width = last_viewport.width;
+            figures->viewport_height = last_viewport.height;
+            figures->fps = 1000.0 * n / timing.total.frame;
+            figures->simulate_ms = timing.total.simulate / n;
+            figures->upload_ms = timing.total.upload / n;
+            figures->render_ms = timing.total.render / n;
+            figures->ui_ms = timing.total.ui / n;
+            figures->present_ms = timing.total.present / n;
+            figures->frame_ms = timing.total.frame / n;
+        }
     }
     return 0;
 }

@@ -24,7 +24,19 @@ struct PreviewArgs {
     bool fixed_resolution = false;
 };
 
+// What a scripted run measured, for `brume bench preview`: the frames since the internal resolution
+// last changed (the resolution the adaptive mode settled on) and their mean wall-clock milliseconds.
+struct PreviewFigures {
+    int shown_frames = 0;
+    int tallied_frames = 0;
+    int last_frame = 0;  // the timeline frame shown last
+    unsigned internal_width = 0, internal_height = 0, viewport_width = 0, viewport_height = 0;
+    double fps = 0.0;
+    double simulate_ms = 0.0, upload_ms = 0.0, render_ms = 0.0, ui_ms = 0.0, present_ms = 0.0, frame_ms = 0.0;
+};
+
 void add_preview_command(CLI::App& app, PreviewArgs& args);
-int run_preview(const PreviewArgs& args);
+// `figures`: filled at the end of a scripted run that showed frames.
+int run_preview(const PreviewArgs& args, PreviewFigures* figures = nullptr);
 
 }  // namespace brume::app

@@ -29,6 +29,8 @@ Image compose_comparison(const Image& method, const Image& other, CompareMode mo
 
 ComparisonPresenter::ComparisonPresenter(const vk::Device& device) : device_(device), ring_(device, 1) {}
 
+ComparisonPresenter::~ComparisonPresenter() { ring_.wait_all(); }
+
 bool ComparisonPresenter::present(SwapchainPresenter& presenter, const Image& composite) {
     const VkExtent2D extent{std::uint32_t(composite.width), std::uint32_t(composite.height)};
     // One image for every frame: the last frame's tone map must be done reading it before it is written.

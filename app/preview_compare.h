@@ -25,6 +25,8 @@ Image compose_comparison(const Image& method, const Image& other, CompareMode mo
 class ComparisonPresenter {
 public:
     explicit ComparisonPresenter(const vk::Device& device);
+    // Waits for the last frame that samples the composite: its image and staging buffer go with it.
+    ~ComparisonPresenter();
     // Uploads `composite` and presents it; as SwapchainPresenter::present.
     bool present(SwapchainPresenter& presenter, const Image& composite);
 

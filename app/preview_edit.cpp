@@ -173,6 +173,16 @@ PresetEditor::PresetEditor(const std::string& text, std::string source_name)
 
 PresetEditor::~PresetEditor() = default;
 
+bool edit_affects_simulation(const std::string& key_path) {
+    // The table the key is in: "lighting" of "lighting.sun[1]", "sphere" of "sphere[3].radius".
+    const std::string table = key_path.substr(0, key_path.find_first_of(".["));
+    static const char* const unread[] = {"lighting", "camera", "camera_path", "render", "render_settings",
+                                         "preset",   "sphere", "vdb"};
+    for (const char* t : unread)
+        if (table == t) return false;
+    return key_path != "timeline.duration";  // anything else, a key this list does not know included
+}
+
 Preset PresetEditor::set(const std::string& key_path, const std::string& value) {
     toml::table holder;
     try {
@@ -224,6 +234,77 @@ const toml::node* find(const toml::table& root, const std::vector<Segment>& path
     return node;
 }
 
+// Where a key that the original text lacks is written: after the last line holding a value of its
+// table (before the table's sub-tables and the next header), or, when the table itself is missing
+// and its parent exists, as a new "[table]" header after the parent's values (an [[array]] entry's
+// sub-table header applies to the entry before it, so this works for emitter[2].curves too), or at
+// the end for a missing top-level table.
+struct Insertion {
+    bool possible = false;
+    std::size_t after_line = 0;  // 1-based; 0: at the end of the text
+    std::string header;          // "[table]\n" when the table is new
+    std::string why;             // when not possible
+};
+
+// The last line of `table`'s own values (not of its header sub-tables), or its header's line.
+std::size_t last_value_line(const toml::table& table) {
+    std::size_t line = table.source().begin.line;
+    for (const auto& [key, child] : table) {
+        if (const toml::table* t = child.as_table(); t && !t->is_inline()) continue;
+        if (const toml::array* a = child.as_array(); a && a->is_array_of_tables() && !a->empty() &&
+                                                     !a->get(0)->as_table()->is_inline())
+            continue;
+        line = std::max<std::size_t>(line, child.source().end.line);
+    }
+    return line;
+}
+
+Insertion insertion_for(const toml::table& root, const std::vector<Segment>& path) {
+    Insertion out;
+    if (path.back().index >= 0) {
+        out.why = "an array entry cannot be added";
+        return out;
+    }
+    const std::vector<Segment> parent_path(path.begin(), path.end() - 1);
+    if (parent_path.empty()) {
+        out.why = "a key outside every table cannot be placed";
+        return out;
+    }
+    if (const toml::node* parent = find(root, parent_path)) {
+        const toml::table* table = parent->as_table();
+        if (!table || table->is_inline() || table->source().begin.line == 0) {
+            out.why = "its table is not a [table] of the file";
+            return out;
+        }
+        out.possible = true;
+        out.after_line = last_value_line(*table);
+        return out;
+    }
+    // The table is missing: its parent must exist (or be the root), and the table be a plain name.
+    const Segment& missing = parent_path.back();
+    if (missing.index >= 0) {
+        out.why = "its table " + missing.name + " is an array entry the file lacks";
+        return out;
+    }
+    std::string header;  // the header path: array indices drop out ("emitter.curves")
+    for (const Segment& s : parent_path) header += (header.empty() ? "" : ".") + s.name;
+    out.header = "\n[" + header + "]\n";
+    const std::vector<Segment> grand_path(parent_path.begin(), parent_path.end() - 1);
+    if (grand_path.empty()) {
+        out.possible = true;  // a new top-level table at the end
+        return out;
+    }
+    const toml::node* grand = find(root, grand_path);
+    const toml::table* table = grand ? grand->as_table() : nullptr;
+    if (!table || table->is_inline() || table->source().begin.line == 0) {
+        out.why = "neither its table nor the one around it is in the file";
+        return out;
+    }
+    out.possible = true;
+    out.after_line = last_value_line(*table);
+    return out;
+}
+
 }  // namespace
 
 void PresetEditor::record_edit(const std::string& key_path, const std::string& value) {
@@ -249,18 +330,47 @@ std::string PresetEditor::saved_text() const {
     struct Replacement {
         std::size_t begin, end;
         std::string text;
+        int rank = 0;        // at one offset, new lines first (in edit order), then new tables
+        std::string header;  // a new table's header: a second key of it joins the same block
     };
     std::vector<Replacement> replacements;
+    // After line `line` (1-based): the offset where the next line starts (the end for the last line).
+    const auto after_line = [&](std::size_t line) {
+        return line + 1 < line_start.size() ? line_start[line + 1] : original_text_.size();
+    };
     for (const auto& [path, text] : edits_) {
-        const toml::node* node = find(doc_->original, parse_key_path(path));
-        if (!node || node->source().begin.line == 0)
-            throw std::invalid_argument("save: " + path + " is not in " + source_name_ +
-                                        ", so it cannot be written in place; add the key to the file");
-        const toml::source_region& r = node->source();
-        replacements.push_back({line_start.at(r.begin.line) + r.begin.column - 1,
-                                line_start.at(r.end.line) + r.end.column - 1, text});
+        const std::vector<Segment> segments = parse_key_path(path);
+        const toml::node* node = find(doc_->original, segments);
+        if (node && node->source().begin.line != 0) {
+            const toml::source_region& r = node->source();
+            replacements.push_back({line_start.at(r.begin.line) + r.begin.column - 1,
+                                    line_start.at(r.end.line) + r.end.column - 1, text});
+            continue;
+        }
+        // A key the file leaves out (its default): a new line in the table it belongs to.
+        const Insertion at = insertion_for(doc_->original, segments);
+        if (!at.possible)
+            throw std::invalid_argument("save: " + path + " is not in " + source_name_ + " and " + at.why +
+                                        "; add the key to the file");
+        const std::size_t offset = at.after_line == 0 ? original_text_.size() : after_line(at.after_line);
+        const std::string line = segments.back().name + " = " + text + "\n";
+        const int rank = int(replacements.size()) + (at.header.empty() ? 0 : 1 << 20);
+        bool joined = false;
+        for (Replacement& r : replacements)
+            if (!at.header.empty() && r.header == at.header && r.begin == offset) {
+                r.text += line;
+                joined = true;
+            }
+        if (!joined) replacements.push_back({offset, offset, at.header + line, rank, at.header});
     }
-    std::sort(replacements.begin(), replacements.end(), [](const auto& a, const auto& b) { return a.begin > b.begin; });
+    // A file without a final newline: what is added at the end starts on a line of its own.
+    for (Replacement& r : replacements)
+        if (r.begin == r.end && r.begin == original_text_.size() && !original_text_.empty() && original_text_.back() != '\n' &&
+            r.header.empty())
+            r.text = "\n" + r.text;
+    // From the end backwards, so earlier offsets stay valid; at one offset the last in order goes in first.
+    std::sort(replacements.begin(), replacements.end(),
+              [](const auto& a, const auto& b) { return a.begin != b.begin ? a.begin > b.begin : a.rank > b.rank; });
     std::string out = original_text_;
     for (const Replacement& r : replacements) out.replace(r.begin, r.end - r.begin, r.text);
 

@@ -14,6 +14,12 @@
 
 namespace brume::app {
 
+// Whether an edit of KEY.PATH changes what the simulator computes: emitters, forces, boxes (its
+// obstacles) and the timeline's clock, seed and budget do; lighting, the camera and its path, the
+// render settings, fixed spheres and volumes, the name and the duration do not (the simulator reads
+// none of them: sim/simulator.h), so the frames simulated before such an edit stay valid.
+bool edit_affects_simulation(const std::string& key_path);
+
 // One value of the preset's TOML that the panel can edit: a number, an integer, a boolean, a string,
 // or a short array of numbers (a vector, a range).
 struct EditableValue {

@@ -57,6 +57,8 @@ void draw_preset_editor(PresetEditPanel& panel) {
         panel.values = panel.read();
         panel.stale = false;
     }
+    if (panel.preparing && panel.preparing())
+        ImGui::TextDisabled("preparing the edit on a worker (converting density grids)...");
     if (!panel.error.empty()) {
         ImGui::PushTextWrapPos(0.0f);
         ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", panel.error.c_str());

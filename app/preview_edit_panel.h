@@ -1,7 +1,7 @@
 // The panel's "Preset" section: every value of the preset's TOML (app/preview_edit.h), grouped by
 // section, each with a widget of its kind. A changed value is handed to `set`, which edits the
-// preset and restarts its timeline at the same frame, so the view updates at once; a refused value
-// shows the reader's message. "Save" writes the edits into the file where the values stand.
+// preset and applies it at the same frame, so the view updates at once (or, for a preset with
+// density grids, once a worker has prepared it); a refused value shows the reader's message. "Save" writes the edits into the file where the values stand.
 #pragma once
 
 #include "app/preview_edit.h"
@@ -23,6 +23,7 @@ struct PresetEditPanel {
     std::function<std::string()> save;
     std::string save_path;
     std::string saved;  // what the last save wrote, for the panel
+    std::function<bool()> preparing;  // an accepted edit is still being prepared on a worker
 };
 
 // Draws the section's contents (inside the panel window).

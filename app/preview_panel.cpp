@@ -1,10 +1,12 @@
 #include "app/preview_panel.h"
 
+#include "app/preview_heat_map.h"
 #include "render/methods/registry.h"
 
 #include <imgui.h>
 
 #include <algorithm>
+#include <array>
 #include <vector>
 
 namespace brume::app {
@@ -136,6 +138,20 @@ void method_section(PanelState& s) {
         }
     }
     if (!s.method_error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", s.method_error.c_str());
+    // Depth complexity over the view: a pass of its own and a readback, so off unless asked.
+    bool heat = s.session.heat_map();
+    if (ImGui::Checkbox("heat map of list length", &heat)) s.session.set_heat_map(heat);
+    if (heat) {
+        const ListLengthFigures& f = s.session.heat_figures();
+        const std::array<float, 3> lo = heat_colour(0.0), hi = heat_colour(1.0);
+        ImGui::TextColored(ImVec4(lo[0], lo[1], lo[2], 1.0f), "1");
+        ImGui::SameLine(0, 4);
+        ImGui::Text("to");
+        ImGui::SameLine(0, 4);
+        ImGui::TextColored(ImVec4(hi[0], hi[1], hi[2], 1.0f), "%.0f", std::max(1.0, f.longest));
+        ImGui::SameLine();
+        ImGui::Text("nodes; mean %.1f over %llu pixels", f.mean, static_cast<unsigned long long>(f.nonempty_pixels));
+    }
     if (!s.reference) return;
     if (s.reference->running()) {
         ImGui::TextDisabled("reference rendering on a worker thread...");
@@ -153,7 +169,8 @@ void method_section(PanelState& s) {
 void figures_section(PanelState& s) {
     const PartTimes& t = s.times;
     ImGui::Text("%.1f FPS, %.1f ms a frame", t.frame > 0 ? 1000.0 / t.frame : 0.0, t.frame);
-    ImGui::Text("simulate %.1f  render %.1f  ui %.1f  present %.1f ms", t.simulate, t.render, t.ui, t.present);
+    ImGui::Text("simulate %.1f  upload %.1f  render %.1f  ui %.1f  present %.1f ms", t.simulate, t.upload, t.render,
+                t.ui, t.present);
     bool adaptive = s.adaptive.enabled();
     if (ImGui::Checkbox("adaptive resolution", &adaptive)) s.adaptive.set_enabled(adaptive);
     ImGui::SameLine();
@@ -173,6 +190,44 @@ void figures_section(PanelState& s) {
     if (st.list_stats)
         ImGui::Text("longest list %u, mean %.2f over %llu pixels", st.max_list_length, st.mean_list_length,
                     static_cast<unsigned long long>(st.nonempty_pixels));
+}
+
+// Render sequence: brume play of a range of frames with the view's options, in the background.
+void sequence_section(PanelState& s) {
+    if (!s.sequence) return;
+    const PreviewTimeline& timeline = s.session.timeline();
+    const int last = timeline.frame_count() - 1;
+    if (!s.sequence_dir[0]) std::snprintf(s.sequence_dir, sizeof s.sequence_dir, "%s", timeline.preset().name.c_str());
+    if (s.sequence_last < 0 || s.sequence_last > last) s.sequence_last = last;
+    ImGui::SetNextItemWidth(-60);
+    ImGui::InputText("folder", s.sequence_dir, sizeof s.sequence_dir);
+    ImGui::SetNextItemWidth(80);
+    ImGui::InputInt("first", &s.sequence_first, 0);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(80);
+    ImGui::InputInt("last", &s.sequence_last, 0);
+    s.sequence_first = std::clamp(s.sequence_first, 0, last);
+    s.sequence_last = std::clamp(s.sequence_last, s.sequence_first, last);
+    ImGui::Checkbox("png", &s.sequence_png);
+    ImGui::SameLine();
+    ImGui::Checkbox("exr", &s.sequence_exr);
+    const SequenceRender& q = *s.sequence;
+    if (q.running()) {
+        char label[64];
+        std::snprintf(label, sizeof label, "%d/%d frames", q.frames_done(), q.frames_total());
+        ImGui::ProgressBar(q.frames_total() ? float(q.frames_done()) / float(q.frames_total()) : 0.0f, ImVec2(-1, 0), label);
+    } else {
+        ImGui::SameLine();
+        if (ImGui::Button("render sequence") && (s.sequence_png || s.sequence_exr)) {
+            const std::string formats = std::string(s.sequence_png ? "png" : "") +
+                                        (s.sequence_png && s.sequence_exr ? "," : "") + (s.sequence_exr ? "exr" : "");
+            s.sequence_error = s.start_sequence(s.sequence_dir, s.sequence_first, s.sequence_last, formats);
+        }
+        if (q.status() >= 0)
+            ImGui::TextWrapped("%s: %s", q.status() == 0 ? "done" : "failed", q.last_line().c_str());
+    }
+    ImGui::TextDisabled("brume play at the viewport's size, method and exposure; the preset's camera path");
+    if (!s.sequence_error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", s.sequence_error.c_str());
 }
 
 }  // namespace
@@ -198,6 +253,7 @@ void draw_panel(PanelState& s) {
     if (ImGui::CollapsingHeader("Preset")) draw_preset_editor(s.preset_edit);
     if (ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) method_section(s);
     if (ImGui::CollapsingHeader("Figures", ImGuiTreeNodeFlags_DefaultOpen)) figures_section(s);
+    if (ImGui::CollapsingHeader("Render sequence")) sequence_section(s);
     ImGui::End();
 }
 

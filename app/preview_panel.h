@@ -9,6 +9,7 @@
 #include "app/preview_adaptive.h"
 #include "app/preview_edit_panel.h"
 #include "app/preview_reference.h"
+#include "app/preview_sequence.h"
 #include "app/preview_session.h"
 
 #include <functional>
@@ -16,9 +17,10 @@
 
 namespace brume::app {
 
-// Wall-clock milliseconds of each part of the last frame, smoothed.
+// Wall-clock milliseconds of each part of the last frame, smoothed. upload: building the frame's
+// scene (the particles as spheres) and copying it to the device; render: the GPU passes, waited for.
 struct PartTimes {
-    double simulate = 0.0, render = 0.0, ui = 0.0, present = 0.0, frame = 0.0;
+    double simulate = 0.0, upload = 0.0, render = 0.0, ui = 0.0, present = 0.0, frame = 0.0;
 };
 
 struct PanelState {
@@ -38,6 +40,13 @@ struct PanelState {
     PresetEditPanel preset_edit;   // the "Preset" section's values and edits
     ReferenceCheck* reference = nullptr;       // the error against the reference, on a worker thread
     std::function<void()> start_reference;     // starts a check of the frame shown
+    // Render sequence: brume play in the background; start_sequence returns an error, or empty.
+    SequenceRender* sequence = nullptr;
+    std::function<std::string(const std::string& dir, int first, int last, const std::string& formats)> start_sequence;
+    char sequence_dir[256] = "";
+    int sequence_first = 0, sequence_last = -1;  // -1: the last frame
+    bool sequence_png = true, sequence_exr = false;
+    std::string sequence_error;
 };
 
 // Draws the panel for this UI frame.

@@ -3,6 +3,7 @@
 #include "sim/preset_file.h"
 #include "sim/vdb/volume_loader.h"
 
+#include <chrono>
 #include <exception>
 
 namespace brume::app {
@@ -20,25 +21,38 @@ std::optional<PresetWatcher::Stamp> PresetWatcher::stamp() const {
     return s;
 }
 
+PresetWatcher::~PresetWatcher() {
+    if (job_.valid()) job_.wait();
+}
+
 std::optional<Preset> PresetWatcher::poll(double now_seconds, std::string& error) {
+    if (job_.valid()) {
+        if (job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return std::nullopt;
+        ++changes_;
+        try {
+            Preset preset = job_.get();
+            error.clear();
+            return preset;
+        } catch (const std::exception& e) {
+            error = e.what();
+            return std::nullopt;
+        }
+    }
     if (last_check_ >= 0.0 && now_seconds - last_check_ < 0.25) return std::nullopt;
     last_check_ = now_seconds;
     const std::optional<Stamp> now = stamp();
     // A file being replaced can be missing for a moment: wait for it to come back.
     if (!now || now == last_) return std::nullopt;
     last_ = now;
-    ++changes_;
-    try {
-        Preset preset = load_preset_file(path_);
-        preset.scene.camera.width = width_;
-        preset.scene.camera.height = height_;
+    // A change while this read runs is seen by the first check after it is handed over.
+    job_ = std::async(std::launch::async, [path = path_, width = width_, height = height_] {
+        Preset preset = load_preset_file(path);
+        preset.scene.camera.width = width;
+        preset.scene.camera.height = height;
         prepare_preset(preset);
-        error.clear();
         return preset;
-    } catch (const std::exception& e) {
-        error = e.what();
-        return std::nullopt;
-    }
+    });
+    return std::nullopt;
 }
 
 }  // namespace brume::app

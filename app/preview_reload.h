@@ -1,11 +1,14 @@
 // Hot reload: the preview watches the preset or scene file it opened, and when the file changes on
 // disk (its modification time or size) reads it again. A file that fails to read leaves the last good
-// preset playing and hands back its `file:line: key` error for the panel.
+// preset playing and hands back its `file:line: key` error for the panel. The file is read and
+// prepared (a density grid converted to spheres can take seconds) on a worker thread, so the window
+// keeps running meanwhile; poll() hands the result over once it is ready.
 #pragma once
 
 #include "sim/preset.h"
 
 #include <filesystem>
+#include <future>
 #include <optional>
 #include <string>
 
@@ -16,10 +19,15 @@ public:
     // `path`: the file opened; `width` x `height`: the viewport, which a reload keeps.
     PresetWatcher(std::filesystem::path path, int width, int height);
 
-    // Checks the file (at most every quarter second of the calls' clock): nullopt when it has not
-    // changed; otherwise the newly read and prepared preset, or an error in `error`.
+    // Waits for a read still running (its result is dropped).
+    ~PresetWatcher();
+    // Checks the file (at most every quarter second of the calls' clock) and starts reading it on a
+    // worker when it changed. nullopt while nothing new is ready; otherwise the newly read and
+    // prepared preset, or nullopt with an error in `error`.
     std::optional<Preset> poll(double now_seconds, std::string& error);
-    // How many changes were seen (read or refused): a script can wait for the next one.
+    // Whether a changed file is being read now.
+    bool reading() const { return job_.valid(); }
+    // How many changes were read or refused: a script can wait for the next one.
     int changes() const { return changes_; }
     const std::filesystem::path& path() const { return path_; }
 
@@ -36,6 +44,7 @@ private:
     std::optional<Stamp> last_;
     double last_check_ = -1.0;
     int changes_ = 0;
+    std::future<Preset> job_;
 };
 
 }  // namespace brume::app

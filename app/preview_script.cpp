@@ -129,9 +129,24 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
             c.kind = ScriptCommand::Kind::Panel;
             if (w[1] != "on" && w[1] != "off") throw ScriptError(c.where + ": panel takes on or off, got '" + w[1] + "'");
             c.number = w[1] == "on";
+        } else if (name == "render-sequence") {
+            expect(2, "render-sequence DIR A-B (frames, 0-based, inclusive)");
+            c.kind = ScriptCommand::Kind::RenderSequence;
+            c.text = w[1];
+            const std::size_t dash = w[2].find('-', 1);
+            if (dash == std::string::npos)
+                throw ScriptError(c.where + ": render-sequence: the frames are A-B, got '" + w[2] + "'");
+            c.number = whole(w[2].substr(0, dash), "the first frame", 0, c.where);
+            c.number2 = whole(w[2].substr(dash + 1), "the last frame", 0, c.where);
+            if (c.number2 < c.number) throw ScriptError(c.where + ": render-sequence: " + w[2] + " is a reversed range");
+        } else if (name == "heat-map") {
+            expect(1, "heat-map on|off");
+            c.kind = ScriptCommand::Kind::HeatMap;
+            if (w[1] != "on" && w[1] != "off") throw ScriptError(c.where + ": heat-map takes on or off, got '" + w[1] + "'");
+            c.number = w[1] == "on";
         } else {
             throw ScriptError(c.where + ": unknown command '" + name +
-                              "'; known: frame, play, pause, wait, wait-reload, set, save, orbit, method, compare, resize, screenshot, capture, panel, "
+                              "'; known: frame, play, pause, wait, wait-reload, set, save, orbit, method, compare, resize, screenshot, capture, panel, heat-map, render-sequence, "
                               "reference-error, camera, quit");
         }
         commands.push_back(std::move(c));

@@ -13,6 +13,9 @@
 //   screenshot PATH    save the viewport without the panel: .png (exposed sRGB) or .exr (linear)
 //   capture PATH       save the window as it is shown, panel included (.png)
 //   panel on|off       show or hide the panel
+//   heat-map on|off    the heat map of list length over the view (app/preview_heat_map.h)
+//   render-sequence DIR A-B   brume play of frames A-B into DIR, in the background (app/preview_sequence.h);
+//                      the script waits until it is done
 //   reference-error    compare the frame with the CPU reference (reduced size) and print the error
 //   camera             print the camera's position and look_at on stdout
 //   quit               close the preview
@@ -31,12 +34,12 @@ public:
 };
 
 struct ScriptCommand {
-    enum class Kind { Frame, Play, Pause, Wait, WaitReload, Set, Save, Orbit, Method, Resize, Compare, Screenshot, Capture, Panel, ReferenceError, Camera, Quit };
+    enum class Kind { Frame, Play, Pause, Wait, WaitReload, Set, Save, Orbit, Method, Resize, Compare, Screenshot, Capture, Panel, HeatMap, RenderSequence, ReferenceError, Camera, Quit };
     Kind kind = Kind::Quit;
-    long long number = 0;      // frame, wait, resize width; panel: 1 on, 0 off; compare: 0 off, 1 split, 2 difference
-    long long number2 = 0;     // resize height
+    long long number = 0;      // frame, wait, resize width; panel, heat-map: 1 on, 0 off; compare: 0 off, 1 split, 2 difference
+    long long number2 = 0;     // resize height; render-sequence: the first and last frame in number, number2
     double x = 0.0, y = 0.0;   // orbit degrees
-    std::string text;          // method spec, screenshot or capture path, set's key path
+    std::string text;          // method spec, screenshot or capture path, set's key path, render-sequence's folder
     std::string value;         // set's value (the rest of the line)
     std::string where;         // "FILE:LINE", for errors found when the command runs
 };

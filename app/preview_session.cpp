@@ -1,6 +1,8 @@
 #include "app/preview_session.h"
 
 #include "app/cli_util.h"
+#include "app/preview_edit.h"
+#include "app/preview_heat_map.h"
 #include "render/image_io.h"
 
 #include <cmath>
@@ -19,6 +21,14 @@ void PreviewSession::replace_preset(const Preset& preset) {
     const int frame = timeline_.frame();
     timeline_ = PreviewTimeline(preset);
     timeline_.seek(frame);
+}
+
+void PreviewSession::apply_edit(const Preset& preset, const std::string& key_path) {
+    if (edit_affects_simulation(key_path)) {
+        replace_preset(preset);
+        return;
+    }
+    timeline_.replace_scene_keeping_simulation(preset);
 }
 
 namespace {
@@ -45,9 +55,18 @@ void PreviewSession::set_comparison(const std::string& spec, CompareMode mode) {
 
 Image PreviewSession::frame_image(FramePath& path, std::uint32_t width, std::uint32_t height, FrameStats* stats) {
     const Scene s = scene(width, height);
-    const Image image = path.render(method(), s, stats);
-    if (compare_mode_ == CompareMode::Off) return image;
-    return compose_comparison(image, path.render(compare_method(), s), compare_mode_);
+    Image image = path.render(method(), s, stats);
+    if (compare_mode_ != CompareMode::Off) image = compose_comparison(image, path.render(compare_method(), s), compare_mode_);
+    if (!heat_map_on_) return image;
+    const Image counts = path.render(*heat_map_, s);
+    heat_figures_ = list_length_figures(counts);
+    return overlay_list_heat_map(image, counts, heat_figures_.longest, exposure_);
+}
+
+void PreviewSession::set_heat_map(bool on) {
+    if (on && !heat_map_) heat_map_ = std::make_unique<ListHeatMap>(device_);
+    heat_map_on_ = on;
+    if (!on) heat_figures_ = {};
 }
 
 void PreviewSession::set_method(const std::string& spec) {

@@ -8,6 +8,7 @@
 #include "app/preview_timeline.h"
 #include "render/frame/frame_path.h"
 #include "render/frame/frame_stats.h"
+#include "render/frame/list_heat_map.h"
 #include "render/methods/method.h"
 #include "render/methods/registry.h"
 #include "render/vk/device.h"
@@ -42,6 +43,9 @@ public:
     // A reloaded preset: a new timeline at the same frame (clamped to its frames); the method, the
     // user's camera and the exposure stay.
     void replace_preset(const Preset& preset);
+    // An edit: as replace_preset, except that an edit the simulator does not read
+    // (!edit_affects_simulation(key_path)) keeps the simulated frames and checkpoints.
+    void apply_edit(const Preset& preset, const std::string& key_path);
 
     // Throws std::invalid_argument naming the method when it is unknown or has no GPU frame path.
     void set_method(const std::string& spec);
@@ -54,8 +58,13 @@ public:
     CompareMode compare_mode() const { return compare_mode_; }
     const std::string& compare_spec() const { return compare_spec_; }
     GpuMethod& compare_method() { return *compare_method_->gpu(); }
-    // The current frame at width x height as the view shows it: the method's, or the comparison.
-    // `stats`: the first method's figures.
+    // The heat map of list length over the view (app/preview_heat_map.h); its figures are those of
+    // the last frame_image() that drew it.
+    void set_heat_map(bool on);
+    bool heat_map() const { return heat_map_on_; }
+    const ListLengthFigures& heat_figures() const { return heat_figures_; }
+    // The current frame at width x height as the view shows it: the method's, or the comparison,
+    // with the heat map over it when it is on. `stats`: the first method's figures.
     Image frame_image(FramePath& path, std::uint32_t width, std::uint32_t height, FrameStats* stats = nullptr);
 
     // The camera now: the camera path's (following) or the user's.
@@ -87,6 +96,9 @@ private:
     CompareMode compare_mode_ = CompareMode::Off;
     std::string compare_spec_;
     std::unique_ptr<Method> compare_method_;
+    bool heat_map_on_ = false;
+    std::unique_ptr<ListHeatMap> heat_map_;
+    ListLengthFigures heat_figures_;
     bool follow_path_ = true;
     Camera user_camera_;
     double exposure_;

@@ -43,6 +43,14 @@ void PreviewTimeline::seek(int frame) {
     while (sim_.frame() < frame) step_and_checkpoint();
 }
 
+void PreviewTimeline::replace_scene_keeping_simulation(const Preset& preset) {
+    preset_ = preset;
+    if (frame_count() < 1) throw std::invalid_argument(preset_.name + ": the timeline has no frames");
+    // A shorter duration: the frames past the new end are no longer reachable.
+    simulated_until_ = std::min(simulated_until_, frame_count() - 1);
+    if (sim_.frame() > frame_count() - 1) seek(frame_count() - 1);
+}
+
 Scene PreviewTimeline::scene() const {
     Scene scene = preset_.scene;
     sim_.append_spheres(scene.spheres);

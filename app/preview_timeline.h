@@ -28,6 +28,11 @@ public:
     double fps() const { return preset_.timeline.fps; }
     // Frame `frame`, clamped to the preset's frames.
     void seek(int frame);
+    // An edit the simulator does not read (lighting, camera, camera path, render settings, fixed
+    // spheres, the duration): the new preset's scene from now on, and the simulated state and every
+    // checkpoint stay, since the simulator would compute them again bit for bit. The caller
+    // guarantees that `preset` differs from the current one only there (edit_affects_simulation).
+    void replace_scene_keeping_simulation(const Preset& preset);
     // The current frame's scene exactly as `brume play` builds it: the preset's scene, the live
     // particles as spheres after its fixed ones, the camera path's camera at this time, the
     // preset's resolution.

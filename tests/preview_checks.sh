@@ -3,7 +3,9 @@
 # screenshots are the frames `brume play` writes, byte for byte, for three presets and two methods;
 # scrubbing backwards equals playing forwards; a scripted orbit puts the camera where the closed form
 # does and renders what `brume render` renders from there; the validation layer stays silent across
-# resizes and method switches; bad scripts and a missing display are refused in one clear line.
+# resizes and method switches; Save adds a missing key to its table; an edit the simulator does not
+# read keeps the checkpoints; "render sequence" writes brume play's frames byte for byte; brume bench
+# preview prints its table; bad scripts and a missing display are refused in one clear line.
 # Usage: preview_checks.sh BRUME SCRATCH_DIR
 set -u
 brume=$(realpath "$1")
@@ -177,6 +179,102 @@ printf 'set emitter[0].rate -5\nquit\n' >setbad.script
 rc=$?
 if [ "$rc" -ne 0 ] && grep -q "setbad.script:1: emitter\[0\].rate: must not be negative" setbad.log; then ok set_refused_names_key
 else fail set_refused_names_key "rc $rc: $(tail -1 setbad.log)"; fi
+
+# Save of a key the file leaves out (a default): the line is added to its table, every other line
+# stays, and brume play of the saved file renders the frame the preview showed.
+printf 'frame 12\nset emitter[0].stop 6.2\nwait 1\nscreenshot stop-preview.png\nsave saved-stop.toml\nquit\n' >savenew.script
+"$brume" preview plume --size 96x72 --script savenew.script --validate >savenew.log 2>&1
+rc=$?
+"$brume" play saved-stop.toml -o play.stop --frames 12-12 --size 96x72 --format png >play.stop.log 2>&1
+stop_png=$(ls play.stop/*.0012.png 2>/dev/null | head -1)
+added=$(diff "$presets/plume.toml" saved-stop.toml 2>/dev/null | grep -c '^>')
+removed=$(diff "$presets/plume.toml" saved-stop.toml 2>/dev/null | grep -c '^<')
+if [ "$rc" -ne 0 ]; then fail save_new_key "rc $rc: $(tail -1 savenew.log)"
+elif [ "$added" != 1 ] || [ "$removed" != 0 ] || ! grep -q '^stop = 6.2$' saved-stop.toml; then
+    fail save_new_key.added_line "+$added -$removed lines: $(diff "$presets/plume.toml" saved-stop.toml | head -5)"
+elif [ "$(awk '/^stop = 6.2$/ { print prev } { if ($0 ~ /^\[/) prev = $0 }' saved-stop.toml)" != "[[emitter]]" ]; then
+    fail save_new_key.table "the line is not in the [[emitter]] table"
+elif [ -z "$stop_png" ] || ! cmp -s stop-preview.png "$stop_png"; then fail save_new_key.plays_back "play of the saved file differs"
+elif cmp -s stop-preview.png unedited.png; then fail save_new_key.changes "the edit did not change the frame"
+else ok save_new_key_in_its_table_and_plays_back; fi
+
+# An edit the simulator does not read (the light) keeps the simulated frames and checkpoints, and the
+# frame still equals brume play of the file edited the same way.
+sed 's/^sun = \[1.6, 1.4, 1.15\]$/sun = [3.0, 0.5, 0.5]/' "$presets/plume.toml" >plume-sun.toml
+"$brume" play plume-sun.toml -o play.sun --frames 20-20 --size 96x72 --format png >play.sun.log 2>&1
+printf 'frame 20\nwait 1\nset lighting.sun [3.0, 0.5, 0.5]\nwait 1\nscreenshot sun.png\nset emitter[0].rate 300.0\nquit\n' >keep.script
+"$brume" preview plume --size 96x72 --script keep.script --validate >keep.log 2>&1
+rc=$?
+sun_png=$(ls play.sun/*.0020.png 2>/dev/null | head -1)
+if [ "$rc" -ne 0 ]; then fail edit_keeps_simulation "rc $rc: $(tail -1 keep.log)"
+elif ! grep -q '^sun = \[3.0, 0.5, 0.5\]$' plume-sun.toml; then fail edit_keeps_simulation "the sed edit did not apply"
+elif ! grep -q "^set lighting.sun = \[3.0, 0.5, 0.5\] (simulated frames kept: 0-20, 3 checkpoints)" keep.log; then
+    fail edit_keeps_simulation.kept "$(grep '^set' keep.log)"
+elif ! grep -q "^set emitter\[0\].rate = 300.0 (the simulation restarts from frame 0)" keep.log; then
+    fail edit_keeps_simulation.restarts "$(grep '^set' keep.log)"
+elif [ -z "$sun_png" ] || ! cmp -s sun.png "$sun_png"; then fail edit_keeps_simulation.equals_play "differs from play of the edited file"
+else ok edit_keeps_simulation_it_does_not_change; fi
+
+# An edit of a preset with a density grid is prepared (the grid converted again) on a worker while
+# the window keeps running; once it is shown, the frame equals brume play of the file edited the same way.
+sed 's/^extinction_scale = 3.0$/extinction_scale = 1.5/' "$presets/vdb-cloud.toml" >vdb-edited.toml
+"$brume" play vdb-edited.toml -o play.vdb --frames 4-4 --size 64x48 --format png >play.vdb.log 2>&1
+printf 'frame 4\nwait 1\nscreenshot vdb-before.png\nset vdb[0].extinction_scale 1.5\nwait 1\nscreenshot vdb-after.png\nquit\n' >vdb.script
+"$brume" preview vdb-cloud --size 64x48 --script vdb.script --validate >vdb.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ]; then fail edit_on_worker "rc $rc: $(tail -1 vdb.log)"
+elif ! grep -q '^extinction_scale = 1.5$' vdb-edited.toml; then fail edit_on_worker "the sed edit did not apply"
+elif ! grep -q '^set vdb\[0\].extinction_scale = 1.5 (preparing on a worker)$' vdb.log; then fail edit_on_worker.worker "$(grep '^set' vdb.log)"
+elif cmp -s vdb-before.png vdb-after.png; then fail edit_on_worker.changes "the edit did not change the frame"
+elif ! cmp -s vdb-after.png play.vdb/vdb-cloud.0004.png; then fail edit_on_worker.equals_play "differs from play of the edited file"
+else ok edit_prepared_on_worker_equals_play; fi
+
+# Render sequence: brume play in the background, with the view's method and size and the edited
+# preset; byte for byte what brume play writes with the same options.
+printf 'wait 1\nmethod soft\nset emitter[0].rate 600.0\nrender-sequence seq 3-5\nwait 1\nquit\n' >sequence.script
+"$brume" preview plume --size 64x48 --script sequence.script --validate >sequence.log 2>&1
+rc=$?
+"$brume" play plume-edited.toml -o play.seq --frames 3-5 --size 64x48 --method soft --format png >play.seq.log 2>&1
+same=0
+for f in 3 4 5; do
+    name=$(printf 'plume.%04d.png' $f)
+    cmp -s "seq/$name" "play.seq/$name" && same=$((same + 1))
+done
+if [ "$rc" -ne 0 ]; then fail render_sequence "rc $rc: $(tail -2 sequence.log)"
+elif ! grep -q "^render-sequence: 3 of 3 frames written by brume play: wrote 3 frames" sequence.log; then
+    fail render_sequence.progress "$(grep render-sequence sequence.log)"
+elif [ "$same" != 3 ]; then fail render_sequence.equals_play "$same of 3 frames equal brume play's"
+elif cmp -s seq/plume.0003.png seq/plume.0004.png; then fail render_sequence.frames_move "frames 3 and 4 are the same"
+else ok render_sequence_equals_play; fi
+
+# The same from a file without [preset] name (the name is its stem), edited: the frames are named
+# as brume play names them for that file, and equal them.
+grep -v '^name = "plume"$' "$presets/plume.toml" >myplume.toml
+mkdir -p edited && sed 's/^rate = 220.0$/rate = 600.0/' myplume.toml >edited/myplume.toml
+printf 'wait 1\nset emitter[0].rate 600.0\nrender-sequence seq2 2-3\nquit\n' >sequence2.script
+"$brume" preview myplume.toml --size 64x48 --script sequence2.script --validate >sequence2.log 2>&1
+rc=$?
+"$brume" play edited/myplume.toml -o play.seq2 --frames 2-3 --size 64x48 --format png >play.seq2.log 2>&1
+if [ "$rc" -ne 0 ]; then fail render_sequence.stem_name "rc $rc: $(tail -2 sequence2.log)"
+elif grep -q '^name = "plume"$' myplume.toml || ! grep -q '^rate = 600.0$' edited/myplume.toml; then fail render_sequence.stem_name "the edits of the test files did not apply"
+elif ! cmp -s seq2/myplume.0002.png play.seq2/myplume.0002.png || ! cmp -s seq2/myplume.0003.png play.seq2/myplume.0003.png; then
+    fail render_sequence.stem_name "frames differ or are misnamed: $(ls seq2 | tr '\n' ' ')"
+elif ls -a | grep -q 'preview-sequence'; then fail render_sequence.stem_name "the hidden copy of the preset was left behind"
+else ok render_sequence_named_by_stem; fi
+
+# brume bench preview: a window per preset, the figures side by side; with no display, one line.
+env -u DISPLAY -u WAYLAND_DISPLAY "$brume" bench preview >bench-nodisplay.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && [ "$(wc -l <bench-nodisplay.log)" -eq 1 ] && grep -q "bench preview opens a window: no X11 or Wayland display" bench-nodisplay.log; then
+    ok bench_preview_no_display_refused
+else
+    fail bench_preview_no_display_refused "rc $rc: $(cat bench-nodisplay.log)"
+fi
+"$brume" bench preview --presets campfire,crossing --preview-frames 3 --frames 1 --size 64x48 --validate >bench.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ]; then fail bench_preview "rc $rc: $(tail -2 bench.log)"
+elif [ "$(grep -cE '^(campfire|crossing) +[0-9]+x[0-9]+ +[0-9.]+ ' bench.log)" != 2 ]; then fail bench_preview "no table rows: $(tail -4 bench.log)"
+else ok bench_preview_table; fi
 
 # Hot reload: a broken file is refused with its file:line error while the last good frame stays; the
 # fixed file is read and shown. The shell edits the file while the preview's script waits for it.

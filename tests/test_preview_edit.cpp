@@ -10,6 +10,8 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace brume::app {
 namespace {
@@ -73,14 +75,80 @@ TEST(PreviewEdit, SavedTextChangesOnlyTheEditedValues) {
     editor.set("lighting.ambient[0]", "0.125");
     EXPECT_EQ(editor.saved_text(),
               "# a comment\n[lighting]\nsun = [2.0, 0.75, 0.5]  # warm\nambient = [0.125, 0.2, 0.2]\n");
-    // A key the file does not have cannot be written in place.
+    // A key the file does not have is added to its table, after the table's values.
     editor.set("lighting.background", "[0.0, 0.0, 0.0]");
-    try {
-        (void)editor.saved_text();
-        ADD_FAILURE() << "saved a key that is not in the file";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("lighting.background is not in t.toml"), std::string::npos);
+    EXPECT_EQ(editor.saved_text(), "# a comment\n[lighting]\nsun = [2.0, 0.75, 0.5]  # warm\nambient = [0.125, 0.2, 0.2]\n"
+                                   "background = [0.0, 0.0, 0.0]\n");
+}
+
+// Keys a file leaves out (defaults): each goes into the table it belongs to, before that table's
+// sub-tables and the comments of the next section; a missing table is added (after its [[array]]
+// entry's values for a sub-table such as emitter[1].curves); every line of the file stays, in order;
+// and the saved text reads back as the edited preset.
+TEST(PreviewEdit, SaveAddsKeysTheFileLacksToTheirTables) {
+    const std::string text =
+        "# top\n[timeline]\nfps = 24.0  # frames\n\n# the first jet\n[[emitter]]\nshape = \"point\"\n"
+        "center = [0.0, 0.0, 0.0]\nrate = 100.0\n\n[emitter.curves]\nfade_in = 0.1\n\n"
+        "[[emitter]]\nshape = \"point\"\ncenter = [1.0, 0.0, 0.0]\n";
+    PresetEditor editor(text, "t.toml");
+    editor.set("timeline.seed", "7");
+    editor.set("emitter[0].speed", "2.5");
+    editor.set("emitter[1].curves.fade_out", "0.25");
+    editor.set("emitter[1].curves.fade_in", "0.5");  // the same new table: one header
+    editor.set("lighting.ambient", "[0.5, 0.5, 0.5]");
+    const Preset want = editor.set("emitter[1].rate", "50.0");
+    const std::string saved = editor.saved_text();
+    EXPECT_EQ(saved,
+              "# top\n[timeline]\nfps = 24.0  # frames\nseed = 7\n\n# the first jet\n[[emitter]]\nshape = \"point\"\n"
+              "center = [0.0, 0.0, 0.0]\nrate = 100.0\nspeed = 2.5\n\n[emitter.curves]\nfade_in = 0.1\n\n"
+              "[[emitter]]\nshape = \"point\"\ncenter = [1.0, 0.0, 0.0]\nrate = 50.0\n"
+              "\n[emitter.curves]\nfade_out = 0.25\nfade_in = 0.5\n"
+              "\n[lighting]\nambient = [0.5, 0.5, 0.5]\n")
+        << saved;
+    EXPECT_EQ(preset_to_toml(parse_preset_toml(saved, "t.toml")), preset_to_toml(want));
+}
+
+TEST(PreviewEdit, SaveAddsAMissingKeyToEveryShippedPreset) {
+    // A [timeline] key each file leaves out (a default): the file gains exactly that line, in its
+    // [timeline] table, and reads back as the edited preset.
+    const std::vector<std::pair<std::string, std::string>> candidates = {
+        {"seed", "99"}, {"preroll", "0.25"}, {"max_particles", "12345"}, {"substeps", "3"}};
+    int checked = 0;
+    for (const std::string& name : builtin_preset_names()) {
+        SCOPED_TRACE(name);
+        const std::string text(*builtin_preset_toml(name));
+        const std::size_t table = text.find("\n[timeline]\n");
+        if (table == std::string::npos) continue;
+        const std::size_t table_end = text.find("\n[", table + 1);
+        const std::string section = text.substr(table, table_end - table);
+        for (const auto& [key, value] : candidates) {
+            if (section.find("\n" + key + " =") != std::string::npos) continue;
+            SCOPED_TRACE(key);
+            PresetEditor editor(text, "presets/" + name + ".toml");
+            const Preset want = editor.set("timeline." + key, value);
+            const std::string saved = editor.saved_text();
+            const std::string line = key + " = " + value + "\n";
+            EXPECT_EQ(saved.size(), text.size() + line.size());
+            const std::size_t at = saved.find("\n" + line) + 1;
+            ASSERT_NE(at, std::string::npos + 1);
+            EXPECT_EQ(saved.substr(0, at) + saved.substr(at + line.size()), text);  // every other byte as it was
+            EXPECT_GT(at, table);
+            EXPECT_LE(at, table_end);  // inside [timeline], before the line break that ends it
+            EXPECT_EQ(preset_to_toml(parse_preset_toml(saved, "presets/" + name + ".toml")), preset_to_toml(want));
+            ++checked;
+            break;
+        }
     }
+    EXPECT_GE(checked, 3);
+}
+
+TEST(PreviewEdit, WhichEditsTheSimulationReads) {
+    for (const char* key : {"emitter[0].rate", "force[1].strength", "box[0].min", "timeline.fps", "timeline.seed",
+                            "timeline.max_particles", "timeline.substeps"})
+        EXPECT_TRUE(edit_affects_simulation(key)) << key;
+    for (const char* key : {"lighting.sun", "lighting.sun[1]", "camera.fov_deg", "camera_path.radius", "render.min_transmittance",
+                            "render_settings.exposure", "sphere[0].radius", "timeline.duration", "preset.name"})
+        EXPECT_FALSE(edit_affects_simulation(key)) << key;
 }
 
 }  // namespace

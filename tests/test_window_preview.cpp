@@ -150,3 +150,43 @@ TEST_F(WindowPreview, SplitAndDifferenceViewsComposeTheTwoMethods) {
 }
 
 }  // namespace
+
+// The heat map of list length tints exactly the pixels whose ray meets a sphere (the count the
+// screenshot line reports, from the heat-map pass) and leaves every other pixel as the frame has it;
+// off again, the frame is the method's alone. Read from the linear EXR screenshots.
+TEST_F(WindowPreview, HeatMapTintsExactlyThePixelsWithLists) {
+    write("heat.script",
+          "frame 8\nwait 1\nscreenshot plain.exr\nheat-map on\nwait 1\nscreenshot heat.exr\nheat-map off\nwait 1\n"
+          "screenshot off.exr\nheat-map on\nwait 1\nquit\n");
+    // Quitting with the overlay shown: its composite must outlive the last frame that samples it
+    // (validation would fail the run, status 3).
+    ASSERT_EQ(brume("preview crossing --size 96x72 --validate --script heat.script"), 0) << dir_ / "log.txt";
+    const brume::Image plain = brume::read_exr(dir_ / "plain.exr");
+    const brume::Image heat = brume::read_exr(dir_ / "heat.exr");
+    const brume::Image off = brume::read_exr(dir_ / "off.exr");
+    ASSERT_EQ(plain.width, 96);
+    ASSERT_EQ(heat.rgb.size(), plain.rgb.size());
+    EXPECT_EQ(off.rgb, plain.rgb);
+    std::ifstream log(dir_ / "log.txt");
+    unsigned long long with_lists = 0, nodes = 0;
+    double longest = 0.0, mean = 0.0;
+    bool found = false;
+    for (std::string line; std::getline(log, line);) {
+        const std::size_t at = line.find(", heat map: ");
+        if (line.rfind("screenshot heat.exr", 0) == 0 && at != std::string::npos)
+            found = std::sscanf(line.c_str() + at, ", heat map: longest %lf, mean %lf over %llu pixels, %llu nodes",
+                                &longest, &mean, &with_lists, &nodes) == 4;
+    }
+    ASSERT_TRUE(found) << "no heat map figures in " << dir_ / "log.txt";
+    std::size_t tinted = 0;
+    for (std::size_t p = 0; p < plain.rgb.size() / 3; ++p) {
+        bool differs = false;
+        for (int c = 0; c < 3; ++c) differs = differs || heat.rgb[p * 3 + c] != plain.rgb[p * 3 + c];
+        tinted += differs;
+    }
+    EXPECT_EQ(tinted, with_lists);
+    EXPECT_GT(with_lists, 96u * 72u / 20u);  // the jets cover part of the view ...
+    EXPECT_LT(with_lists, 96u * 72u);        // ... not all of it
+    EXPECT_GE(longest, 2.0);                 // they overlap
+    EXPECT_NEAR(mean * double(with_lists), double(nodes), 0.5);
+}

@@ -3,6 +3,7 @@
 #include "render/supersample.h"
 #include "render/vk/resources.h"
 
+#include <chrono>
 #include <stdexcept>
 
 namespace brume {
@@ -47,7 +48,9 @@ void FramePath::record_shared_passes(VkCommandBuffer cmd, FrameContext& ctx, con
 void FramePath::run(GpuMethod& method, const Scene& scene, FrameStats* stats, bool list_stats, Output output) {
     // The previous frame's method passes completed before it returned; only a presenter's passes
     // may still run, and recording a slot waits for that slot's last use.
+    const auto upload_start = std::chrono::steady_clock::now();
     resources_.upload(scene);
+    upload_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - upload_start).count();
     FrameContext ctx(scene, resources_, method, clock_, stats != nullptr, list_stats && method.has_list_stats());
     method.prepare(ctx);
     // Every frame: a few descriptor writes, and no method's set is in use by then (only a

@@ -40,6 +40,8 @@ public:
                    bool list_stats = false);
 
     const FrameResources& resources() const { return resources_; }
+    // Wall-clock milliseconds the last frame spent uploading its scene (the preview's "upload").
+    double last_upload_ms() const { return upload_ms_; }
     vk::Device& device() const { return device_; }
 
 private:
@@ -51,6 +53,7 @@ private:
     vk::FrameRing ring_;
     FrameResources resources_;
     PassClock clock_;
+    double upload_ms_ = 0.0;
 };
 
 }  // namespace brume

@@ -68,7 +68,7 @@ constexpr double kPerSphereMean = 3e-2, kPerSphereP999 = 0.3;
 // Both techniques against the exact model on the preset's frame, at 32x24 (16x12 for the 5,000-sphere
 // cloud): the exact reference's shadows cost O(pixels x spheres), which is why this runs small rather
 // than not at all. On lavapipe the accurate technique's sun lookups can exceed the device's loop budget
-// on the densest smoke (plume, vdb-cloud): the frame is then refused by name (ListResolveError), never wrong.
+// on the densest smoke (vdb-cloud; plume at full size): the frame is then refused by name (ListResolveError), never wrong.
 TEST_P(Presets, ShadowTechniquesWithinTheirStatedErrorOfTheExactModel) {
     std::optional<Preset> preset = builtin_preset(GetParam());
     ASSERT_TRUE(preset.has_value());

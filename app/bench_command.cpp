@@ -3,6 +3,7 @@
 
 #include "app/bench_methods.h"
 #include "app/bench_preview.h"
+#include "app/bench_shadows.h"
 #include "app/bench_vdb.h"
 #include "app/cli_util.h"
 #include "render/image_compare.h"
@@ -49,8 +50,10 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
     CLI::App* cmd = app.add_subcommand("bench", "Benchmarks that print figures side by side");
     cmd->add_option("which", args.which,
                     "methods (default: every method on every scene, charted), layers (Barta & Kovács, Tables 1-2), "
-                    "scale (exact methods against list length), sim (simulation step), vdb (OpenVDB import: spheres against error) or preview (the preview window's frame, part by part; needs a display)")
-        ->check(CLI::IsMember({"methods", "layers", "scale", "sim", "vdb", "preview"}));
+                    "scale (exact methods against list length), sim (simulation step), vdb (OpenVDB import: spheres against error), "
+                    "preview (the preview window's frame, part by part; needs a display) or shadows (shadow techniques: speed "
+                    "against accuracy)")
+        ->check(CLI::IsMember({"methods", "layers", "scale", "sim", "vdb", "preview", "shadows"}));
     add_bench_methods_options(*cmd, args);
     cmd->add_option("--spheres", args.spheres, "bench scale: sphere counts of the smoke clouds, e.g. 1000,10000,100000")
         ->capture_default_str();
@@ -64,6 +67,11 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
         ->check(CLI::Range(1, 100000))
         ->capture_default_str();
     cmd->add_option("--presets", args.presets, "bench preview: presets, comma-separated (default: every shipped preset)");
+    cmd->add_option("--shadow-scenes", args.shadow_scenes, "bench shadows: 'default' and shipped presets, comma-separated")
+        ->capture_default_str();
+    cmd->add_option("--shadow-frames", args.shadow_frames, "bench shadows: consecutive frames per preset")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1000));
     cmd->add_option("--sizes", args.sizes, "Resolutions, e.g. 800x600,1024x768");
     cmd->add_option("--layers", args.layers, "Layer counts, e.g. 2-16:2 or 2,8,16 (even)");
     cmd->add_option("--frames", args.frames, "ppll frames per point (median reported); bench preview: headless frames per preset")->check(CLI::Range(1, 10000));
@@ -82,6 +90,7 @@ void restrict_bench_help(CLI::App& bench, const std::string& which) {
         {"sim", {"--particles", "--steps"}},
         {"vdb", {"--vdb-sample", "--vdb-sizes", "--tolerances", "--output"}},
         {"preview", {"--preview-frames", "--presets", "--size", "--frames", "--device", "--validate"}},
+        {"shadows", {"--shadow-scenes", "--shadow-frames", "--size", "--frames", "--output", "--device", "--validate"}},
     };
     for (const auto& [name, reads] : kReads) {
         if (name != which) continue;
@@ -114,6 +123,7 @@ int run_bench(const BenchArgs& args) {
     if (args.which == "vdb") return run_bench_vdb(args);
     if (args.which == "scale") return run_bench_scale(args);
     if (args.which == "preview") return run_bench_preview(args);
+    if (args.which == "shadows") return run_bench_shadows(args);
     std::vector<std::pair<int, int>> sizes;
     for (std::size_t start = 0; start <= args.sizes.size();) {
         const std::size_t comma = args.sizes.find(',', start);

@@ -33,6 +33,9 @@ struct BenchArgs {
     std::string scenes = "default,cloud-1000,disjoint-300,layers-8,crossing,plume,fog-bank,explosion";
     std::string size;
     int anim_frames = 16;
+    // bench shadows
+    std::string shadow_scenes = "default,low-sun,campfire,crossing";
+    int shadow_frames = 3;
     // bench vdb
     std::string vdb_sample = "cloud";
     std::string vdb_sizes = "128,256";

@@ -49,8 +49,9 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
     cmd->add_option("--pool-nodes", args.pool_nodes, "Initial node-pool size (default: estimated from the scene)")
         ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 40));
     cmd->add_option("--shadows", args.shadows,
-                    "Shadow technique of the GPU methods when the scene has shadows: accurate (default) or per-sphere")
-        ->check(CLI::IsMember({"accurate", "per-sphere"}));
+                    "Shadow technique of the GPU methods when the scene has shadows: accurate (default) or per-sphere; "
+                    "off renders the scene without shadows")
+        ->check(CLI::IsMember({"accurate", "per-sphere", "off"}));
     cmd->add_option("--threads", args.threads, "CPU threads for the CPU tracers (reference, trace, auto; default: all)")->check(CLI::Range(0, 1024));
 }
 
@@ -168,7 +169,8 @@ int run_render(const RenderArgs& args) {
     StillReport still;
     Scene scene = preset ? preset_still(args, exposure, still) : args.scene.empty() ? default_scene() : load_scene_file(args.scene);
     if (!preset && !args.size.empty()) parse_size(args.size, scene.camera.width, scene.camera.height);
-    if (!args.shadows.empty())
+    if (args.shadows == "off") scene.lighting.shadows = false;
+    else if (!args.shadows.empty())
         scene.render.shadow_technique = args.shadows == "per-sphere" ? ShadowTechnique::PerSphere : ShadowTechnique::Accurate;
     if (!std::isfinite(exposure)) throw UsageError("--exposure must be a finite number of stops");
     std::vector<NamedPath> volumes;

@@ -40,7 +40,9 @@ public:
 
     // The light-space grid, for the GPU's copy (shaders/shared.h SunGridHeader). grid_side() is 0 without
     // shadows or spheres. Cell (i, j) covers u in grid_u0 + cell * [i, i + 1), v likewise, and lists
-    // cell_items()[cell_start()[j * side + i] ...  cell_start()[j * side + i + 1]).
+    // cell_items()[cell_start()[j * side + i] ...  cell_start()[j * side + i + 1]), from the sun down (by
+    // dot(centre, l) + radius, largest first): a lookup at x stops at the first sphere that ends
+    // behind x.
     const glm::dvec3& grid_u() const { return u_; }
     const glm::dvec3& grid_v() const { return v_; }
     double grid_u0() const { return grid_u0_; }
@@ -55,7 +57,9 @@ private:
         glm::dvec3 center;
         double radius2;
         double tau;
+        double sun_end;  // dot(center, l) + radius: how far toward the sun the sphere reaches
     };
+    double sun_end(const Sphere& s) const;
 
     bool shadows_;
     glm::dvec3 l_{0.0};

@@ -37,8 +37,14 @@ float sun_transmittance(vec3 x, uint skip_box) {
     uint first = sun_grid_data[c], last = sun_grid_data[c + 1u];
     uint items = side * side + 1u;  // the sphere list follows the offsets
     float depth = 0.0;
+    // The cell lists run from the sun down (render/sun_light.h): once a sphere ends behind x as the sun
+    // sees it, dot(c, l) + r <= dot(x, l), it and every later one add nothing. The margin covers float
+    // rounding of the two dot products, so no sphere that reaches x is cut.
+    float x_end = dot(x, l);
     for (uint n = first; n < last; ++n) {
         GpuSphere g = spheres[sun_grid_data[items + n]];
+        float c_end = dot(g.center_radius.xyz, l) + g.center_radius.w;
+        if (c_end < x_end - 1e-5 * (abs(x_end) + abs(c_end) + 1.0)) break;
         float tau = g.albedo_extinction.w;
         if (tau > 0.0) depth += tau * sun_ray_length_inside(x, l, g.center_radius.xyz, g.center_radius.w * g.center_radius.w);
     }

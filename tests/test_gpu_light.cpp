@@ -2,9 +2,11 @@
 // suite (test_gpu_methods.cpp) checks for every method: the per-sphere shadow technique's error against
 // the exact reference, stated and held, and what ppll's images do when the scene has none of the new keys.
 #include "gpu_test_env.h"
+#include "shadow_error.h"
 #include "test_scenes.h"
 
 #include "render/methods/ppll.h"
+#include "sim/builtin_scenes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,27 +17,11 @@ namespace brume {
 namespace {
 
 using testing::GpuTest;
+using testing::shadow_error;
+using testing::ShadowError;
 using testing::sphere;
 
 class GpuLight : public GpuTest {};
-
-// Error of a shadowed image against the exact reference, over its peak: the mean over channels and the
-// 99.9th percentile.
-struct ShadowError {
-    double mean = 0.0, p999 = 0.0;
-};
-ShadowError shadow_error(const Image& img, const Image& ref) {
-    double peak = 0.0;
-    for (float v : ref.rgb) peak = std::max(peak, double(v));
-    std::vector<double> e(img.rgb.size());
-    double sum = 0.0;
-    for (std::size_t k = 0; k < e.size(); ++k) {
-        e[k] = std::abs(double(img.rgb[k]) - double(ref.rgb[k])) / peak;
-        sum += e[k];
-    }
-    std::sort(e.begin(), e.end());
-    return {sum / double(e.size()), e[std::min(e.size() - 1, std::size_t(0.999 * double(e.size())))]};
-}
 
 // A smoke cloud over a lit ground under a low sun, a box among the spheres casting its own shadow, seen
 // from outside and from inside the smoke.
@@ -116,6 +102,28 @@ TEST_F(GpuLight, AccurateShadowsMeetTheirTarget) {
         EXPECT_LT(e.p999, kAccurateP999);
         EXPECT_LT(e.mean, cheap.mean) << "the accurate technique should beat the per-sphere one";
     }
+}
+
+// The built-in default scene ships with shadows by the accurate technique (presets/default.toml): at
+// 80x60 its frame stays within the target of the exact model, and the shadows are seen (the
+// frame without them is further from the model by more than ten times that error).
+TEST_F(GpuLight, DefaultSceneShadowsMeetTheirTarget) {
+    Scene s = default_scene();
+    ASSERT_TRUE(s.lighting.shadows);
+    ASSERT_EQ(s.render.shadow_technique, ShadowTechnique::Accurate);
+    s.camera.width = 80;
+    s.camera.height = 60;
+    PpllMethod ppll(device());
+    const Image exact = render_reference(s);
+    const ShadowError e = shadow_error(ppll.render(s), exact);
+    Scene off = s;
+    off.lighting.shadows = false;
+    const ShadowError none = shadow_error(ppll.render(off), exact);
+    std::printf("  default scene, 80x60: accurate mean %.3g, p99.9 %.3g of the peak; no shadows mean %.3g\n", e.mean,
+                e.p999, none.mean);
+    EXPECT_LT(e.mean, kAccurateMean);
+    EXPECT_LT(e.p999, kAccurateP999);
+    EXPECT_GT(none.mean, 10.0 * e.mean);
 }
 
 // A scene without the new keys uploads T_sun = 1 and zero emission and diffuse, and the integrator's

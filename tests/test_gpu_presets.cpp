@@ -1,12 +1,16 @@
 // Every shipped preset simulates and renders; ppll matches the reference on real simulated frames (with
 // their shadows, fire and lit ground), including the fog bank whose camera flies through the particles
-// and the cloud read from a density grid.
+// and the cloud read from a density grid; each shadow technique stays within its stated error of the
+// exact model on every shadowed preset.
 #include "gpu_test_env.h"
+#include "shadow_error.h"
 #include "render/methods/ppll.h"
 #include "sim/builtin_presets.h"
 #include "sim/camera_path.h"
 #include "sim/simulator.h"
 #include "sim/vdb/volume_loader.h"
+
+#include <cstdio>
 
 namespace brume {
 namespace {
@@ -16,13 +20,13 @@ using testing::GpuTest;
 
 class Presets : public GpuTest, public ::testing::WithParamInterface<std::string> {};
 
-Scene frame_scene(const Preset& preset, Simulator& sim, int frame) {
+Scene frame_scene(const Preset& preset, Simulator& sim, int frame, int width = 64, int height = 48) {
     sim.advance_to_frame(frame);
     Scene scene = preset.scene;
     sim.append_spheres(scene.spheres);
     scene.camera = camera_at(preset, sim.time());
-    scene.camera.width = 64;
-    scene.camera.height = 48;
+    scene.camera.width = width;
+    scene.camera.height = height;
     return scene;
 }
 
@@ -33,7 +37,10 @@ TEST_P(Presets, SimulatedFrameMatchesReference) {
     Simulator sim(*preset);
     // A frame a third of the way in: emitters have filled the view, the fog-bank camera is moving.
     const int frame = preset->timeline.frame_count() / 3;
-    const Scene scene = frame_scene(*preset, sim, frame);
+    Scene scene = frame_scene(*preset, sim, frame);
+    // ppll is exact for the per-sphere technique (the accurate one is checked below, against the exact
+    // model): a preset that uses the accurate one is checked here by the per-sphere one.
+    if (scene.lighting.shadows) scene.render.shadow_technique = ShadowTechnique::PerSphere;
     PpllMethod ppll(device());
     FrameStats stats;
     const Image img = ppll.render(scene, &stats);
@@ -41,13 +48,61 @@ TEST_P(Presets, SimulatedFrameMatchesReference) {
         EXPECT_GT(sim.size(), 0u) << "nothing was emitted by frame " << frame;
     }
     EXPECT_GT(stats.fragments, 0u);
-    // Presets shade their shadows by the per-sphere technique, for which ppll is exact: the reference is
-    // asked for the same technique (its exact model is the issue's, checked in test_gpu_light.cpp).
+    // The reference is asked for the same technique (its exact model is the issue's, checked in
+    // test_gpu_light.cpp and below).
     ReferenceOptions options;
-    if (scene.lighting.shadows && scene.render.shadow_technique == ShadowTechnique::PerSphere)
-        options.shadows = ReferenceShadows::PerSphere;
+    if (scene.lighting.shadows) options.shadows = ReferenceShadows::PerSphere;
     const ImageDiff d = compare_with_reference(img, testing::ReferenceImage(scene, options));
     EXPECT_EQ(d.pixels_over, 0u) << GetParam() << " frame " << frame << ": " << describe(d);
+}
+
+// The error of each shadow technique against the exact model on the presets' frames, as measured at
+// 32x24 (docs/accuracy.md, "The shipped presets"), with headroom. These are larger than on the test
+// clouds of test_gpu_light.cpp: the accurate technique's three samples per segment miss sharp box
+// shadows crossing long fog segments (low-sun, p99.9 2.4e-2; the target is 1e-2), and the
+// per-sphere technique's constant T_sun per sphere is furthest off in wide, thin fog (ground-fog, mean
+// 2.1e-2). Each technique must also be nearer the model than no shadows at all.
+constexpr double kAccurateMean = 2e-3, kAccurateP999 = 4e-2;
+constexpr double kPerSphereMean = 3e-2, kPerSphereP999 = 0.3;
+
+// Both techniques against the exact model on the preset's frame, at 32x24 (16x12 for the 5,000-sphere
+// cloud): the exact reference's shadows cost O(pixels x spheres), which is why this runs small rather
+// than not at all. On lavapipe the accurate technique's sun lookups can exceed the device's loop budget
+// on the densest smoke (vdb-cloud; plume at full size): the frame is then refused by name (ListResolveError), never wrong.
+TEST_P(Presets, ShadowTechniquesWithinTheirStatedErrorOfTheExactModel) {
+    std::optional<Preset> preset = builtin_preset(GetParam());
+    ASSERT_TRUE(preset.has_value());
+    if (!preset->scene.lighting.shadows) GTEST_SKIP() << GetParam() << " has no shadows (the benchmark scene)";
+    prepare_preset(*preset);
+    Simulator sim(*preset);
+    const int frame = preset->timeline.frame_count() / 3;
+    const bool large = GetParam() == "vdb-cloud";
+    Scene scene = frame_scene(*preset, sim, frame, large ? 16 : 32, large ? 12 : 24);
+    const Image exact = render_reference(scene);
+    PpllMethod ppll(device());
+    Scene off = scene;
+    off.lighting.shadows = false;
+    const testing::ShadowError none = testing::shadow_error(ppll.render(off), exact);
+    scene.render.shadow_technique = ShadowTechnique::PerSphere;
+    const testing::ShadowError per_sphere = testing::shadow_error(ppll.render(scene), exact);
+    std::printf("  %s frame %d, %dx%d, error of the peak: per-sphere mean %.3g p99.9 %.3g; no shadows mean %.3g "
+                "p99.9 %.3g\n",
+                GetParam().c_str(), frame, scene.camera.width, scene.camera.height, per_sphere.mean, per_sphere.p999,
+                none.mean, none.p999);
+    EXPECT_LT(per_sphere.mean, kPerSphereMean);
+    EXPECT_LT(per_sphere.p999, kPerSphereP999);
+    EXPECT_LT(per_sphere.mean, none.mean) << "the shadows should be seen";
+    scene.render.shadow_technique = ShadowTechnique::Accurate;
+    try {
+        const testing::ShadowError accurate = testing::shadow_error(ppll.render(scene), exact);
+        std::printf("  accurate mean %.3g p99.9 %.3g\n", accurate.mean, accurate.p999);
+        EXPECT_LT(accurate.mean, kAccurateMean);
+        EXPECT_LT(accurate.p999, kAccurateP999);
+        EXPECT_LT(accurate.mean, per_sphere.mean);
+    } catch (const ListResolveError& e) {
+        std::printf("  accurate refused: %s\n", e.what());
+        EXPECT_TRUE(GetParam() == "plume" || GetParam() == "vdb-cloud") << "refused where it was not before: " << e.what();
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, Presets, ::testing::ValuesIn(builtin_preset_names()),

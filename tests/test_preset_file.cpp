@@ -30,8 +30,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kPresetDir = fs::path(__FILE__).parent_path().parent_path() / "presets";
-const std::vector<std::string> kShipped{"campfire",   "crossing", "explosion", "fog-bank",
-                                        "ground-fog", "layers",   "plume"};
+const std::vector<std::string> kShipped{"campfire", "crossing", "explosion", "fog-bank", "ground-fog",
+                                        "layers",   "low-sun",  "plume",     "vdb-cloud"};
 
 // Every key of the schema set to something other than its default.
 constexpr const char* kEveryKey = R"([preset]
@@ -1080,15 +1080,16 @@ TEST(ShippedPresets, ShowWhatTheirNamesSay) {
     EXPECT_LT(offset, a.radius_range.max + b.radius_range.max) << "close enough to interpenetrate";
 }
 
-// Light through the smoke (docs/accuracy.md): these presets shade their ground by the sun and the smoke's
-// shadows, and the fires burn: emission over age that ends in soot. (crossing, plume and fog-bank stay
-// unshadowed for now: the benchmark and the popping test compare them with the exact reference, whose
-// shadowed frames cost O(pixels x spheres).)
+// Light through the smoke (docs/accuracy.md): every preset but the benchmark scene `layers` (whose 16
+// full-screen layers are bench layers' geometry and light) has shadows; those with a ground shade it by
+// the sun and the smoke's shadows; the fires burn: emission over age that ends in soot.
 TEST(ShippedPresets, AreLitAndBurn) {
-    for (const char* name : {"campfire", "explosion", "ground-fog"}) {
+    for (const std::string& name : builtin_preset_names()) {
+        if (name == "layers") continue;
         SCOPED_TRACE(name);
         const Preset p = *builtin_preset(name);
         EXPECT_TRUE(p.scene.lighting.shadows);
+        if (name == "vdb-cloud") continue;  // a cloud in the sky: no ground
         ASSERT_FALSE(p.scene.boxes.empty());
         EXPECT_GT(glm::length(p.scene.boxes[0].diffuse), 0.0) << "the ground is lit";
         EXPECT_EQ(p.scene.boxes[0].radiance, glm::dvec3(0.0));
@@ -1105,6 +1106,33 @@ TEST(ShippedPresets, AreLitAndBurn) {
         EXPECT_TRUE(e0.r >= e0.g && e0.g >= e0.b && e0.b > 0.0);
         EXPECT_EQ(evaluate_age_curves(fire->curves, 1.0).emission, glm::dvec3(0.0));
     }
+}
+
+// No world edge: a preset's ground (its first box, top face y = 0) reaches so far that, from every
+// camera position of its timeline, its nearest edge lies less than one pixel below the horizon at the
+// preset's resolution. (A 30-unit ground showed its far edge as a line across the view.)
+TEST(ShippedPresets, GroundEdgeStaysWithinAPixelOfTheHorizon) {
+    int grounds = 0;
+    for (const std::string& name : builtin_preset_names()) {
+        SCOPED_TRACE(name);
+        const Preset p = *builtin_preset(name);
+        if (p.scene.boxes.empty()) continue;  // layers, vdb-cloud: nothing stands on a ground
+        ++grounds;
+        const Box& ground = p.scene.boxes[0];
+        ASSERT_EQ(ground.max.y, 0.0);
+        const double pixel_rad = p.scene.camera.fov_y_deg * std::acos(-1.0) / 180.0 / double(p.scene.camera.height);
+        const int frames = p.timeline.frame_count();
+        for (int f = 0; f <= frames; f += std::max(1, frames / 16)) {
+            const Camera cam = camera_at(p, p.timeline.preroll + f / p.timeline.fps);
+            const glm::dvec3 eye = cam.position;
+            ASSERT_GT(eye.y, 0.0);
+            const double to_edge = std::min({eye.x - ground.min.x, ground.max.x - eye.x, eye.z - ground.min.z,
+                                              ground.max.z - eye.z});
+            ASSERT_GT(to_edge, 0.0);
+            EXPECT_LT(std::atan(eye.y / to_edge), pixel_rad) << "frame " << f << ": the ground's edge is visible";
+        }
+    }
+    EXPECT_GE(grounds, 6);
 }
 
 TEST(ShippedPresets, LayersIsTheBenchmarkScene) {

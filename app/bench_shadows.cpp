@@ -1,0 +1,244 @@
+#include "app/bench_shadows.h"
+
+#include "app/charts.h"
+#include "app/cli_util.h"
+#include "render/image_compare.h"
+#include "render/methods/fill_ceiling.h"
+#include "render/methods/ppll.h"
+#include "render/reference.h"
+#include "render/vk/device.h"
+#include "sim/builtin_presets.h"
+#include "sim/builtin_scenes.h"
+#include "sim/camera_path.h"
+#include "sim/simulator.h"
+#include "sim/vdb/volume_loader.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace brume::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ShadowScene {
+    std::string name;
+    std::vector<Scene> frames;  // one for a static scene, consecutive frames of an animation
+};
+
+// The built-in default scene, or `count` consecutive frames of a shipped preset from a third of its
+// timeline (emitters have filled the view), at w x h. Shadows on in either case: a scene that has none
+// is benchmarked as if it had.
+ShadowScene make_shadow_scene(const std::string& name, int count, int w, int h) {
+    ShadowScene out{name, {}};
+    if (name == "default") {
+        Scene s = default_scene();
+        s.camera.width = w;
+        s.camera.height = h;
+        out.frames.push_back(std::move(s));
+    } else {
+        std::optional<Preset> preset = builtin_preset(name);
+        if (!preset) throw std::invalid_argument("--shadow-scenes: no built-in preset '" + name + "' (nor 'default')");
+        prepare_preset(*preset);
+        Simulator sim(*preset);
+        sim.advance_to_frame(std::max(0, std::min(preset->timeline.frame_count() / 3, preset->timeline.frame_count() - count)));
+        for (int f = 0; f < count; ++f) {
+            if (f > 0) sim.step_frame();
+            Scene s = preset->scene;
+            sim.append_spheres(s.spheres);
+            s.camera = camera_at(*preset, sim.time());
+            s.camera.width = w;
+            s.camera.height = h;
+            out.frames.push_back(std::move(s));
+        }
+    }
+    for (Scene& s : out.frames) s.lighting.shadows = true;
+    return out;
+}
+
+// Mean and 99.9th percentile of |image - reference| over the reference's peak, pixels and channels
+// together (the terms docs/accuracy.md states the techniques' error in).
+void error_over_peak(const Image& img, const Image& ref, double& mean, double& p999) {
+    double peak = 0.0;
+    for (float v : ref.rgb) peak = std::max(peak, double(v));
+    if (peak <= 0.0) peak = 1.0;
+    std::vector<double> e(img.rgb.size());
+    double sum = 0.0;
+    for (std::size_t k = 0; k < e.size(); ++k) {
+        e[k] = std::abs(double(img.rgb[k]) - double(ref.rgb[k])) / peak;
+        sum += e[k];
+    }
+    std::sort(e.begin(), e.end());
+    mean = e.empty() ? 0.0 : sum / double(e.size());
+    p999 = e.empty() ? 0.0 : e[std::min(e.size() - 1, std::size_t(0.999 * double(e.size())))];
+}
+
+struct Technique {
+    const char* name;
+    bool shadows;
+    ShadowTechnique technique;
+};
+constexpr Technique kTechniques[] = {
+    {"none", false, ShadowTechnique::Accurate},
+    {"per-sphere", true, ShadowTechnique::PerSphere},
+    {"accurate", true, ShadowTechnique::Accurate},
+};
+
+struct Result {
+    std::string scene, technique;
+    double ms = 0.0, mean = 0.0, p999 = 0.0, temporal = 0.0;
+};
+
+double wall_ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int run_bench_shadows(const BenchArgs& args) {
+    int w = 128, h = 96;
+    if (!args.size.empty()) parse_size(args.size, w, h);
+    std::vector<std::string> names;
+    {
+        std::stringstream in(args.shadow_scenes);
+        for (std::string item; std::getline(in, item, ',');)
+            if (!item.empty()) names.push_back(item);
+    }
+    if (names.empty()) throw std::invalid_argument("--shadow-scenes: no scene named");
+    std::vector<ShadowScene> scenes;
+    for (const std::string& name : names) scenes.push_back(make_shadow_scene(name, args.shadow_frames, w, h));
+
+    vk::DeviceOptions device_options;
+    device_options.device_name = args.device;
+    device_options.validate = args.validate;
+    vk::Device device(device_options);
+    PpllMethod ppll(device);
+    FillCeiling fill(device);
+    const char* threads = std::getenv("LP_NUM_THREADS");
+    std::printf("# brume bench shadows: ppll's shadow techniques at %dx%d on %s (LP_NUM_THREADS=%s); GPU ms, the mean "
+                "over a scene's frames of the median of %d renders after 1 warm-up\n",
+                w, h, device.name().c_str(), threads ? threads : "default", args.frames);
+    std::printf("# error against the exact CPU reference (double, adaptive quadrature between the shadow edges), over "
+                "its peak: mean and p99.9 of |ppll - ref| (worst frame), temporal = the largest popping metric over "
+                "frame steps\n");
+    std::printf("# ceiling: x_none = ms / the same frames without shadows (the issue's bound for accurate: 2x); "
+                "competitor: vs_ref = reference ms / ms; fill_ms = rasterising the impostors alone\n");
+    std::printf("%-11s %6s  %-10s %9s %7s %9s %9s %9s %9s %8s  %s\n", "scene", "frames", "technique", "ms", "x_none",
+                "mean/pk", "p99.9/pk", "temporal", "fill_ms", "vs_ref", "passes (ms, last frame)");
+
+    std::vector<Result> results;
+    for (const ShadowScene& scene : scenes) {
+        // The exact reference once per frame, timed (wall clock, all cores).
+        std::vector<Image> refs;
+        std::vector<double> ref_ms;
+        for (const Scene& s : scene.frames) {
+            const auto t0 = std::chrono::steady_clock::now();
+            refs.push_back(render_reference(s));
+            ref_ms.push_back(wall_ms_since(t0));
+        }
+        const double reference_ms = median(ref_ms);
+        std::vector<double> fill_ms;
+        fill.render(scene.frames[0], nullptr);
+        for (int r = 0; r < args.frames; ++r) {
+            FrameStats stats;
+            fill.render(scene.frames[0], &stats);
+            fill_ms.push_back(stats.total_ms);
+        }
+        const double fill_median = median(fill_ms);
+
+        double none_ms = 0.0;
+        for (const Technique& t : kTechniques) {
+            Result res{scene.name, t.name};
+            Image prev;
+            double ms_sum = 0.0;
+            std::string passes;
+            // A frame whose resolve exceeds the device's loop budget is refused by name (ppll.h); the
+            // row says so instead of a figure.
+            try {
+                for (std::size_t f = 0; f < scene.frames.size(); ++f) {
+                    Scene s = scene.frames[f];
+                    s.lighting.shadows = t.shadows;
+                    s.render.shadow_technique = t.technique;
+                    Image img = ppll.render(s);  // warm-up: the first frame of a pipeline compiles it
+                    std::vector<double> ms;
+                    FrameStats stats;
+                    for (int r = 0; r < args.frames; ++r) {
+                        img = ppll.render(s, &stats);
+                        ms.push_back(stats.total_ms);
+                    }
+                    ms_sum += median(ms);
+                    double mean = 0.0, p999 = 0.0;
+                    error_over_peak(img, refs[f], mean, p999);
+                    res.mean = std::max(res.mean, mean);
+                    res.p999 = std::max(res.p999, p999);
+                    if (f > 0) res.temporal = std::max(res.temporal, temporal_error(img, prev, refs[f], refs[f - 1]));
+                    prev = std::move(img);
+                    if (f + 1 == scene.frames.size()) {
+                        std::ostringstream text;
+                        for (const PassTime& p : stats.passes) {
+                            char cell[64];
+                            std::snprintf(cell, sizeof cell, " %s=%.1f", p.name.c_str(), p.ms);
+                            text << cell;
+                        }
+                        passes = text.str();
+                    }
+                }
+            } catch (const ListResolveError& e) {
+                std::printf("%-11s %6zu  %-10s refused on this device: %.90s...\n", scene.name.c_str(), scene.frames.size(),
+                            t.name, e.what());
+                continue;
+            }
+            res.ms = ms_sum / double(scene.frames.size());
+            if (!t.shadows) none_ms = res.ms;
+            char temporal[32] = "-";
+            if (scene.frames.size() > 1) std::snprintf(temporal, sizeof temporal, "%.2e", res.temporal);
+            std::printf("%-11s %6zu  %-10s %9.2f %6.2fx %9.2e %9.2e %9s %9.2f %7.1fx %s\n", scene.name.c_str(),
+                        scene.frames.size(), t.name, res.ms, none_ms > 0 ? res.ms / none_ms : 0.0, res.mean, res.p999,
+                        temporal, fill_median, reference_ms / res.ms, passes.c_str());
+            results.push_back(res);
+        }
+        std::printf("%-11s %6zu  %-10s %9.2f %6.2fx %9s %9s %9s %9.2f %7.1fx (CPU, wall clock, all cores)\n",
+                    scene.name.c_str(), scene.frames.size(), "reference", reference_ms,
+                    none_ms > 0 ? reference_ms / none_ms : 0.0, "0", "0", "0", fill_median, 1.0);
+        std::fflush(stdout);
+    }
+
+    if (!args.output_dir.empty()) {
+        const fs::path dir(args.output_dir);
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
+        std::ofstream data(dir / "shadows.dat");
+        data << "# technique scene ms mean_error_over_peak p999_error_over_peak temporal\n";
+        std::ostringstream plot;
+        plot << "set terminal svg size 720,440\nset output 'shadows.svg'\nset logscale xy\nset key right top\n"
+             << "set xlabel 'ms per frame (ppll, GPU)'\nset ylabel 'mean |error| / peak against the exact reference'\n"
+             << "set title 'brume bench shadows: " << w << "x" << h << ", " << device.name() << "'\nplot ";
+        int index = 0;
+        for (const Technique& t : kTechniques) {
+            data << "\n\n# " << t.name << "\n";
+            for (const Result& r : results)
+                if (r.technique == t.name)
+                    // Log axes: an error of exactly 0 is drawn at 1e-9.
+                    data << t.name << " " << r.scene << " " << r.ms << " " << std::max(r.mean, 1e-9) << " " << r.p999
+                         << " " << r.temporal << "\n";
+            plot << (index ? ", " : "") << "'shadows.dat' index " << index
+                 << " using 3:4 with points pointsize 1.5 title '" << t.name << "', '' index " << index
+                 << " using 3:4:2 with labels offset 0,1 font ',8' notitle";
+            ++index;
+        }
+        plot << "\nset terminal pngcairo size 720,440\nset output 'shadows.png'\nreplot\n";
+        data.close();
+        for (const std::string& file : draw_charts(dir, {{"shadows", plot.str()}})) std::printf("# chart: %s\n", file.c_str());
+    }
+    return report_validation_messages(device) ? 3 : 0;
+}
+
+}  // namespace brume::app

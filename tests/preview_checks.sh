@@ -128,10 +128,10 @@ printf 'frame 10\nwait 1\nreference-error\nmethod wsum\nwait 1\nreference-error\
 "$brume" preview plume --size 128x96 --script reference.script --validate >reference.log 2>&1
 rc=$?
 verdict=$(grep '^reference error:' reference.log | awk '{ for (i = 1; i <= NF; i++) if ($i == "max") v[NR] = $(i + 1) }
-    END { if (NR == 2 && v[1] < 1e-4 && v[2] > 1e-2) print "ok"; else printf "%d lines, ppll %s, wsum %s", NR, v[1], v[2] }')
+    END { if (NR == 2 && v[1] < 1e-4 && v[2] > 1e-2) print "ok"; else printf "%d lines, auto %s, wsum %s", NR, v[1], v[2] }')
 if [ "$rc" -ne 0 ]; then fail reference_error "rc $rc: $(tail -1 reference.log)"
 elif [ "$verdict" != ok ]; then fail reference_error "$verdict"
-elif ! grep -q "method ppll at 128x96" reference.log; then fail reference_error "not at the viewport's size: $(grep '^reference' reference.log | head -1)"
+elif ! grep -q "method auto at 128x96" reference.log; then fail reference_error "not at the viewport's size: $(grep '^reference' reference.log | head -1)"
 else ok reference_error_exact_vs_approximate; fi
 
 # Validation stays clean across resizes (the swapchain is recreated) and method switches, and the

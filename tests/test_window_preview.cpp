@@ -121,7 +121,7 @@ TEST_F(WindowPreview, PanelIsDrawnOverTheFrameAndScreenshotsLeaveItOut) {
 // difference view is |method - other| x 8; both exactly, read from the linear EXR screenshots.
 TEST_F(WindowPreview, SplitAndDifferenceViewsComposeTheTwoMethods) {
     write("compare.script",
-          "frame 8\nwait 1\nscreenshot ppll.exr\nmethod soft\nscreenshot soft.exr\nmethod ppll\n"
+          "frame 8\nmethod ppll\nwait 1\nscreenshot ppll.exr\nmethod soft\nscreenshot soft.exr\nmethod ppll\n"
           "compare soft split\nwait 1\nscreenshot split.exr\ncompare soft difference\nwait 1\n"
           "screenshot difference.exr\ncompare off\nwait 1\nscreenshot again.exr\nquit\n");
     ASSERT_EQ(brume("preview crossing --size 96x72 --validate --script compare.script"), 0) << dir_ / "log.txt";

@@ -290,28 +290,24 @@ private:
             if (st.transmittance < min_transmittance_) return false;
         }
         st.t_prev = t;
+        // Enter or leave the event's medium, without a branch (entries and exits alternate unpredictably):
+        // v + (-1 * d) rounds as v - d, and on entry max(v + d, 0) is v + d (the sums are >= 0). Back in
+        // free space the sums become exactly 0, dropping the rounding left by add and subtract.
         const Medium& m = media_[std::uint32_t(key) >> 1];
-        if ((key & 1u) == 0u) {
-            st.sigma_t += m.tau;
-            for (int a = 0; a < 3; ++a) {
-                st.sigma_s[a] += m.scatter[a];
-                if (!kPlain) {
-                    st.sigma_sun[a] += m.sun_scatter[a];
-                    st.sigma_e[a] += m.emission[a];
-                }
-            }
-            ++st.inside;
-        } else if (--st.inside == 0) {
-            st.sigma_t = 0.0f;  // free space again: drop the rounding left by add/subtract
-            for (int a = 0; a < 3; ++a) st.sigma_s[a] = st.sigma_sun[a] = st.sigma_e[a] = 0.0f;
-        } else {
-            st.sigma_t = std::max(st.sigma_t - m.tau, 0.0f);
-            for (int a = 0; a < 3; ++a) {
-                st.sigma_s[a] = std::max(st.sigma_s[a] - m.scatter[a], 0.0f);
-                if (!kPlain) {
-                    st.sigma_sun[a] = std::max(st.sigma_sun[a] - m.sun_scatter[a], 0.0f);
-                    st.sigma_e[a] = std::max(st.sigma_e[a] - m.emission[a], 0.0f);
-                }
+        const bool exit = (key & 1u) != 0u;
+        const float sign = exit ? -1.0f : 1.0f;
+        st.inside += exit ? -1 : 1;
+        const bool free_space = st.inside == 0;
+        const auto step = [sign, free_space](float v, float d) {
+            const float r = std::max(v + sign * d, 0.0f);
+            return free_space ? 0.0f : r;
+        };
+        st.sigma_t = step(st.sigma_t, m.tau);
+        for (int a = 0; a < 3; ++a) {
+            st.sigma_s[a] = step(st.sigma_s[a], m.scatter[a]);
+            if (!kPlain) {
+                st.sigma_sun[a] = step(st.sigma_sun[a], m.sun_scatter[a]);
+                st.sigma_e[a] = step(st.sigma_e[a], m.emission[a]);
             }
         }
         return true;

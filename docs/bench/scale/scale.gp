@@ -5,7 +5,7 @@ set key left top
 set xlabel 'fragments (list nodes) per frame'
 set ylabel 'ms per frame'
 set title 'brume bench scale: 640x360 smoke clouds, llvmpipe (LLVM 15.0.6, 256 bits)'
-plot 'scale.dat' index 0 using 2:3 with linespoints title 'tiles', 'scale.dat' index 1 using 2:3 with linespoints title 'ppll', 'scale.dat' index 2 using 2:3 with linespoints title 'auto', 'scale.dat' index 3 using 2:3 with linespoints title 'reference', 'scale.dat' index 4 using 2:3 with linespoints title 'sorted'
+plot 'scale.dat' index 0 using 2:3 with linespoints title 'trace', 'scale.dat' index 1 using 2:3 with linespoints title 'ppll', 'scale.dat' index 2 using 2:3 with linespoints title 'auto', 'scale.dat' index 3 using 2:3 with linespoints title 'reference', 'scale.dat' index 4 using 2:3 with linespoints title 'sorted'
 set terminal pngcairo size 720,440
 set output 'scale.png'
 replot

@@ -291,16 +291,18 @@ private:
         }
         st.t_prev = t;
         // Enter or leave the event's medium, without a branch (entries and exits alternate unpredictably):
-        // v + (-1 * d) rounds as v - d, and on entry max(v + d, 0) is v + d (the sums are >= 0). Back in
+        // v + (-1 * d) rounds as v - d. Leaving clamps at 0 against rounding, entering does not (a scene
+        // built in code may hold a negative albedo, as the layers benchmark's far spheres do). Back in
         // free space the sums become exactly 0, dropping the rounding left by add and subtract.
         const Medium& m = media_[std::uint32_t(key) >> 1];
         const bool exit = (key & 1u) != 0u;
         const float sign = exit ? -1.0f : 1.0f;
         st.inside += exit ? -1 : 1;
         const bool free_space = st.inside == 0;
-        const auto step = [sign, free_space](float v, float d) {
-            const float r = std::max(v + sign * d, 0.0f);
-            return free_space ? 0.0f : r;
+        const auto step = [sign, exit, free_space](float v, float d) {
+            const float r = v + sign * d;
+            const float clamped = exit ? std::max(r, 0.0f) : r;
+            return free_space ? 0.0f : clamped;
         };
         st.sigma_t = step(st.sigma_t, m.tau);
         for (int a = 0; a < 3; ++a) {

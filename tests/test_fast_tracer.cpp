@@ -7,6 +7,7 @@
 #include "render/fast_tracer.h"
 #include "render/image_compare.h"
 #include "render/reference.h"
+#include "sim/layers_scene.h"
 
 #include <gtest/gtest.h>
 
@@ -140,6 +141,15 @@ TEST(FastTracer, LongListsAreExact) {
         const ImageDiff d = against_reference(s);
         EXPECT_EQ(d.pixels_over, 0u) << testing::long_list_name(p) << ": " << describe(d);
     }
+}
+
+TEST(FastTracer, TwoHundredFiftySixNestedSurfaces) {
+    // The layers benchmark at 256 layers: 128 spheres on every ray, the far ones with a negative red
+    // albedo, so the running sums go below 0 and must not be clamped on entry (a wrong clamp once
+    // cost 4e-3 of the peak here).
+    const Scene s = make_layers_scene(256, 32, 24);
+    const ImageDiff d = against_reference(s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
 }
 
 TEST(FastTracer, BitIdenticalForAnyThreadCount) {

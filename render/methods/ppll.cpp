@@ -40,11 +40,12 @@ void tangent_slopes(double lateral, double depth, double r, double& lo, double& 
 ListResolveError::ListResolveError(std::uint64_t pixels, std::uint32_t longest, bool tiles)
     : std::runtime_error(std::to_string(pixels) + (pixels == 1 ? " pixel" : " pixels") +
                          " could not be resolved on this device: " +
-                         (tiles ? "the fullest tile lists " + std::to_string(longest) + " spheres"
-                                : "the longest list has " + std::to_string(longest) + " nodes of overlapping media") +
+                         (tiles         ? "the fullest tile lists " + std::to_string(longest) + " spheres"
+                          : longest > 0 ? "the longest list has " + std::to_string(longest) + " nodes of overlapping media"
+                                        : "its lists of overlapping media are too long") +  // lengths not gathered
                          ", and the device cut the resolve's loops short (lavapipe ends a shader's loops after 65,535 "
-                         "iterations in all); no image was written. Use --method reference, or fewer overlapping "
-                         "particles") {}
+                         "iterations in all); no image was written. Use --method trace (exact, on the CPU, with no "
+                         "loop limit), or fewer overlapping particles") {}
 
 PoolBudgetError::PoolBudgetError(std::uint64_t needed, std::uint64_t allowed, bool addressable)
     : std::runtime_error(

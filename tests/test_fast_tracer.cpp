@@ -2,6 +2,7 @@
 // to float precision on every scene without shadows and with the per-sphere technique; the accurate
 // technique within the error the GPU's states; long lists, an eye inside the smoke, early stops,
 // supersampling; bit-identical for any thread count. CPU only: no device needed.
+#include "shadow_error.h"
 #include "test_scenes.h"
 
 #include "render/fast_tracer.h"
@@ -89,36 +90,15 @@ TEST(FastTracer, AccurateShadowsMeetTheGpuTechniquesTarget) {
     // nodes), against the exact model: the target docs/accuracy.md states, mean 1e-3 and p99.9 1e-2 of
     // the peak, from outside and from inside the smoke.
     for (const bool inside : {false, true}) {
-        Scene s = testing::random_scene(64, 48, 24, 11, false);
-        s.lighting.shadows = true;
-        s.lighting.sun_direction = {-0.7, -0.6, -0.3};
-        Box ground{{-8, -1.5, -8}, {8, -1, 8}, {0.0, 0.0, 0.0}};
-        ground.diffuse = {0.6, 0.6, 0.6};
-        Box pillar{{-0.3, -1, -0.3}, {0.3, 0.8, 0.3}, {0.0, 0.0, 0.0}};
-        pillar.diffuse = {0.4, 0.4, 0.4};
-        s.boxes = {ground, pillar};
-        if (inside) {
-            s.camera.position = s.spheres[0].center + glm::dvec3(0.0, 0.0, 0.05);
-            s.camera.look_at = {0.0, 0.0, 0.0};
-        }
-        const Image img = render_fast_trace(s);
+        const Scene s = testing::shadowed_cloud(inside);
         const Image exact = render_reference(s);
-        double peak = 0.0;
-        for (float v : exact.rgb) peak = std::max(peak, double(v));
-        std::vector<double> e(img.rgb.size());
-        double sum = 0.0;
-        for (std::size_t k = 0; k < e.size(); ++k) sum += e[k] = std::abs(double(img.rgb[k]) - exact.rgb[k]) / peak;
-        std::sort(e.begin(), e.end());
-        const double mean = sum / double(e.size()), p999 = e[std::size_t(0.999 * double(e.size()))];
-        EXPECT_LT(mean, 1e-3) << (inside ? "inside" : "outside");
-        EXPECT_LT(p999, 1e-2) << (inside ? "inside" : "outside");
+        const testing::ShadowError e = testing::shadow_error(render_fast_trace(s), exact);
+        EXPECT_LT(e.mean, 1e-3) << (inside ? "inside" : "outside");
+        EXPECT_LT(e.p999, 1e-2) << (inside ? "inside" : "outside");
         // Shadows do something here: the unshadowed image is much further from the model.
         Scene off = s;
         off.lighting.shadows = false;
-        const Image plain = render_fast_trace(off);
-        double off_sum = 0.0;
-        for (std::size_t k = 0; k < e.size(); ++k) off_sum += std::abs(double(plain.rgb[k]) - exact.rgb[k]) / peak;
-        EXPECT_GT(off_sum / double(e.size()), 5.0 * mean);
+        EXPECT_GT(testing::shadow_error(render_fast_trace(off), exact).mean, 5.0 * e.mean);
     }
 }
 

@@ -23,23 +23,7 @@ using testing::sphere;
 
 class GpuLight : public GpuTest {};
 
-// A smoke cloud over a lit ground under a low sun, a box among the spheres casting its own shadow, seen
-// from outside and from inside the smoke.
-Scene shadowed_cloud(bool eye_inside) {
-    Scene s = testing::random_scene(64, 48, 24, 11, false);
-    s.lighting.shadows = true;
-    s.lighting.sun_direction = {-0.7, -0.6, -0.3};
-    Box ground{{-8, -1.5, -8}, {8, -1, 8}, {0.0, 0.0, 0.0}};
-    ground.diffuse = {0.6, 0.6, 0.6};
-    Box pillar{{-0.3, -1, -0.3}, {0.3, 0.8, 0.3}, {0.0, 0.0, 0.0}};
-    pillar.diffuse = {0.4, 0.4, 0.4};
-    s.boxes = {ground, pillar};
-    if (eye_inside) {
-        s.camera.position = s.spheres[0].center + glm::dvec3(0.0, 0.0, 0.05);
-        s.camera.look_at = {0.0, 0.0, 0.0};
-    }
-    return s;
-}
+using testing::shadowed_cloud;
 
 // The per-sphere technique keeps each sphere's sun term constant: its error against the exact model is
 // the variation of T_sun across a sphere. The bounds are the measured figures (printed) with headroom;

@@ -227,4 +227,22 @@ inline std::string long_list_name(const LongList& p) {
     return std::to_string(p.nodes) + (p.coincident ? "_coincident" : "_chain") + (p.thick ? "_thick" : "_thin");
 }
 
+// A smoke cloud over a lit ground under a low sun, a box among the spheres casting its own shadow, seen
+// from outside and from inside the smoke.
+inline Scene shadowed_cloud(bool eye_inside) {
+    Scene s = random_scene(64, 48, 24, 11, false);
+    s.lighting.shadows = true;
+    s.lighting.sun_direction = {-0.7, -0.6, -0.3};
+    Box ground{{-8, -1.5, -8}, {8, -1, 8}, {0.0, 0.0, 0.0}};
+    ground.diffuse = {0.6, 0.6, 0.6};
+    Box pillar{{-0.3, -1, -0.3}, {0.3, 0.8, 0.3}, {0.0, 0.0, 0.0}};
+    pillar.diffuse = {0.4, 0.4, 0.4};
+    s.boxes = {ground, pillar};
+    if (eye_inside) {
+        s.camera.position = s.spheres[0].center + glm::dvec3(0.0, 0.0, 0.05);
+        s.camera.look_at = {0.0, 0.0, 0.0};
+    }
+    return s;
+}
+
 }  // namespace brume::testing

@@ -2,6 +2,7 @@
 
 #include "app/charts.h"
 #include "app/cli_util.h"
+#include "render/fast_tracer.h"
 #include "render/image_compare.h"
 #include "render/methods/fill_ceiling.h"
 #include "render/methods/ppll.h"
@@ -91,8 +92,12 @@ constexpr Technique kTechniques[] = {
     {"accurate", true, ShadowTechnique::Accurate},
 };
 
+// The shadowed frame's two exact paths: ppll on the device, and trace on the CPU (what auto takes on a
+// CPU device). Each has its own accurate technique (docs/accuracy.md).
+constexpr const char* kMethods[] = {"ppll", "trace"};
+
 struct Result {
-    std::string scene, technique;
+    std::string scene, method, technique;
     double ms = 0.0, mean = 0.0, p999 = 0.0, temporal = 0.0;
 };
 
@@ -122,16 +127,17 @@ int run_bench_shadows(const BenchArgs& args) {
     PpllMethod ppll(device);
     FillCeiling fill(device);
     const char* threads = std::getenv("LP_NUM_THREADS");
-    std::printf("# brume bench shadows: ppll's shadow techniques at %dx%d on %s (LP_NUM_THREADS=%s); GPU ms, the mean "
-                "over a scene's frames of the median of %d renders after 1 warm-up\n",
-                w, h, device.name().c_str(), threads ? threads : "default", args.frames);
+    std::printf("# brume bench shadows: the shadow techniques of ppll (GPU ms on %s, LP_NUM_THREADS=%s) and of trace "
+                "(CPU wall-clock ms, every core) at %dx%d; the mean over a scene's frames of the median of %d renders "
+                "after 1 warm-up\n",
+                device.name().c_str(), threads ? threads : "default", w, h, args.frames);
     std::printf("# error against the exact CPU reference (double, adaptive quadrature between the shadow edges), over "
-                "its peak: mean and p99.9 of |ppll - ref| (worst frame), temporal = the largest popping metric over "
+                "its peak: mean and p99.9 of |image - ref| (worst frame), temporal = the largest popping metric over "
                 "frame steps\n");
-    std::printf("# ceiling: x_none = ms / the same frames without shadows (the issue's bound for accurate: 2x); "
-                "competitor: vs_ref = reference ms / ms; fill_ms = rasterising the impostors alone\n");
-    std::printf("%-11s %6s  %-10s %9s %7s %9s %9s %9s %9s %8s  %s\n", "scene", "frames", "technique", "ms", "x_none",
-                "mean/pk", "p99.9/pk", "temporal", "fill_ms", "vs_ref", "passes (ms, last frame)");
+    std::printf("# ceiling: x_none = ms / the same method's frames without shadows (the issue's bound for accurate: "
+                "2x); competitor: vs_ref = reference ms / ms; fill_ms = rasterising the impostors alone\n");
+    std::printf("%-11s %6s  %-6s %-10s %9s %7s %9s %9s %9s %9s %8s  %s\n", "scene", "frames", "method", "technique", "ms",
+                "x_none", "mean/pk", "p99.9/pk", "temporal", "fill_ms", "vs_ref", "passes (ms, last frame)");
 
     std::vector<Result> results;
     for (const ShadowScene& scene : scenes) {
@@ -153,60 +159,71 @@ int run_bench_shadows(const BenchArgs& args) {
         }
         const double fill_median = median(fill_ms);
 
-        double none_ms = 0.0;
-        for (const Technique& t : kTechniques) {
-            Result res{scene.name, t.name};
-            Image prev;
-            double ms_sum = 0.0;
-            std::string passes;
-            // A frame whose resolve exceeds the device's loop budget is refused by name (ppll.h); the
-            // row says so instead of a figure.
-            try {
-                for (std::size_t f = 0; f < scene.frames.size(); ++f) {
-                    Scene s = scene.frames[f];
-                    s.lighting.shadows = t.shadows;
-                    s.render.shadow_technique = t.technique;
-                    Image img = ppll.render(s);  // warm-up: the first frame of a pipeline compiles it
-                    std::vector<double> ms;
-                    FrameStats stats;
-                    for (int r = 0; r < args.frames; ++r) {
-                        img = ppll.render(s, &stats);
-                        ms.push_back(stats.total_ms);
-                    }
-                    ms_sum += median(ms);
-                    double mean = 0.0, p999 = 0.0;
-                    error_over_peak(img, refs[f], mean, p999);
-                    res.mean = std::max(res.mean, mean);
-                    res.p999 = std::max(res.p999, p999);
-                    if (f > 0) res.temporal = std::max(res.temporal, temporal_error(img, prev, refs[f], refs[f - 1]));
-                    prev = std::move(img);
-                    if (f + 1 == scene.frames.size()) {
-                        std::ostringstream text;
-                        for (const PassTime& p : stats.passes) {
-                            char cell[64];
-                            std::snprintf(cell, sizeof cell, " %s=%.1f", p.name.c_str(), p.ms);
-                            text << cell;
+        for (const char* method : kMethods) {
+            const bool on_cpu = std::string(method) == "trace";
+            double none_ms = 0.0;
+            for (const Technique& t : kTechniques) {
+                Result res{scene.name, method, t.name};
+                Image prev;
+                double ms_sum = 0.0;
+                std::string passes;
+                // A frame whose resolve exceeds the device's loop budget is refused by name (ppll.h); the
+                // row says so instead of a figure.
+                try {
+                    for (std::size_t f = 0; f < scene.frames.size(); ++f) {
+                        Scene s = scene.frames[f];
+                        s.lighting.shadows = t.shadows;
+                        s.render.shadow_technique = t.technique;
+                        // Warm-up: the first frame of a pipeline compiles it (and trace's touches its memory).
+                        Image img = on_cpu ? render_fast_trace(s) : ppll.render(s);
+                        std::vector<double> ms;
+                        FrameStats stats;
+                        for (int r = 0; r < args.frames; ++r) {
+                            if (on_cpu) {
+                                const auto t0 = std::chrono::steady_clock::now();
+                                img = render_fast_trace(s);
+                                ms.push_back(wall_ms_since(t0));
+                            } else {
+                                img = ppll.render(s, &stats);
+                                ms.push_back(stats.total_ms);
+                            }
                         }
-                        passes = text.str();
+                        ms_sum += median(ms);
+                        double mean = 0.0, p999 = 0.0;
+                        error_over_peak(img, refs[f], mean, p999);
+                        res.mean = std::max(res.mean, mean);
+                        res.p999 = std::max(res.p999, p999);
+                        if (f > 0)
+                            res.temporal = std::max(res.temporal, temporal_error(img, prev, refs[f], refs[f - 1]));
+                        prev = std::move(img);
+                        if (f + 1 == scene.frames.size() && !on_cpu) {
+                            std::ostringstream text;
+                            for (const PassTime& p : stats.passes) {
+                                char cell[64];
+                                std::snprintf(cell, sizeof cell, " %s=%.1f", p.name.c_str(), p.ms);
+                                text << cell;
+                            }
+                            passes = text.str();
+                        }
                     }
+                } catch (const ListResolveError& e) {
+                    std::printf("%-11s %6zu  %-6s %-10s refused on this device: %.90s...\n", scene.name.c_str(),
+                                scene.frames.size(), method, t.name, e.what());
+                    continue;
                 }
-            } catch (const ListResolveError& e) {
-                std::printf("%-11s %6zu  %-10s refused on this device: %.90s...\n", scene.name.c_str(), scene.frames.size(),
-                            t.name, e.what());
-                continue;
+                res.ms = ms_sum / double(scene.frames.size());
+                if (!t.shadows) none_ms = res.ms;
+                char temporal[32] = "-";
+                if (scene.frames.size() > 1) std::snprintf(temporal, sizeof temporal, "%.2e", res.temporal);
+                std::printf("%-11s %6zu  %-6s %-10s %9.2f %6.2fx %9.2e %9.2e %9s %9.2f %7.1fx %s\n", scene.name.c_str(),
+                            scene.frames.size(), method, t.name, res.ms, none_ms > 0 ? res.ms / none_ms : 0.0, res.mean,
+                            res.p999, temporal, fill_median, reference_ms / res.ms, on_cpu ? "(CPU)" : passes.c_str());
+                results.push_back(res);
             }
-            res.ms = ms_sum / double(scene.frames.size());
-            if (!t.shadows) none_ms = res.ms;
-            char temporal[32] = "-";
-            if (scene.frames.size() > 1) std::snprintf(temporal, sizeof temporal, "%.2e", res.temporal);
-            std::printf("%-11s %6zu  %-10s %9.2f %6.2fx %9.2e %9.2e %9s %9.2f %7.1fx %s\n", scene.name.c_str(),
-                        scene.frames.size(), t.name, res.ms, none_ms > 0 ? res.ms / none_ms : 0.0, res.mean, res.p999,
-                        temporal, fill_median, reference_ms / res.ms, passes.c_str());
-            results.push_back(res);
         }
-        std::printf("%-11s %6zu  %-10s %9.2f %6.2fx %9s %9s %9s %9.2f %7.1fx (CPU, wall clock, all cores)\n",
-                    scene.name.c_str(), scene.frames.size(), "reference", reference_ms,
-                    none_ms > 0 ? reference_ms / none_ms : 0.0, "0", "0", "0", fill_median, 1.0);
+        std::printf("%-11s %6zu  %-6s %-10s %9.2f %7s %9s %9s %9s %9.2f %7.1fx (CPU, wall clock, all cores)\n",
+                    scene.name.c_str(), scene.frames.size(), "-", "reference", reference_ms, "-", "0", "0", "0",
+                    fill_median, 1.0);
         std::fflush(stdout);
     }
 
@@ -216,24 +233,26 @@ int run_bench_shadows(const BenchArgs& args) {
         fs::create_directories(dir, ec);
         if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
         std::ofstream data(dir / "shadows.dat");
-        data << "# technique scene ms mean_error_over_peak p999_error_over_peak temporal\n";
+        data << "# series scene ms mean_error_over_peak p999_error_over_peak temporal\n";
         std::ostringstream plot;
         plot << "set terminal svg size 720,440\nset output 'shadows.svg'\nset logscale xy\nset key right top\n"
-             << "set xlabel 'ms per frame (ppll, GPU)'\nset ylabel 'mean |error| / peak against the exact reference'\n"
+             << "set xlabel 'ms per frame (ppll: GPU; trace: CPU wall clock)'\nset ylabel 'mean |error| / peak against the exact reference'\n"
              << "set title 'brume bench shadows: " << w << "x" << h << ", " << device.name() << "'\nplot ";
         int index = 0;
-        for (const Technique& t : kTechniques) {
-            data << "\n\n# " << t.name << "\n";
-            for (const Result& r : results)
-                if (r.technique == t.name)
-                    // Log axes: an error of exactly 0 is drawn at 1e-9.
-                    data << t.name << " " << r.scene << " " << r.ms << " " << std::max(r.mean, 1e-9) << " " << r.p999
-                         << " " << r.temporal << "\n";
-            plot << (index ? ", " : "") << "'shadows.dat' index " << index
-                 << " using 3:4 with points pointsize 1.5 title '" << t.name << "', '' index " << index
-                 << " using 3:4:2 with labels offset 0,1 font ',8' notitle";
-            ++index;
-        }
+        for (const char* method : kMethods)
+            for (const Technique& t : kTechniques) {
+                const std::string series = std::string(method) + "-" + t.name;
+                data << "\n\n# " << series << "\n";
+                for (const Result& r : results)
+                    if (r.method == method && r.technique == t.name)
+                        // Log axes: an error of exactly 0 is drawn at 1e-9.
+                        data << series << " " << r.scene << " " << r.ms << " " << std::max(r.mean, 1e-9) << " "
+                             << r.p999 << " " << r.temporal << "\n";
+                plot << (index ? ", " : "") << "'shadows.dat' index " << index
+                     << " using 3:4 with points pointsize 1.5 title '" << series << "', '' index " << index
+                     << " using 3:4:2 with labels offset 0,1 font ',8' notitle";
+                ++index;
+            }
         plot << "\nset terminal pngcairo size 720,440\nset output 'shadows.png'\nreplot\n";
         data.close();
         for (const std::string& file : draw_charts(dir, {{"shadows", plot.str()}})) std::printf("# chart: %s\n", file.c_str());

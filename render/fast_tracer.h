@@ -13,8 +13,10 @@
 // What differs from the reference is float arithmetic only (the same as the GPU methods' exact
 // integrator, shaders/exact_integrator.glsl): the opaque surfaces are the reference's own
 // (render/opaque_surfaces.h, double). With shadows, the per-sphere technique is closed form as on the
-// GPU; the accurate technique takes, like ppll's, a 3-point Gauss-Legendre rule on each segment, with
-// T_sun exact at the nodes (render/sun_light.h). Bit-identical for any thread count.
+// GPU. The accurate technique reads the spheres' optical depth toward the sun from a light-space map
+// built once per frame (render/sun_depth_map.h), at every event and every two map cells along a
+// segment, takes it as linear in between (a closed form), and cuts the box shadows out of each segment
+// exactly; lit boxes take the exact T_sun at the hit. Bit-identical for any thread count.
 #pragma once
 
 #include "render/image.h"

@@ -4,6 +4,7 @@
 // exact model on every shadowed preset.
 #include "gpu_test_env.h"
 #include "shadow_error.h"
+#include "render/fast_tracer.h"
 #include "render/methods/ppll.h"
 #include "sim/builtin_presets.h"
 #include "sim/camera_path.h"
@@ -64,6 +65,7 @@ TEST_P(Presets, SimulatedFrameMatchesReference) {
 // 2.1e-2). Each technique must also be nearer the model than no shadows at all.
 constexpr double kAccurateMean = 2e-3, kAccurateP999 = 4e-2;
 constexpr double kPerSphereMean = 3e-2, kPerSphereP999 = 0.3;
+constexpr double kTraceAccurateMean = 1e-3, kTraceAccurateP999 = 3e-2;
 
 // Both techniques against the exact model on the preset's frame, at 32x24 (16x12 for the 5,000-sphere
 // cloud): the exact reference's shadows cost O(pixels x spheres), which is why this runs small rather
@@ -93,6 +95,13 @@ TEST_P(Presets, ShadowTechniquesWithinTheirStatedErrorOfTheExactModel) {
     EXPECT_LT(per_sphere.p999, kPerSphereP999);
     EXPECT_LT(per_sphere.mean, none.mean) << "the shadows should be seen";
     scene.render.shadow_technique = ShadowTechnique::Accurate;
+    // trace's accurate technique (the light-space depth map, render/sun_depth_map.h): what auto renders
+    // shadowed frames with on a CPU device.
+    const testing::ShadowError traced = testing::shadow_error(render_fast_trace(scene), exact);
+    std::printf("  trace accurate mean %.3g p99.9 %.3g\n", traced.mean, traced.p999);
+    EXPECT_LT(traced.mean, kTraceAccurateMean);
+    EXPECT_LT(traced.p999, kTraceAccurateP999);
+    EXPECT_LT(traced.mean, per_sphere.mean);
     try {
         const testing::ShadowError accurate = testing::shadow_error(ppll.render(scene), exact);
         std::printf("  accurate mean %.3g p99.9 %.3g\n", accurate.mean, accurate.p999);

@@ -1,0 +1,180 @@
+#include "render/sun_depth_map.h"
+
+#include "sim/parallel_for.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace brume {
+namespace {
+
+// The lattice spacing as a fraction of the spheres' mean radius: a shadow cylinder's edge, where the
+// optical depth has its steepest slope, is then resolved by a few vertices across the sphere.
+constexpr double kCellPerRadius = 0.1;
+// Rows of columns per work item of the build: each item splats the spheres that reach its rows.
+constexpr int kBandRows = 4;
+
+struct Projected {
+    double u, v, s, r, tau;
+};
+
+}  // namespace
+
+SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
+                         std::size_t max_vertices) {
+    if (!sun.shadows() || scene.spheres.empty()) return;
+    u_ = sun.grid_u();
+    v_ = sun.grid_v();
+    l_ = sun.toward_sun();
+    std::vector<Projected> spheres;
+    spheres.reserve(scene.spheres.size());
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf, s_lo = kInf, s_hi = -kInf, radius_sum = 0.0;
+    for (const Sphere& sp : scene.spheres) {
+        if (!(sp.extinction > 0.0) || !(sp.radius > 0.0)) continue;  // adds nothing to the optical depth
+        const glm::dvec3 c = sp.center - origin;
+        const Projected p{glm::dot(c, u_), glm::dot(c, v_), glm::dot(c, l_), sp.radius, sp.extinction};
+        u_lo = std::min(u_lo, p.u - p.r);
+        u_hi = std::max(u_hi, p.u + p.r);
+        v_lo = std::min(v_lo, p.v - p.r);
+        v_hi = std::max(v_hi, p.v + p.r);
+        s_lo = std::min(s_lo, p.s - p.r);
+        s_hi = std::max(s_hi, p.s + p.r);
+        radius_sum += p.r;
+        spheres.push_back(p);
+    }
+    if (spheres.empty()) return;
+
+    // The spacing: a fraction of the mean radius, widened until the lattice fits the budget. One empty
+    // column beyond the discs on each side of u and v (value 0, so lookups outside need no test but
+    // the lattice's bounds); along s, the first vertex at the lowest sphere's bottom (below it the
+    // optical depth is the whole column's) and the last at or above the highest sphere's top (0).
+    double cell = kCellPerRadius * radius_sum / double(spheres.size());
+    const auto counts = [&](double h, int& nu, int& nv, int& ns) {
+        nu = int(std::ceil((u_hi - u_lo) / h)) + 3;
+        nv = int(std::ceil((v_hi - v_lo) / h)) + 3;
+        ns = std::max(int(std::ceil((s_hi - s_lo) / h)) + 1, 2);
+    };
+    int nu = 0, nv = 0, ns = 0;
+    for (;;) {
+        // Counts in double first: a tiny cell over a wide scene must not overflow int.
+        const double du = (u_hi - u_lo) / cell + 3.0, dv = (v_hi - v_lo) / cell + 3.0, ds = (s_hi - s_lo) / cell + 2.0;
+        if (du * dv * ds <= double(max_vertices)) {
+            counts(cell, nu, nv, ns);
+            if (std::size_t(nu) * std::size_t(nv) * std::size_t(ns) <= max_vertices) break;
+        }
+        cell *= 1.125;
+    }
+    nu_ = nu;
+    nv_ = nv;
+    ns_ = ns;
+    cell_d_ = cell;
+    cell_ = float(cell);
+    u_lo_ = u_lo - cell;
+    v_lo_ = v_lo - cell;
+    s_lo_ = s_lo;
+    depth_.assign(std::size_t(nu) * std::size_t(nv) * std::size_t(ns), 0.0f);
+
+    // Each band of rows lists the spheres whose disc reaches it, in scene order (two counting passes),
+    // so that bands are splatted in parallel without sharing a vertex, and the sums' order is fixed:
+    // the map is the same for any thread count.
+    const int bands = (nv + kBandRows - 1) / kBandRows;
+    const auto row_range = [&](const Projected& p, int& j0, int& j1) {
+        j0 = std::clamp(int(std::ceil((p.v - p.r - v_lo_) / cell)), 0, nv - 1);
+        j1 = std::clamp(int(std::floor((p.v + p.r - v_lo_) / cell)), 0, nv - 1);
+    };
+    std::vector<std::uint32_t> band_first(std::size_t(bands) + 1, 0);
+    for (const Projected& p : spheres) {
+        int j0, j1;
+        row_range(p, j0, j1);
+        if (j1 < j0) continue;
+        for (int b = j0 / kBandRows; b <= j1 / kBandRows; ++b) ++band_first[std::size_t(b) + 1];
+    }
+    for (int b = 0; b < bands; ++b) band_first[std::size_t(b) + 1] += band_first[std::size_t(b)];
+    std::vector<std::uint32_t> band_items(band_first.back());
+    {
+        std::vector<std::uint32_t> next(band_first.begin(), band_first.end() - 1);
+        for (std::size_t n = 0; n < spheres.size(); ++n) {
+            int j0, j1;
+            row_range(spheres[n], j0, j1);
+            if (j1 < j0) continue;
+            for (int b = j0 / kBandRows; b <= j1 / kBandRows; ++b)
+                band_items[next[std::size_t(b)]++] = std::uint32_t(n);
+        }
+    }
+
+    const std::size_t column = std::size_t(ns);
+    const std::size_t band_vertices = std::size_t(kBandRows) * std::size_t(nu) * column;
+    std::vector<std::vector<float>> scratch(std::size_t(worker_count(threads, std::size_t(bands))));
+    parallel_for(std::size_t(bands), threads, [&](std::size_t band, int worker) {
+        // A vertex's depth is the sum over the lattice cells above it of each cell's share of the chords:
+        // depth(k) = sum over cells c >= k of inc(c), cell c = [s_c, s_c+1], inc(c) = sum tau |cell ∩ chord|.
+        // A chord adds tau * cell to every cell it covers whole, and a fraction to the one or two cells
+        // its ends lie in: the whole cells go in as a difference (`runs`: +tau cell at the run's top cell,
+        // -tau cell below its bottom cell), the end cells straight into the map, so each column a sphere
+        // crosses costs O(1), not O(chord). Two suffix sums per column, in double, then give the depths.
+        std::vector<float>& runs = scratch[std::size_t(worker)];
+        runs.assign(band_vertices, 0.0f);
+        const int row0 = int(band) * kBandRows, row1 = std::min(row0 + kBandRows, nv);
+        const int top_cell = ns - 2;  // cells 0 .. ns - 2 lie between the ns vertices
+        const auto cell_of = [&](double s) { return std::clamp(int(std::floor((s - s_lo_) / cell)), 0, top_cell); };
+        for (std::uint32_t n = band_first[band]; n < band_first[band + 1]; ++n) {
+            const Projected& p = spheres[band_items[n]];
+            int j0, j1;
+            row_range(p, j0, j1);
+            j0 = std::max(j0, row0);
+            j1 = std::min(j1, row1 - 1);
+            const int i0 = std::clamp(int(std::ceil((p.u - p.r - u_lo_) / cell)), 0, nu - 1);
+            const int i1 = std::clamp(int(std::floor((p.u + p.r - u_lo_) / cell)), 0, nu - 1);
+            const double r2 = p.r * p.r;
+            const float whole_cell = float(p.tau * cell);
+            for (int j = j0; j <= j1; ++j) {
+                const double dv = v_lo_ + double(j) * cell - p.v;
+                for (int i = i0; i <= i1; ++i) {
+                    const double du = u_lo_ + double(i) * cell - p.u;
+                    const double h2 = r2 - (du * du + dv * dv);
+                    if (!(h2 > 0.0)) continue;
+                    const double half = std::sqrt(h2);
+                    const double top = p.s + half, bottom = p.s - half;
+                    const std::size_t local = (std::size_t(j - row0) * std::size_t(nu) + std::size_t(i)) * column;
+                    float* inc = depth_.data() + (std::size_t(j) * std::size_t(nu) + std::size_t(i)) * column;
+                    const int cb = cell_of(bottom), ct = cell_of(top);
+                    if (cb == ct) {
+                        inc[cb] += float(p.tau * (top - bottom));
+                        continue;
+                    }
+                    inc[cb] += float(p.tau * (s_lo_ + double(cb + 1) * cell - bottom));
+                    inc[ct] += float(p.tau * (top - (s_lo_ + double(ct) * cell)));
+                    if (ct - 1 > cb) {  // whole cells cb + 1 .. ct - 1
+                        runs[local + std::size_t(ct - 1)] += whole_cell;
+                        runs[local + std::size_t(cb)] -= whole_cell;
+                    }
+                }
+            }
+        }
+        for (int j = row0; j < row1; ++j)
+            for (int i = 0; i < nu; ++i) {
+                const float* run = runs.data() + (std::size_t(j - row0) * std::size_t(nu) + std::size_t(i)) * column;
+                float* out = depth_.data() + (std::size_t(j) * std::size_t(nu) + std::size_t(i)) * column;
+                // Vertex ns - 1 lies at or above every top: 0. Then down, cell k's increment each step.
+                double whole = 0.0, depth = 0.0;
+                out[ns - 1] = 0.0f;
+                for (int k = top_cell; k >= 0; --k) {
+                    whole += double(run[k]);
+                    depth += double(out[k]) + whole;
+                    out[k] = float(depth);
+                }
+            }
+    });
+}
+
+SunDepthMap::Ray SunDepthMap::ray(const glm::dvec3& d) const {
+    const double inv = 1.0 / cell_d_;
+    return Ray{float(-u_lo_ * inv), float(glm::dot(d, u_) * inv), float(-v_lo_ * inv),
+               float(glm::dot(d, v_) * inv), float(-s_lo_ * inv), float(glm::dot(d, l_) * inv)};
+}
+
+}  // namespace brume

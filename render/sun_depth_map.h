@@ -1,0 +1,76 @@
+// The spheres' optical depth toward the sun, sum_k tau_k len_k(x) (render/sun_light.h), tabulated once
+// per frame on a light-space lattice and read back by trilinear interpolation: trace's accurate shadow
+// technique (render/fast_tracer.cpp) samples it along every view segment, where an exact lookup, a walk
+// over the spheres above x, costs 10-30 times as much.
+//
+// The lattice: axes u, v across the sun's rays and s = dot(x, l) along them (l toward the sun), one
+// spacing `cell` on all three. Each vertex holds the exact optical depth of its point: a sphere adds
+// tau (top - max(s, bottom)) to a column's vertices at s below the top of its chord, so a vertex value
+// is exact, and between vertices the error is the interpolation's. The column margins hold 0 (outside
+// every shadow cylinder) and the lowest vertex lies below every sphere, so clamping there is exact.
+// Boxes are not in the map: their shadows are sharp, and the tracer takes them in closed form
+// (render/sun_light.h box_shadow_interval).
+//
+// Coordinates are relative to an origin (the eye), so float keeps its precision where the rays are.
+#pragma once
+
+#include "render/sun_light.h"
+#include "sim/scene.h"
+
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+namespace brume {
+
+class SunDepthMap {
+public:
+    SunDepthMap() = default;  // empty
+    // Empty when the light casts no shadows or there are no spheres. At most `max_vertices` lattice
+    // points: the spacing is the larger of a fraction of the spheres' mean radius and what that budget
+    // allows. `threads` as parallel_for's.
+    SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
+                std::size_t max_vertices = kDefaultMaxVertices);
+
+    static constexpr std::size_t kDefaultMaxVertices = std::size_t(8) << 20;  // 32 MiB of floats
+
+    bool empty() const { return depth_.empty(); }
+    float cell() const { return cell_; }
+    int size_u() const { return nu_; }
+    int size_v() const { return nv_; }
+    int size_s() const { return ns_; }
+
+    // A ray origin + t d in lattice units: coordinate a = a0 + t da on each axis.
+    struct Ray {
+        float u0, du, v0, dv, s0, ds;
+    };
+    Ray ray(const glm::dvec3& d) const;
+
+    // The interpolated optical depth at origin + t d.
+    float optical_depth(const Ray& r, float t) const {
+        const float gu = r.u0 + t * r.du, gv = r.v0 + t * r.dv;
+        // Outside the lattice's columns (or NaN): outside every shadow cylinder.
+        if (!(gu >= 0.0f && gv >= 0.0f && gu < float(nu_ - 1) && gv < float(nv_ - 1))) return 0.0f;
+        const float gs = std::min(std::max(r.s0 + t * r.ds, 0.0f), float(ns_ - 1));
+        const int i = int(gu), j = int(gv), k = std::min(int(gs), ns_ - 2);
+        const float fu = gu - float(i), fv = gv - float(j), fs = gs - float(k);
+        const float* p = depth_.data() + (std::size_t(j) * std::size_t(nu_) + std::size_t(i)) * std::size_t(ns_) + k;
+        const std::size_t su = std::size_t(ns_), sv = std::size_t(nu_) * std::size_t(ns_);
+        const auto along_s = [fs](const float* q) { return q[0] + fs * (q[1] - q[0]); };
+        const float a = along_s(p), b = along_s(p + su), c = along_s(p + sv), e = along_s(p + sv + su);
+        const float ab = a + fu * (b - a), ce = c + fu * (e - c);
+        return ab + fv * (ce - ab);
+    }
+
+private:
+    glm::dvec3 u_{0.0}, v_{0.0}, l_{0.0};
+    double u_lo_ = 0.0, v_lo_ = 0.0, s_lo_ = 0.0;  // the lattice's first vertex on each axis
+    double cell_d_ = 1.0;
+    float cell_ = 1.0f;
+    int nu_ = 0, nv_ = 0, ns_ = 0;
+    std::vector<float> depth_;  // (j * nu + i) * ns + k: vertex (u_lo + i cell, v_lo + j cell, s_lo + k cell)
+};
+
+}  // namespace brume

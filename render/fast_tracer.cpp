@@ -299,17 +299,24 @@ private:
             out.push_back(float(hi));
         }
         if (out.size() <= 2) return;
-        std::vector<std::pair<float, float>> v;
-        for (std::size_t n = 0; n < out.size(); n += 2) v.emplace_back(out[n], out[n + 1]);
-        std::sort(v.begin(), v.end());
-        out.clear();
-        for (const auto& [lo, hi] : v) {
-            if (!out.empty() && lo <= out.back()) out.back() = std::max(out.back(), hi);
-            else {
-                out.push_back(lo);
-                out.push_back(hi);
+        // Sort the pairs by their start (insertion: a ray meets few shadows), then merge overlaps in place.
+        const std::size_t pairs = out.size() / 2;
+        for (std::size_t n = 1; n < pairs; ++n)
+            for (std::size_t m = n; m > 0 && out[2 * m] < out[2 * m - 2]; --m) {
+                std::swap(out[2 * m], out[2 * m - 2]);
+                std::swap(out[2 * m + 1], out[2 * m - 1]);
+            }
+        std::size_t kept = 1;
+        for (std::size_t n = 1; n < pairs; ++n) {
+            if (out[2 * n] <= out[2 * kept - 1]) {
+                out[2 * kept - 1] = std::max(out[2 * kept - 1], out[2 * n + 1]);
+            } else {
+                out[2 * kept] = out[2 * n];
+                out[2 * kept + 1] = out[2 * n + 1];
+                ++kept;
             }
         }
+        out.resize(2 * kept);
     }
 
     // Inserts a sphere's entry and exit (entry < exit) into the sorted run v[head, size), scanning from

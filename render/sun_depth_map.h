@@ -42,6 +42,13 @@ public:
     int size_v() const { return nv_; }
     int size_s() const { return ns_; }
 
+    // For the GPU's copy (shaders/shared.h SunGridHeader): the vertices, (j * nu + i) * ns + k; the
+    // origin's lattice coordinates; the inverse spacing. The axes are the SunLight's grid_u, grid_v and
+    // toward_sun.
+    const std::vector<float>& values() const { return depth_; }
+    glm::dvec3 origin_coordinates() const { return glm::dvec3(-u_lo_, -v_lo_, -s_lo_) / cell_d_; }
+    double inverse_cell() const { return 1.0 / cell_d_; }
+
     // A ray origin + t d in lattice units: coordinate a = a0 + t da on each axis.
     struct Ray {
         float u0, du, v0, dv, s0, ds;

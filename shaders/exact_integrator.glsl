@@ -12,8 +12,8 @@
 //
 // With the accurate shadow technique (frame.params.w = 1) the sun term of a segment is instead
 // sigma_s L_sun P times the integral of exp(-sigma_t u) T_sun(x(u)) over it, by Gauss-Legendre
-// quadrature with T_sun read through the light-space grid (sun_transmittance.glsl); for that the
-// integrator knows its ray. start_integrator() takes the pixel-centre ray of gl_FragCoord (a fragment
+// quadrature with T_sun read from the light-space depth map, box shadows exact
+// (sun_transmittance.glsl sun_media_transmittance); for that the integrator knows its ray. start_integrator() takes the pixel-centre ray of gl_FragCoord (a fragment
 // shader); a resolve in another stage defines BRUME_NO_FRAGMENT_RAY and calls start_integrator(eye, dir).
 #ifndef BRUME_EXACT_INTEGRATOR_GLSL
 #define BRUME_EXACT_INTEGRATOR_GLSL
@@ -47,16 +47,18 @@ layout(constant_id = 3) const uint ACCURATE_SHADOWS = 0u;
 const float GL3_NODE = 0.7745966692414834;
 const float GL3_W_OUTER = 0.5555555555555556, GL3_W_CENTRE = 0.8888888888888888;
 
-// integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt.
+// integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt, T_sun from the light-space
+// depth map (sun_media_transmittance).
 float sun_segment_integral(vec3 origin, vec3 dir, float a, float b, float sigma_t) {
     float h = (b - a) / float(SUN_SUBINTERVALS);
+    vec3 from_eye = origin - frame.eye.xyz;  // 0 for every resolve's rays: they start at the eye
     float sum = 0.0;
     for (int k = 0; k < SUN_SUBINTERVALS; ++k) {
         float m = a + (float(k) + 0.5) * h;
         float tl = m - 0.5 * h * GL3_NODE, tr = m + 0.5 * h * GL3_NODE;
-        sum += GL3_W_OUTER * exp(-sigma_t * (tl - a)) * sun_transmittance(origin + tl * dir, 0xffffffffu);
-        sum += GL3_W_CENTRE * exp(-sigma_t * (m - a)) * sun_transmittance(origin + m * dir, 0xffffffffu);
-        sum += GL3_W_OUTER * exp(-sigma_t * (tr - a)) * sun_transmittance(origin + tr * dir, 0xffffffffu);
+        sum += GL3_W_OUTER * exp(-sigma_t * (tl - a)) * sun_media_transmittance(origin + tl * dir, from_eye + tl * dir);
+        sum += GL3_W_CENTRE * exp(-sigma_t * (m - a)) * sun_media_transmittance(origin + m * dir, from_eye + m * dir);
+        sum += GL3_W_OUTER * exp(-sigma_t * (tr - a)) * sun_media_transmittance(origin + tr * dir, from_eye + tr * dir);
     }
     return sum * 0.5 * h;
 }

@@ -123,11 +123,17 @@ struct GpuBox {
 // square cells, each listing the spheres whose shadow disc overlaps it, so that T_sun at a point tests
 // only the spheres whose shadow cylinder can hold it. In its buffer the header is followed by
 // size.x^2 + 1 cell offsets into the sphere list, then the list.
+// With the accurate shadow technique the buffer also holds the spheres' optical depth toward the sun
+// on a light-space lattice (render/sun_depth_map.h), as float bits from word map_size.w of the data:
+// vertex (i, j, k) at (j * map_size.x + i) * map_size.z + k. A point eye + r has lattice coordinates
+// map_origin.xyz + (dot(r, u), dot(r, v), dot(r, l)) * map_origin.w, l = -sun direction.
 struct SunGridHeader {
-    vec4 u_axis;  // xyz: unit u of the plane; w: u of the grid's first cell edge
-    vec4 v_axis;  // xyz: unit v; w: v of the grid's first cell edge
-    vec4 cell;    // x: cell side; yzw: unused
-    uvec4 size;   // x: cells per side (0: no grid, no sphere casts a shadow); y: entries in the sphere list
+    vec4 u_axis;      // xyz: unit u of the plane; w: u of the grid's first cell edge
+    vec4 v_axis;      // xyz: unit v; w: v of the grid's first cell edge
+    vec4 cell;        // x: cell side; yzw: unused
+    uvec4 size;       // x: cells per side (0: no grid, no sphere casts a shadow); y: entries in the sphere list
+    vec4 map_origin;  // xyz: the eye's lattice coordinates; w: 1 / lattice spacing
+    uvec4 map_size;   // xyz: vertices along u, v, s (x = 0: no map); w: the map's first word in the data
 };
 
 // Written by the particle pass (allocated) and the resolve pass (statistics); read back every frame.

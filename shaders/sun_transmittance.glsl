@@ -51,4 +51,40 @@ float sun_transmittance(vec3 x, uint skip_box) {
     return exp(-depth);
 }
 
+// The spheres' optical depth toward the sun at eye + rel, from the accurate technique's light-space
+// map (render/sun_depth_map.h; SunGridHeader.map_*): trilinear between vertices that hold it exactly.
+// Loop-free: its cost does not grow with the smoke above the point.
+float sun_map_depth(vec3 rel) {
+    uvec3 n = sun_grid.map_size.xyz;
+    vec3 g = sun_grid.map_origin.xyz +
+             vec3(dot(rel, sun_grid.u_axis.xyz), dot(rel, sun_grid.v_axis.xyz), dot(rel, -frame.sun_dir.xyz)) *
+                 sun_grid.map_origin.w;
+    // Outside the lattice's columns (or NaN): outside every shadow cylinder.
+    if (!(g.x >= 0.0 && g.y >= 0.0 && g.x < float(n.x - 1u) && g.y < float(n.y - 1u))) return 0.0;
+    g.z = clamp(g.z, 0.0, float(n.z - 1u));  // below the lowest sphere the whole column; above, 0
+    uvec3 c = uvec3(g);
+    c.z = min(c.z, n.z - 2u);
+    vec3 f = g - vec3(c);
+    uint base = sun_grid.map_size.w + (c.y * n.x + c.x) * n.z + c.z;
+    uint su = n.z, sv = n.x * n.z;
+    float a = mix(uintBitsToFloat(sun_grid_data[base]), uintBitsToFloat(sun_grid_data[base + 1u]), f.z);
+    float b = mix(uintBitsToFloat(sun_grid_data[base + su]), uintBitsToFloat(sun_grid_data[base + su + 1u]), f.z);
+    float d = mix(uintBitsToFloat(sun_grid_data[base + sv]), uintBitsToFloat(sun_grid_data[base + sv + 1u]), f.z);
+    float e = mix(uintBitsToFloat(sun_grid_data[base + sv + su]), uintBitsToFloat(sun_grid_data[base + sv + su + 1u]), f.z);
+    return mix(mix(a, b, f.x), mix(d, e, f.x), f.y);
+}
+
+// T_sun in the media by the accurate technique: 0 in a box's shadow (exact), else exp(-map depth).
+// x = eye + rel.
+float sun_media_transmittance(vec3 x, vec3 rel) {
+    if (frame.params.z == 0.0) return 1.0;
+    vec3 l = -frame.sun_dir.xyz;
+    for (uint b = 0u; b < frame.counts.w; ++b) {
+        float t;
+        if (intersect_box(x, l, boxes[b].min_corner.xyz, boxes[b].max_corner.xyz, t)) return 0.0;
+    }
+    if (sun_grid.map_size.x == 0u) return 1.0;  // no sphere casts a shadow
+    return exp(-sun_map_depth(rel));
+}
+
 #endif

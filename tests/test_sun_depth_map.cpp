@@ -143,7 +143,9 @@ TEST(SunDepthMap, ConvergesAsTheLatticeIsRefined) {
         previous = mean;
         // At the default resolution (0.1 mean radii, reached within this budget) the mean error is below
         // 1e-3 in optical depth, so below 1e-3 relative in T_sun = exp(-depth).
-        if (budget == 2000000) EXPECT_LT(mean, 1e-3);
+        if (budget == 2000000) {
+            EXPECT_LT(mean, 1e-3);
+        }
     }
 }
 

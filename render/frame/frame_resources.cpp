@@ -2,6 +2,7 @@
 
 #include "opaque_boxes.frag.h"
 #include "opaque_boxes.vert.h"
+#include "render/sun_depth_map.h"
 #include "render/sun_light.h"
 #include "render/vk/pipelines.h"
 #include "render/vk/vk_check.h"
@@ -49,8 +50,13 @@ void FrameResources::upload(const Scene& scene) {
     // opaque pass's exact T_sun at lit box hits reads its GPU copy.
     const SunLight sun_light(scene);
     const std::size_t grid_words = sun_light.grid_side() > 0 ? sun_light.cell_start().size() + sun_light.cell_items().size() : 0;
+    // Room for the depth map the previous frame had, so that an animation does not regrow every frame.
+    const std::size_t map_words = sun_header_.map_size.x > 0
+                                      ? std::size_t(sun_header_.map_size.x) * sun_header_.map_size.y * sun_header_.map_size.z
+                                      : 0;
     const VkDeviceSize grid_bytes = sizeof(gpu::SunGridHeader) + std::max<std::size_t>(grid_words, 1) * sizeof(std::uint32_t);
-    const bool new_grid = sun_grid_buffer_.size() < grid_bytes || sun_grid_buffer_.size() > 4 * grid_bytes + 4096;
+    const bool new_grid = sun_grid_buffer_.size() < grid_bytes ||
+                          sun_grid_buffer_.size() > 4 * (grid_bytes + map_words * sizeof(float)) + 4096;
     // Only a presenter's passes of the previous frame can still be running here (the frame path waits
     // for every method pass before it returns), and they read the HDR target alone: host writes are
     // safe, but objects about to be destroyed must wait for them.
@@ -85,23 +91,22 @@ void FrameResources::upload(const Scene& scene) {
     if (new_boxes)
         box_buffer_ = Buffer(device_, box_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.boxes");
     if (new_grid)
-        sun_grid_buffer_ = Buffer(device_, grid_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.sun_grid");
-    {
-        auto* bytes = sun_grid_buffer_.as<std::uint8_t>();
-        gpu::SunGridHeader header{};
-        if (sun_light.grid_side() > 0) {
-            const glm::dvec3 &u = sun_light.grid_u(), &v = sun_light.grid_v();
-            header.u_axis = gpu::vec4(float(u.x), float(u.y), float(u.z), float(sun_light.grid_u0()));
-            header.v_axis = gpu::vec4(float(v.x), float(v.y), float(v.z), float(sun_light.grid_v0()));
-            header.cell = gpu::vec4(float(sun_light.grid_cell()), 0.0f, 0.0f, 0.0f);
-            header.size = gpu::uvec4(gpu::uint(sun_light.grid_side()), gpu::uint(sun_light.cell_items().size()), 0u, 0u);
-            auto* words = reinterpret_cast<std::uint32_t*>(bytes + sizeof header);
-            std::memcpy(words, sun_light.cell_start().data(), sun_light.cell_start().size() * sizeof(std::uint32_t));
-            std::memcpy(words + sun_light.cell_start().size(), sun_light.cell_items().data(),
-                        sun_light.cell_items().size() * sizeof(std::uint32_t));
-        }
-        std::memcpy(bytes, &header, sizeof header);
+        sun_grid_buffer_ = Buffer(device_, grid_bytes + map_words * sizeof(float) * 9 / 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                  MemoryUse::Upload, "scene.sun_grid");
+    sun_header_ = gpu::SunGridHeader{};
+    sun_grid_words_.clear();
+    sun_depth_map_done_ = false;
+    if (sun_light.grid_side() > 0) {
+        const glm::dvec3 &u = sun_light.grid_u(), &v = sun_light.grid_v();
+        sun_header_.u_axis = gpu::vec4(float(u.x), float(u.y), float(u.z), float(sun_light.grid_u0()));
+        sun_header_.v_axis = gpu::vec4(float(v.x), float(v.y), float(v.z), float(sun_light.grid_v0()));
+        sun_header_.cell = gpu::vec4(float(sun_light.grid_cell()), 0.0f, 0.0f, 0.0f);
+        sun_header_.size = gpu::uvec4(gpu::uint(sun_light.grid_side()), gpu::uint(sun_light.cell_items().size()), 0u, 0u);
+        sun_grid_words_.reserve(grid_words);
+        sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_start().begin(), sun_light.cell_start().end());
+        sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_items().begin(), sun_light.cell_items().end());
     }
+    write_sun_buffer(nullptr);
     if (resize || new_spheres || new_boxes || new_grid) write_frame_bindings(descriptors_);
     auto* boxes = box_buffer_.as<gpu::GpuBox>();
     for (std::size_t i = 0; i < scene.boxes.size(); ++i) boxes[i] = gpu::to_gpu(scene.boxes[i]);
@@ -110,6 +115,39 @@ void FrameResources::upload(const Scene& scene) {
     sphere_count_ = std::uint32_t(scene.spheres.size());
     box_count_ = std::uint32_t(scene.boxes.size());
     background_ = glm::vec3(scene.lighting.background);
+}
+
+void FrameResources::write_sun_buffer(const std::vector<float>* map) {
+    const std::size_t words = sun_grid_words_.size() + (map ? map->size() : 0);
+    const VkDeviceSize bytes_needed = sizeof(gpu::SunGridHeader) + std::max<std::size_t>(words, 1) * sizeof(std::uint32_t);
+    if (sun_grid_buffer_.size() < bytes_needed) {
+        device_.wait_idle();  // a presenter's pass of the last frame may still hold the set
+        // An eighth more: the map's size wobbles as the smoke moves.
+        sun_grid_buffer_ = Buffer(device_, bytes_needed + bytes_needed / 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                  MemoryUse::Upload, "scene.sun_grid");
+        write_frame_bindings(descriptors_);
+    }
+    auto* bytes = sun_grid_buffer_.as<std::uint8_t>();
+    auto* out = reinterpret_cast<std::uint32_t*>(bytes + sizeof(gpu::SunGridHeader));
+    std::memcpy(out, sun_grid_words_.data(), sun_grid_words_.size() * sizeof(std::uint32_t));
+    if (map) std::memcpy(out + sun_grid_words_.size(), map->data(), map->size() * sizeof(float));
+    std::memcpy(bytes, &sun_header_, sizeof sun_header_);
+}
+
+void FrameResources::ensure_sun_depth_map(const Scene& scene) {
+    if (sun_depth_map_done_) return;
+    sun_depth_map_done_ = true;
+    if (!scene.lighting.shadows || scene.render.shadow_technique != ShadowTechnique::Accurate ||
+        sun_header_.size.x == 0)
+        return;  // no map is read, or no sphere casts a shadow (size.x = 0 also tells the shader)
+    const SunLight sun_light(scene);
+    const SunDepthMap map(scene, sun_light, scene.camera.position, 0);
+    if (map.empty()) return;
+    const glm::dvec3 o = map.origin_coordinates();
+    sun_header_.map_origin = gpu::vec4(float(o.x), float(o.y), float(o.z), float(map.inverse_cell()));
+    sun_header_.map_size = gpu::uvec4(gpu::uint(map.size_u()), gpu::uint(map.size_v()), gpu::uint(map.size_s()),
+                                      gpu::uint(sun_grid_words_.size()));
+    write_sun_buffer(&map.values());
 }
 
 void FrameResources::record_opaque_pass(VkCommandBuffer cmd) const {

@@ -4,6 +4,8 @@
 // copies the target back into an Image, a presenter samples it to tone-map it into a window.
 #pragma once
 
+#include <vector>
+
 #include "render/image.h"
 #include "render/vk/descriptors.h"
 #include "render/vk/device.h"
@@ -27,6 +29,10 @@ public:
     // device, since a presenter's pass may still read the old HDR target). Every uniform is
     // rewritten from the scene; a method sets its own (pool, params) afterwards.
     void upload(const Scene& scene);
+    // The accurate shadow technique's depth map for the scene last uploaded, built and written after
+    // the sun grid on the first call of a frame (the CPU tracers build their own, so a frame path
+    // builds it only for the methods that read it: FrameContext::need_sun_depth_map).
+    void ensure_sun_depth_map(const Scene& scene);
     // Writes the frame's bindings (uniforms, spheres, boxes, opaque image) into a method's set.
     void write_frame_bindings(const vk::SharedDescriptors& descriptors) const;
 
@@ -61,6 +67,14 @@ private:
     vk::Buffer sphere_buffer_;
     vk::Buffer box_buffer_;
     vk::Buffer sun_grid_buffer_;  // shaders/shared.h SunGridHeader, then the grid's offsets and sphere list
+    // What the sun buffer holds this frame: the header, the grid's words, and whether the depth map
+    // was added after them (ensure_sun_depth_map).
+    gpu::SunGridHeader sun_header_{};
+    std::vector<std::uint32_t> sun_grid_words_;
+    bool sun_depth_map_done_ = false;
+    // Writes the header and the grid words, then `map` (may be null) after them, growing the buffer
+    // when it must (after waiting for the device) and rewriting the opaque pass's set then.
+    void write_sun_buffer(const std::vector<float>* map);
     vk::DeviceImage opaque_image_;
     vk::DeviceImage depth_image_;
     vk::DeviceImage hdr_image_;

@@ -43,6 +43,10 @@ public:
     std::uint32_t sphere_count() const { return frame_.sphere_count(); }
     // The frame's uniforms, written from the scene; a method sets `pool` and `params` in prepare().
     gpu::FrameUniforms& uniforms() { return frame_.uniforms(); }
+    // Builds and uploads the accurate shadow technique's light-space depth map (render/sun_depth_map.h)
+    // for this frame, once; a method whose resolve reads it (exact_integrator.glsl with ACCURATE_SHADOWS)
+    // calls this from prepare(). Nothing without shadows by that technique.
+    void need_sun_depth_map() { frame_.ensure_sun_depth_map(scene_); }
     // Whether FrameStats were asked for, and the list statistics that cost extra atomics.
     bool stats_wanted() const { return stats_; }
     bool list_stats_wanted() const { return stats_ && list_stats_; }

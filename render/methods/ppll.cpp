@@ -191,6 +191,7 @@ void PpllMethod::prepare(FrameContext& ctx) {
     const bool accurate = scene.lighting.shadows && scene.render.shadow_technique == ShadowTechnique::Accurate;
     if (capacity_ > 0) ensure_pipelines(std::uint32_t(pool_parts_.size()), accurate);
     else pipeline_accurate_ = accurate;  // allocate_pool below makes the pipelines
+    if (accurate) ctx.need_sun_depth_map();
     upload_draw_order(ctx.scene());
     if (capacity_ == 0) {
         std::uint64_t want = options_.initial_nodes;

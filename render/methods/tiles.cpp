@@ -89,7 +89,9 @@ void TilesMethod::upload_bins(VkExtent2D extent) {
 
 void TilesMethod::prepare(FrameContext& ctx) {
     const Scene& scene = ctx.scene();
-    ensure_pipelines(scene.lighting.shadows && scene.render.shadow_technique == ShadowTechnique::Accurate);
+    const bool accurate = scene.lighting.shadows && scene.render.shadow_technique == ShadowTechnique::Accurate;
+    ensure_pipelines(accurate);
+    if (accurate) ctx.need_sun_depth_map();
     auto start = std::chrono::steady_clock::now();
     nearest_event_bounds(scene, bound_);
     sort_back_to_front(order_, bound_);  // far to near, from last frame's order: about linear in an animation

@@ -366,6 +366,9 @@ private:
         const float max_piece = kSunPieceCells * sun_map_.cell();
         float p = a;
         float od_p = st.od_valid ? st.od_prev : sun_map_.optical_depth(ray.map, a);
+        // The integrand at p, exp(-sigma_t (p - a) - depth(p)), carried from piece to piece: each piece's
+        // exp(-x) takes it to the next, so a piece costs one exponential.
+        float at_p = exp_nonpositive(-od_p);
         float sum = 0.0f;
         while (p < b) {
             while (st.shadow_next < ray.shadow_count && ray.shadows[2 * st.shadow_next + 1] <= p) ++st.shadow_next;
@@ -375,12 +378,11 @@ private:
                 q = std::min(q, shadowed ? ray.shadows[2 * st.shadow_next + 1] : ray.shadows[2 * st.shadow_next]);
             if (!(q > p)) q = b;  // a piece shorter than float's step: end the segment (adds nothing)
             const float od_q = sun_map_.optical_depth(ray.map, q);
-            if (!shadowed) {
-                const float len = q - p;
-                const float x = sigma_t * len + (od_q - od_p);
-                const float e = exp_minus(x);
-                sum += exp_nonpositive(-(sigma_t * (p - a) + od_p)) * len * phi_signed(x, e);
-            }
+            const float len = q - p;
+            const float x = sigma_t * len + (od_q - od_p);
+            const float e = exp_minus(x);
+            if (!shadowed) sum += at_p * len * phi_signed(x, e);
+            at_p *= e;
             p = q;
             od_p = od_q;
         }

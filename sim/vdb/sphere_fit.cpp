@@ -10,6 +10,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numeric>
 #include <stdexcept>
@@ -102,7 +103,8 @@ public:
 
     // The relative RMS error of the current spheres over every view (and each view's per-pixel depths).
     double forward() {
-        parallel_for(views_.size(), options_.threads, [&](std::size_t v, int) { forward_view(views_[v]); });
+        rects_.resize(params_.size() * views_.size());
+        parallel_for(views_.size(), options_.threads, [&](std::size_t v, int) { forward_view(v); });
         double d2 = 0.0;
         for (const FitView& f : views_)
             for (std::size_t p = 0; p < f.grid.size(); ++p) d2 += (f.spheres[p] - f.grid[p]) * (f.spheres[p] - f.grid[p]);
@@ -189,12 +191,17 @@ public:
     }
 
 private:
-    void forward_view(FitView& f) const {
+    // Also records each sphere's pixel rectangle in this view, which gradients() reads: the spheres do not
+    // move between a forward pass and the gradients that follow it.
+    void forward_view(std::size_t v) {
+        FitView& f = views_[v];
         std::fill(f.spheres.begin(), f.spheres.end(), 0.0);
-        for (const Param& p : params_) {
+        for (std::size_t k = 0; k < params_.size(); ++k) {
+            const Param& p = params_[k];
             const Sphere s{p.c, std::exp(p.log_r), p.tau()};
-            int i0, i1, j0, j1;
-            sphere_pixel_rect(f.rays, s, i0, i1, j0, j1);
+            Rect& rect = rects_[k * views_.size() + v];
+            sphere_pixel_rect(f.rays, s, rect.i0, rect.i1, rect.j0, rect.j1);
+            const int i0 = rect.i0, i1 = rect.i1, j0 = rect.j0, j1 = rect.j1;
             const glm::dvec3 oc = s.center - f.rays.eye;
             const double oc2 = glm::dot(oc, oc), r2 = s.radius * s.radius;
             for (int j = j0; j < j1; ++j)
@@ -222,9 +229,10 @@ private:
             const double h_floor = 0.05 * s.radius;
             glm::dvec3 g_c(0.0);
             double g_r = 0.0, g_t = 0.0, share = 0.0;
-            for (const FitView& f : views_) {
-                int i0, i1, j0, j1;
-                sphere_pixel_rect(f.rays, s, i0, i1, j0, j1);
+            for (std::size_t v = 0; v < views_.size(); ++v) {
+                const FitView& f = views_[v];
+                const Rect& rect = rects_[k * views_.size() + v];
+                const int i0 = rect.i0, i1 = rect.i1, j0 = rect.j0, j1 = rect.j1;
                 const glm::dvec3 oc = s.center - f.rays.eye;
                 const double oc2 = glm::dot(oc, oc);
                 for (int j = j0; j < j1; ++j)
@@ -327,6 +335,11 @@ private:
     const SphereCloudOptions& options_;
     std::vector<FitView> views_;
     std::vector<Param> params_;
+    // Per sphere, per view (sphere-major): the pixels forward() found it may cover.
+    struct Rect {
+        int i0 = 0, i1 = 0, j0 = 0, j1 = 0;
+    };
+    std::vector<Rect> rects_;
     double grid_sq_ = 0.0;
     double target_mass_ = 0.0;
     double min_radius_ = 0.0, max_radius_ = 0.0;
@@ -435,6 +448,32 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
     out.spheres = fitter.spheres();
     out.error = views->measure(out.spheres);
     return out;
+}
+
+SphereCloud fit_sphere_cloud(const DensityGrid& grid, const SphereCloudOptions& options,
+                             const std::function<void(const SphereFitProgress&)>& progress) {
+    const SphereFit fit = fit_spheres(grid, options, {}, progress);
+    if (!fit.met_tolerance && options.max_spheres == 0 && !fit.spheres.empty()) {
+        char text[512];
+        std::snprintf(text, sizeof text,
+                      "fitting stopped at %zu spheres (the default cap: %zu, or one per 8 active voxels) at %.3g%% RMS "
+                      "optical-depth error, above the tolerance %.3g%%; raise the tolerance, allow more spheres "
+                      "(max_spheres), or tile (no fit)",
+                      fit.spheres.size(), kDefaultFitSphereCap, 100.0 * fit.error.relative_rms, 100.0 * options.tolerance);
+        throw std::runtime_error(text);
+    }
+    SphereCloud cloud;
+    cloud.spheres = fit.spheres;
+    cloud.error = fit.error;
+    cloud.fitted = true;
+    cloud.fit_rounds = fit.rounds;
+    cloud.met_tolerance = fit.met_tolerance;
+    return cloud;
+}
+
+SphereCloud convert_grid(const DensityGrid& grid, const SphereCloudOptions& options,
+                         const std::function<void(const SphereFitProgress&)>& progress) {
+    return options.fit ? fit_sphere_cloud(grid, options, progress) : grid_to_spheres(grid, options);
 }
 
 }  // namespace brume

@@ -63,4 +63,14 @@ std::vector<Camera> grid_fit_views(const DensityGrid& grid, int resolution);
 SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options, const SphereFitSettings& settings = {},
                       const std::function<void(const SphereFitProgress&)>& progress = {});
 
+// fit_spheres as a conversion result: the fit's spheres and error, with fitted, fit_rounds and met_tolerance
+// set. A fit that ran into the default cap (no max_spheres) above the tolerance is an error, a
+// std::runtime_error naming what it reached; one stopped by an explicit max_spheres is a result.
+SphereCloud fit_sphere_cloud(const DensityGrid& grid, const SphereCloudOptions& options,
+                             const std::function<void(const SphereFitProgress&)>& progress = {});
+
+// options.fit ? fit_sphere_cloud : grid_to_spheres: the conversion a [[vdb]] table or vdb-import asks for.
+SphereCloud convert_grid(const DensityGrid& grid, const SphereCloudOptions& options,
+                         const std::function<void(const SphereFitProgress&)>& progress = {});
+
 }  // namespace brume

@@ -22,15 +22,16 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kFitViews = 25;  // grid_fit_views
+constexpr int kValidationResolution = 64;  // pixels across each of grid_validation_views
 
 // A camera whose view just holds the grid's bounding sphere, looking along `dir`.
-Camera view_along(const DensityGrid& grid, glm::dvec3 dir, const glm::dvec3& up, int resolution) {
+Camera view_along(const DensityGrid& grid, glm::dvec3 dir, const glm::dvec3& up, int resolution, double fov_deg = 30.0) {
     const glm::dvec3 lo = grid.support_min(), hi = grid.support_max();
     const glm::dvec3 centre = 0.5 * (lo + hi);
     const double radius = 0.5 * glm::length(hi - lo);
     dir = glm::normalize(dir);
     Camera c;
-    c.fov_y_deg = 30.0;
+    c.fov_y_deg = fov_deg;
     c.position = centre - dir * (radius / std::sin(c.fov_y_deg * 0.5 * kPi / 180.0));
     c.look_at = centre;
     c.up = up;
@@ -387,6 +388,23 @@ std::vector<Camera> grid_fit_views(const DensityGrid& grid, int resolution) {
     return views;
 }
 
+std::vector<Camera> grid_validation_views(const DensityGrid& grid, int resolution) {
+    // Eight directions over the whole sphere (a Fibonacci spiral, turned half a step from the fitting
+    // views'), seen from close by with a wide lens (fov 50, the bounding sphere just in view) so that their
+    // rays cross the grid at other angles than the fitting views' nearly parallel ones.
+    std::vector<Camera> views;
+    constexpr double golden = 2.39996322972865332;
+    constexpr int n = 8;
+    for (int k = 0; k < n; ++k) {
+        const double z = 1.0 - 2.0 * (k + 0.5) / double(n);
+        const double rho = std::sqrt(1.0 - z * z), phi = golden * (k + 0.5);
+        const glm::dvec3 d(rho * std::cos(phi), rho * std::sin(phi), z);
+        const glm::dvec3 up = std::abs(d.y) > 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+        views.push_back(view_along(grid, d, up, resolution, 50.0));
+    }
+    return views;
+}
+
 SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options, const SphereFitSettings& settings,
                       const std::function<void(const SphereFitProgress&)>& progress) {
     check(options, settings);
@@ -415,29 +433,44 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
         resolution = r;
         fitter.set_views(*views, r);
     };
+    // Held out from the gradients, these views decide when to stop: the training views alone are matched
+    // a little better than the grid between them (at 2%, 2.57% from unseen views), so the fit also has to
+    // measure within kValidationMargin of the tolerance on views it is not fitted to.
+    const OpticalDepthViews validation(grid, options.extinction_scale, grid_validation_views(grid, kValidationResolution),
+                                       options.threads);
     use_views(resolution_for(settings.seed_spheres));
     fitter.set(seed_lattice(grid, options, std::min(settings.seed_spheres, cap)));
     fitter.forward();
     double previous_error = 0.0;
     std::size_t previous_spheres = 0;
+    // What a round's steps aim at over the fitting views: the tolerance, lowered by the gap the held-out views
+    // show once the fitting views meet it and they do not (otherwise every later round would stop at its first
+    // step, the fitting views already within tolerance, and only the splits would lower the held-out error).
+    double target = options.tolerance;
     for (int round = 1;; ++round) {
-        fitter.optimise(settings.iterations, options.tolerance);
+        fitter.optimise(settings.iterations, target);
         fitter.prune();
         const double error = fitter.forward();
+        const double held_out = validation.measure(fitter.spheres()).relative_rms;
         out.rounds = round;
+        out.validation_error = held_out;
         if (progress)
-            progress({round, fitter.size(), error,
+            progress({round, fitter.size(), error, held_out,
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
-        out.met_tolerance = error <= options.tolerance;
+        out.met_tolerance = error <= options.tolerance && held_out <= kValidationMargin * options.tolerance;
         if (out.met_tolerance || fitter.size() >= cap) break;
+        if (error <= target && held_out > kValidationMargin * options.tolerance)
+            target = std::min(target, error * kValidationMargin * options.tolerance / held_out);
+        // The growth below aims at whichever of the two is further from its goal.
+        const double behind = std::max(error, held_out / kValidationMargin);
         // Error falls about as a power of the count (docs/vdb.md): near the tolerance, grow by what that power
         // predicts (with a 10% margin) rather than a whole growth step, so the count overshoots less.
         double factor = settings.growth;
-        if (previous_error > error && previous_spheres < fitter.size()) {
-            const double power = std::log(previous_error / error) / std::log(double(fitter.size()) / double(previous_spheres));
-            if (power > 0.05) factor = std::clamp(1.1 * std::pow(error / options.tolerance, 1.0 / power), 1.1, settings.growth);
+        if (previous_error > behind && previous_spheres < fitter.size()) {
+            const double power = std::log(previous_error / behind) / std::log(double(fitter.size()) / double(previous_spheres));
+            if (power > 0.05) factor = std::clamp(1.1 * std::pow(behind / options.tolerance, 1.0 / power), 1.1, settings.growth);
         }
-        previous_error = error;
+        previous_error = behind;
         previous_spheres = fitter.size();
         const std::size_t grown =
             std::min(cap, std::max(fitter.size() + 1, std::size_t(std::ceil(double(fitter.size()) * factor))));

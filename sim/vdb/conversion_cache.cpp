@@ -209,6 +209,7 @@ std::string conversion_key(const DensityGrid& grid, const SphereCloudOptions& o,
         add(key, "fit_iterations", (long long)fit.iterations);
         add(key, "fit_growth", fit.growth);
         add(key, "fit_view_resolution", (long long)fit.view_resolution);
+        add(key, "fit_merge", (long long)fit.merge);
     }
     return key;
 }

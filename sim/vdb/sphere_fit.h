@@ -4,8 +4,9 @@
 // radii and extinctions are optimised (Adam) against the exact optical depth of the trilinear grid along
 // the pixel rays of 25 measuring views, the very error the tolerance bounds. It starts from the
 // coarsest resampled lattice (sim/vdb/sphere_lattice.h) of a few spheres and, round by round, splits the
-// spheres that carry the most residual, as 3D Gaussian splatting densifies, until the error is within
-// tolerance or the sphere budget is spent.
+// spheres that carry the most residual, as 3D Gaussian splatting densifies, merges pairs that have come
+// to model the same density, and prunes nearly empty ones, until the error is within tolerance (on the
+// fitting views and on held-out ones) or the sphere budget is spent.
 //
 // Invariants: the spheres' extinction mass equals the grid's (a global rescale after every step), every
 // radius and extinction stays positive (they are optimised as logarithms), and the result depends only on
@@ -34,6 +35,7 @@ struct SphereFitSettings {
     double growth = 1.5;           // sphere count multiplier per densification round
     // Pixels across each of the fitting views, at least; finer as the spheres multiply (sphere_fit.cpp).
     int view_resolution = 48;
+    bool merge = true;  // merge pairs of spheres that model the same density after each round's splits
 };
 
 struct SphereFitProgress {

@@ -27,6 +27,9 @@ constexpr int kValidationResolution = 64;  // pixels across each of grid_validat
 // on the 128^3 cloud (docs/vdb.md): 0.3, 0.5 and 0.8 all merged about as well; 0.5 sits between.
 constexpr double kMergeDistance = 0.5;
 constexpr double kMergeExtinction = 1.5;
+// Rounds at most: the 128^3 cloud at 2% takes 27, and growth of at least 10% a round reaches any cap
+// sooner unless merges keep undoing it.
+constexpr int kMaxRounds = 80;
 
 // A camera whose view just holds the grid's bounding sphere, looking along `dir`.
 Camera view_along(const DensityGrid& grid, glm::dvec3 dir, const glm::dvec3& up, int resolution, double fov_deg = 30.0) {
@@ -190,14 +193,17 @@ public:
     std::size_t merge() {
         const std::size_t n = params_.size();
         std::vector<std::size_t> nearest(n, n);
+        std::vector<double> radius(n);
+        for (std::size_t k = 0; k < n; ++k) radius[k] = std::exp(params_[k].log_r);
+        // All pairs, squared: a few thousand spheres take milliseconds (an exp per pair took a second a round).
         parallel_for(n, options_.threads, [&](std::size_t a, int) {
-            const double ra = std::exp(params_[a].log_r);
-            double best = kMergeDistance;
+            double best = kMergeDistance * kMergeDistance;
             for (std::size_t b = 0; b < n; ++b) {
                 if (b == a) continue;
-                const double rb = std::exp(params_[b].log_r);
-                const double d = glm::length(params_[a].c - params_[b].c) / std::min(ra, rb);
-                if (d < best) best = d, nearest[a] = b;
+                const glm::dvec3 d = params_[a].c - params_[b].c;
+                const double r = std::min(radius[a], radius[b]);
+                const double q = glm::dot(d, d) / (r * r);
+                if (q < best) best = q, nearest[a] = b;
             }
         });
         std::vector<Param> next;
@@ -502,6 +508,7 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
     // show once the fitting views meet it and they do not (otherwise every later round would stop at its first
     // step, the fitting views already within tolerance, and only the splits would lower the held-out error).
     double target = options.tolerance;
+    bool reached_cap = false;
     for (int round = 1;; ++round) {
         fitter.optimise(settings.iterations, target);
         fitter.prune();
@@ -513,7 +520,10 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
             progress({round, fitter.size(), error, held_out,
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
         out.met_tolerance = error <= options.tolerance && held_out <= kValidationMargin * options.tolerance;
-        if (out.met_tolerance || fitter.size() >= cap) break;
+        // Done at the tolerance, or once a round has been fitted with the whole budget: a densification that
+        // reached the cap (merges may have taken a few spheres back since; without this the fit would go
+        // on splitting and merging at the cap), or kMaxRounds, a bound on the time whatever the grid.
+        if (out.met_tolerance || fitter.size() >= cap || reached_cap || round >= kMaxRounds) break;
         if (error <= target && held_out > kValidationMargin * options.tolerance)
             target = std::min(target, error * kValidationMargin * options.tolerance / held_out);
         // The growth below aims at whichever of the two is further from its goal.
@@ -530,6 +540,7 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
         const std::size_t grown =
             std::min(cap, std::max(fitter.size() + 1, std::size_t(std::ceil(double(fitter.size()) * factor))));
         fitter.densify(grown - fitter.size());
+        reached_cap = grown >= cap;
         if (settings.merge) fitter.merge();
         if (resolution_for(grown) > resolution) use_views(resolution_for(grown));
         fitter.forward();

@@ -18,9 +18,9 @@ std::string count_of(std::size_t n, const char* singular, const char* plural) {
 }
 
 void print_volume_report(const VolumeReport& r) {
-    std::printf("%s: %s from %llu active voxels, optical-depth error %.2f%% RMS (%.1f%% max) over %ld rays, %.2f s\n",
+    std::printf("%s: %s from %llu active voxels, optical-depth error %.2f%% RMS (%.1f%% max) over %ld rays, %.2f s%s\n",
                 r.source.c_str(), count_of(r.spheres, "sphere", "spheres").c_str(), static_cast<unsigned long long>(r.active_voxels), 100.0 * r.error.relative_rms,
-                100.0 * r.error.relative_max, r.error.rays, r.seconds);
+                100.0 * r.error.relative_max, r.error.rays, r.seconds, r.from_cache ? " (from the conversion cache)" : "");
 }
 
 std::uint64_t parse_bytes(const std::string& text) {

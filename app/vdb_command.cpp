@@ -108,8 +108,8 @@ int run_vdb_import(const VdbImportArgs& args) {
     // The fit reports each round on stderr (stdout keeps the summary): one line per round, so the falling
     // error reads the same on a terminal and in a log.
     const auto progress = [](const SphereFitProgress& p) {
-        std::fprintf(stderr, "fit round %2d: %7zu spheres, RMS optical-depth error %6.2f%% (%.1f s)\n", p.round, p.spheres,
-                     100.0 * p.error, p.seconds);
+        std::fprintf(stderr, "fit round %2d: %7zu spheres, RMS optical-depth error %6.2f%% (held-out views %6.2f%%) (%.1f s)\n",
+                     p.round, p.spheres, 100.0 * p.error, 100.0 * p.validation, p.seconds);
     };
     const VdbImport im = import_vdb(args.file, args.grid, options, args.albedo_grid, progress);
     write_file_atomically(args.output, scene_to_toml(im.scene));

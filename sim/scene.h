@@ -84,6 +84,10 @@ struct VdbVolume {
     double tolerance = 0.05;
     // ... or, when > 0 (tolerance is then unused), the most accurate cloud of at most this many spheres.
     std::size_t max_spheres = 0;
+    // Fit the spheres to the grid (sim/vdb/sphere_fit.h) instead of tiling it: far fewer spheres, a slower
+    // conversion (kept in the conversion cache, sim/vdb/conversion_cache.h). max_spheres then caps the fit,
+    // with tolerance still its goal.
+    bool fit = false;
     VolumeTransform transform;
 };
 

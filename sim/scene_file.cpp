@@ -225,11 +225,10 @@ void append_scene_sections(std::string& out, const Scene& scene) {
         if (v.albedo_grid) out += "albedo_grid = " + toml_text::quoted(*v.albedo_grid) + '\n';
         append_number(out, "extinction_scale", v.extinction_scale);
         append_vec3(out, "albedo", v.albedo);
-        // One or the other: the reader refuses both.
-        if (v.max_spheres == 0)
-            append_number(out, "tolerance", v.tolerance);
-        else
-            out += "max_spheres = " + std::to_string(v.max_spheres) + '\n';
+        // One or the other for a tiling (the reader refuses both); a fit has its tolerance and maybe a cap.
+        if (v.fit) out += "fit = true\n";
+        if (v.max_spheres == 0 || v.fit) append_number(out, "tolerance", v.tolerance);
+        if (v.max_spheres > 0) out += "max_spheres = " + std::to_string(v.max_spheres) + '\n';
         append_volume_transform(out, v.transform);
     }
 }

@@ -29,9 +29,9 @@ constexpr std::array<std::string_view, 4> kBoxKeys{"min", "max", "radiance", "di
 constexpr std::array<std::string_view, 3> kBoxRequiredKeys{"min", "max", "radiance"};
 constexpr std::array<std::string_view, 5> kSphereKeys{"center", "radius", "extinction", "albedo", "emission"};
 constexpr std::array<std::string_view, 4> kSphereRequiredKeys{"center", "radius", "extinction", "albedo"};
-constexpr std::array<std::string_view, 10> kVdbKeys{"file",        "grid",        "albedo_grid", "extinction_scale",
-                                                    "albedo",      "tolerance",   "max_spheres", "translate",
-                                                    "scale",       "rotate"};
+constexpr std::array<std::string_view, 11> kVdbKeys{"file",        "grid",        "albedo_grid", "extinction_scale",
+                                                    "albedo",      "tolerance",   "max_spheres", "fit",
+                                                    "translate",   "scale",       "rotate"};
 
 void read_camera(const Reader& in, const toml::node& node, const KeyPath& path, Camera& c) {
     const toml::table& t = in.table(node, path, kCameraKeys);
@@ -149,14 +149,17 @@ VdbVolume read_volume(const Reader& in, const toml::table& t, const KeyPath& pat
     if (const toml::node* n = t.get("extinction_scale"))
         v.extinction_scale = in.positive(*n, path / "extinction_scale", kMaxExtinction);
     if (const toml::node* n = t.get("albedo")) v.albedo = uniform_albedo(in, *n, path / "albedo");
-    // Two ways to say how fine the conversion is: meeting both at once is not generally possible.
+    // Fitted spheres (sim/vdb/sphere_fit.h) instead of a tiling: the fit stops at the tolerance, or at
+    // max_spheres when that comes first, so a fitted volume may give both.
+    if (const toml::node* n = t.get("fit")) v.fit = in.boolean(*n, path / "fit");
+    // Two ways to say how fine a tiling is: meeting both at once is not generally possible.
     const toml::node* tolerance = t.get("tolerance");
     const toml::node* max_spheres = t.get("max_spheres");
-    if (tolerance && max_spheres) {
+    if (tolerance && max_spheres && !v.fit) {
         const toml::node* last = toml_read::last_of({tolerance, max_spheres});
         in.fail(*last, path / (last == tolerance ? "tolerance" : "max_spheres"),
                 "give tolerance or max_spheres, not both (tolerance: the accuracy to meet; max_spheres: the "
-                "most spheres to spend)");
+                "most spheres to spend; with fit = true, both: the fit stops at whichever comes first)");
     }
     if (tolerance) v.tolerance = in.in_interval(*tolerance, path / "tolerance", 0.0, 1.0, true);
     if (max_spheres)

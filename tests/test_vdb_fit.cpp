@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 #include <vector>
 
@@ -128,6 +129,28 @@ TEST(VdbFit, ErrorHoldsFromUnseenViewsAndMassIsConserved) {
         EXPECT_GT(s.extinction, 0.0);
         EXPECT_TRUE(std::isfinite(s.radius) && std::isfinite(s.extinction));
     }
+}
+
+// Splits follow the residual, so without merging a region can keep two spheres where one would do (on this
+// cloud at 5%: 74 spheres merged, 85 without; at 6%, with about 50, merging saved none).
+TEST(VdbFit, MergingSpendsFewerSpheresForTheSameTolerance) {
+    const DensityGrid grid = vdb_test::noise_cloud(48);
+    SphereCloudOptions o;
+    o.tolerance = 0.05;
+    o.extinction_scale = 2.5;
+    SphereFitSettings without;
+    without.merge = false;
+    const SphereFit merged = fit_spheres(grid, o);
+    const SphereFit unmerged = fit_spheres(grid, o, without);
+    ASSERT_TRUE(merged.met_tolerance && unmerged.met_tolerance);
+    EXPECT_LT(merged.spheres.size(), unmerged.spheres.size());
+    EXPECT_LE(merged.error.relative_rms, o.tolerance);
+    const OpticalDepthViews unseen(grid, o.extinction_scale, grid_unseen_views(grid, 72));
+    EXPECT_LE(unseen.measure(merged.spheres).relative_rms, 1.25 * o.tolerance);
+    EXPECT_NEAR(spheres_extinction_mass(merged.spheres), grid.mass() * o.extinction_scale,
+                1e-9 * grid.mass() * o.extinction_scale);
+    std::printf("noise cloud 48^3 at %.0f%%: %zu spheres merged, %zu without\n", 100 * o.tolerance, merged.spheres.size(),
+                unmerged.spheres.size());
 }
 
 TEST(VdbFit, ProgressReportsEveryRoundAndMaxSpheresStopsIt) {

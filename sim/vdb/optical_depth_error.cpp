@@ -33,33 +33,42 @@ void clip_to_box(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo,
 
 }  // namespace
 
-// The projection of the sphere's bounding cube's corners, or the whole image when a corner is not in front
-// of the eye.
+// The sphere's silhouette bounded exactly: in the camera's (right, forward) plane the planes through the
+// eye that hold the up axis and touch the sphere have slopes u = x/z solving (x - u z)^2 = r^2 (1 + u^2),
+// and likewise for up. A bound on the silhouette rather than on its bounding cube's projection: for the
+// few-pixel spheres of a fit, the cube's corners and a pixel of slack held three to four times the pixels
+// the sphere covers, and every one was tested (docs/vdb.md "Fitting time"). The whole image when the sphere
+// reaches the eye's plane.
 void sphere_pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1, int& j0, int& j1) {
+    const glm::dvec3 v = s.center - rays.eye;
+    const double z = glm::dot(v, rays.forward);
     // Wholly behind the eye: no ray (t >= 0) meets it. (A camera inside a cloud has half the cloud there.)
-    if (glm::dot(s.center - rays.eye, rays.forward) < -s.radius) {
+    if (z < -s.radius) {
         i0 = i1 = j0 = j1 = 0;
         return;
     }
     i0 = 0, i1 = rays.width, j0 = 0, j1 = rays.height;
-    const double rr = glm::dot(rays.right, rays.right), uu = glm::dot(rays.up, rays.up);
-    double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 corner =
-            s.center + s.radius * glm::dvec3(c & 1 ? 1.0 : -1.0, c & 2 ? 1.0 : -1.0, c & 4 ? 1.0 : -1.0);
-        const glm::dvec3 v = corner - rays.eye;
-        const double z = glm::dot(v, rays.forward);
-        if (z <= 1e-9 * (1.0 + glm::length(v))) return;
-        const double px = (glm::dot(v, rays.right) / (rr * z) + 1.0) * 0.5 * rays.width;
-        const double py = (1.0 - glm::dot(v, rays.up) / (uu * z)) * 0.5 * rays.height;
-        x_lo = std::min(x_lo, px), x_hi = std::max(x_hi, px);
-        y_lo = std::min(y_lo, py), y_hi = std::max(y_hi, py);
-    }
-    // Pixel i's ray passes through px = i + 0.5; one pixel of slack on each side for rounding.
-    i0 = std::clamp(int(std::floor(x_lo - 0.5)) - 1, 0, rays.width);
-    i1 = std::clamp(int(std::ceil(x_hi - 0.5)) + 2, 0, rays.width);
-    j0 = std::clamp(int(std::floor(y_lo - 0.5)) - 1, 0, rays.height);
-    j1 = std::clamp(int(std::ceil(y_hi - 0.5)) + 2, 0, rays.height);
+    const double r = s.radius;
+    const double z2r2 = z * z - r * r;
+    if (!(z > r) || !(z2r2 > 1e-9 * z * z)) return;
+    const double sx = glm::length(rays.right), sy = glm::length(rays.up);
+    const double x = glm::dot(v, rays.right) / sx, y = glm::dot(v, rays.up) / sy;
+    const auto slopes = [&](double a, double& lo, double& hi) {
+        const double root = r * std::sqrt(std::max(0.0, a * a + z2r2));
+        lo = (a * z - root) / z2r2;
+        hi = (a * z + root) / z2r2;
+    };
+    double ux_lo, ux_hi, uy_lo, uy_hi;
+    slopes(x, ux_lo, ux_hi);
+    slopes(y, uy_lo, uy_hi);
+    const double x_lo = (ux_lo / sx + 1.0) * 0.5 * rays.width, x_hi = (ux_hi / sx + 1.0) * 0.5 * rays.width;
+    const double y_lo = (1.0 - uy_hi / sy) * 0.5 * rays.height, y_hi = (1.0 - uy_lo / sy) * 0.5 * rays.height;
+    // Pixel i's ray passes through i + 0.5; a hundredth of a pixel of slack for rounding in the rays.
+    constexpr double slack = 0.01;
+    const auto first = [&](double lo, int n) { return int(std::clamp(std::ceil(lo - 0.5 - slack), 0.0, double(n))); };
+    const auto end = [&](double hi, int n) { return int(std::clamp(std::floor(hi - 0.5 + slack) + 1.0, 0.0, double(n))); };
+    i0 = first(x_lo, rays.width), i1 = std::max(i0, end(x_hi, rays.width));
+    j0 = first(y_lo, rays.height), j1 = std::max(j0, end(y_hi, rays.height));
 }
 
 double grid_optical_depth(const DensityGrid& grid, double extinction_scale, const glm::dvec3& origin,

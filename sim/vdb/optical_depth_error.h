@@ -37,8 +37,9 @@ std::vector<double> sphere_optical_depths(const std::vector<Sphere>& spheres, co
 
 struct CameraRays;
 
-// A conservative pixel rectangle [i0, i1) x [j0, j1) of the pixels whose rays (t >= 0) can meet the sphere:
-// empty when it lies wholly behind the eye, the whole image when it reaches behind the image plane.
+// A conservative pixel rectangle [i0, i1) x [j0, j1) of the pixels whose rays (t >= 0) can meet the sphere,
+// the bounding box of its silhouette: empty when it lies wholly behind the eye, the whole image when it
+// reaches the eye's plane.
 void sphere_pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1, int& j0, int& j1);
 
 // Cameras looking at the grid along +x, +y and +z, `resolution` pixels square, far enough for the whole

@@ -67,6 +67,11 @@ struct SphereCloud {
     double lattice_spacing = 0.0;  // > 0: the spheres are a resampled lattice of this spacing, in voxels
                                    // (sim/vdb/sphere_lattice.h), not octree cells
     int clouds_tried = 0;          // conversions measured on the way
+    // Set by fit_sphere_cloud (sim/vdb/sphere_fit.h): the spheres were fitted, in this many rounds, and met
+    // the tolerance (false only where an explicit max_spheres stopped the fit first).
+    bool fitted = false;
+    int fit_rounds = 0;
+    bool met_tolerance = true;
 };
 
 // What a cloud of one sphere per non-empty voxel measures when that is still above tolerance.

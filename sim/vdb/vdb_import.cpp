@@ -27,32 +27,6 @@ Camera frame_box(Camera camera, const glm::dvec3& lo, const glm::dvec3& hi) {
 
 Camera frame_grid_camera(const DensityGrid& grid) { return frame_box(Camera{}, grid.world_min(), grid.world_max()); }
 
-namespace {
-
-// A fit within tolerance, or stopped by an explicit max_spheres, is a result; a fit that ran into the
-// default cap without meeting the tolerance is an error naming what it reached.
-SphereCloud fitted_cloud(const DensityGrid& grid, const SphereCloudOptions& options,
-                         const std::function<void(const SphereFitProgress&)>& progress, VdbImport& out) {
-    const SphereFit fit = fit_spheres(grid, options, {}, progress);
-    out.fitted = true;
-    out.fit_rounds = fit.rounds;
-    out.met_tolerance = fit.met_tolerance;
-    if (!fit.met_tolerance && options.max_spheres == 0 && !fit.spheres.empty()) {
-        char text[512];
-        std::snprintf(text, sizeof text,
-                      "fitting stopped at %zu spheres (the default cap: %zu, or one per 8 active voxels) at %.3g%% RMS optical-depth error, above the "
-                      "tolerance %.3g%%; raise --tolerance, allow more with --max-spheres, or tile (no --fit)",
-                      fit.spheres.size(), kDefaultFitSphereCap, 100.0 * fit.error.relative_rms, 100.0 * options.tolerance);
-        throw std::runtime_error(text);
-    }
-    SphereCloud cloud;
-    cloud.spheres = fit.spheres;
-    cloud.error = fit.error;
-    return cloud;
-}
-
-}  // namespace
-
 VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions& options,
                               const std::function<void(const SphereFitProgress&)>& progress) {
     const auto start = std::chrono::steady_clock::now();
@@ -60,7 +34,10 @@ VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions&
     const Camera camera = frame_grid_camera(grid);
     with_camera.views.push_back(camera);
     VdbImport out;
-    SphereCloud cloud = options.fit ? fitted_cloud(grid, with_camera, progress, out) : grid_to_spheres(grid, with_camera);
+    SphereCloud cloud = convert_grid(grid, with_camera, progress);
+    out.fitted = cloud.fitted;
+    out.fit_rounds = cloud.fit_rounds;
+    out.met_tolerance = cloud.met_tolerance;
     if (cloud.spheres.empty())
         throw std::runtime_error("grid \"" + grid.name + "\" has no density (every active voxel is 0)");
     out.split_threshold = cloud.split_threshold;

@@ -2,9 +2,11 @@
 
 #include "sim/camera_path.h"
 #include "sim/scene_file.h"
+#include "sim/vdb/conversion_cache.h"
 #include "sim/vdb/density_source.h"
 #include "sim/vdb/emitter_densities.h"
 #include "sim/vdb/sphere_cloud.h"
+#include "sim/vdb/sphere_fit.h"
 #include "sim/vdb/vdb_file.h"
 #include "sim/vdb/vdb_import.h"
 #include "sim/volume_transform.h"
@@ -90,10 +92,16 @@ std::vector<VolumeReport> convert_scene_volumes(Scene& scene, const std::vector<
             options.max_spheres = v.max_spheres;
             options.extinction_scale = v.extinction_scale;
             options.albedo = v.albedo;
+            options.fit = v.fit;
             if (grids.size() > 1) options.albedo_grid = &grids[1];
             options.views.push_back(camera_in_grid_space(scene.camera, v.transform));
             for (const Camera& c : more_views) options.views.push_back(camera_in_grid_space(c, v.transform));
-            const SphereCloud cloud = grid_to_spheres(grids[0], options);
+            // Keyed on the grids and every option, views included (sim/vdb/conversion_cache.h): a farm's jobs
+            // and a second render of the scene read the spheres instead of converting again.
+            CacheOutcome cache = CacheOutcome::Off;
+            const SphereCloud cloud =
+                cached_conversion(grids[0], options, [&] { return convert_grid(grids[0], options); }, &cache);
+            report.from_cache = cache == CacheOutcome::Hit;
             if (cloud.spheres.empty()) throw std::runtime_error("grid \"" + v.source.grid + "\" holds no density (every voxel is 0)");
             if (scene.spheres.size() + cloud.spheres.size() > kMaxSpheres)
                 throw std::runtime_error(std::to_string(cloud.spheres.size()) + " spheres would take the scene past " +

@@ -1,6 +1,8 @@
 // [[vdb]] volumes become spheres here, before anything renders: each VdbVolume's grid is read
 // (sim/vdb/density_source.h), converted to the fewest spheres that meet its tolerance
-// (sim/vdb/sphere_cloud.h) and placed by its transform. Renderers only ever see spheres.
+// (sim/vdb/sphere_cloud.h), or fitted (sim/vdb/sphere_fit.h) where the table says fit = true, and placed by
+// its transform. Conversions are kept in the conversion cache (sim/vdb/conversion_cache.h). Renderers only
+// ever see spheres.
 #pragma once
 
 #include "sim/preset.h"
@@ -21,6 +23,7 @@ struct VolumeReport {
     std::uint64_t active_voxels = 0;
     OpticalDepthError error;   // measured over the conversion's views (sim/vdb/sphere_cloud.h)
     double seconds = 0.0;      // reading and converting
+    bool from_cache = false;   // the spheres came from the conversion cache (sim/vdb/conversion_cache.h)
 };
 
 // Appends every scene.volumes entry's spheres to scene.spheres (in table order, after the scene's own

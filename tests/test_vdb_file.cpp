@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
+#include <sstream>
 
 namespace brume {
 namespace {
@@ -116,6 +118,50 @@ TEST_F(VdbFile, TruncatedFilesAreRefusedWhereverTheyEnd) {
         EXPECT_NE(msg.find("truncated or corrupted"), std::string::npos) << keep << " bytes: " << msg;
         EXPECT_THROW(list_vdb_grids(path), VdbError);
     }
+}
+
+// OpenVDB reads past some corruption with a warning on std::cerr and a tree that may be wrong (a
+// corrupted buffer count: "multi-buffer trees are no longer supported"), and warns on std::cout before
+// some errors. Every byte of a small file set to 2 (a buffer count of 2, among others) is either read or
+// refused with a VdbError of one line, and nothing reaches std::cout or std::cerr.
+TEST_F(VdbFile, CorruptionOpenVdbOnlyWarnsAboutIsRefusedWithOneLine) {
+    DensityGrid grid;
+    grid.size = {3, 2, 2};
+    grid.values.assign(12, 0.5f);
+    const std::string whole = encode_vdb(grid);
+    int warned = 0, refused = 0;
+    // From byte 512 on: the grid's tree, whose buffer count sits near byte 650. The bytes before it are the
+    // header, metadata and transform, where a length corrupted to millions makes OpenVDB allocate and zero
+    // that much before it finds the data short (up to 3 s each, refused as truncated all the same).
+    ASSERT_GT(whole.size(), 1024u);
+    for (std::size_t at = 512; at < whole.size(); ++at) {
+        for (const unsigned char value : {0x02}) {
+            if (static_cast<unsigned char>(whole[at]) == value) continue;
+            std::string bytes = whole;
+            bytes[at] = static_cast<char>(value);
+            std::ostringstream captured;
+            std::streambuf* const saved_out = std::cout.rdbuf(captured.rdbuf());
+            std::streambuf* const saved_err = std::cerr.rdbuf(captured.rdbuf());
+            std::string message;
+            try {
+                (void)decode_density_grids(bytes, "flipped.vdb", {"density"});
+            } catch (const VdbError& e) {
+                message = e.what();
+            } catch (const std::exception& e) {
+                message = std::string("not a VdbError: ") + e.what();
+            }
+            std::cout.rdbuf(saved_out);
+            std::cerr.rdbuf(saved_err);
+            EXPECT_EQ(captured.str(), "") << "byte " << at << " = " << int(value);
+            if (message.empty()) continue;
+            ++refused;
+            EXPECT_EQ(message.rfind("flipped.vdb: ", 0), 0u) << "byte " << at << ": " << message;
+            EXPECT_EQ(message.find('\n'), std::string::npos) << "byte " << at << ": " << message;
+            if (message.find("multi-buffer trees") != std::string::npos) ++warned;
+        }
+    }
+    EXPECT_GT(refused, 0);
+    EXPECT_GT(warned, 0) << "no corruption reached OpenVDB's buffer-count warning: the case is no longer covered";
 }
 
 TEST_F(VdbFile, MissingGridNamesTheOnesThereAre) {

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <new>
 #include <sstream>
@@ -49,6 +50,56 @@ std::string read_bytes(const std::filesystem::path& path) {
     return bytes;
 }
 
+// OpenVDB reports some corruption it reads past as a warning and carries on with a tree that may be wrong
+// (Tree::readTopology: "multi-buffer trees are no longer supported", for a corrupted buffer count); it
+// also warns before some errors it then throws ("unsupported VDB file format"). Its header templates
+// compiled here write to std::cerr; its library logs through log4cplus, whose console appender writes to
+// std::cout. While it parses, both streams are captured, so that a file it only warned about is refused
+// with one line naming it, and no stray line reaches the terminal beside Brume's own error. The streams
+// are process-wide: Brume reports through stdio (printf, fprintf), never iostreams, so the swap hides
+// nothing of its own.
+class CapturedOpenVdbOutput {
+public:
+    CapturedOpenVdbOutput()
+        : saved_out_(std::cout.rdbuf(captured_.rdbuf())), saved_err_(std::cerr.rdbuf(captured_.rdbuf())) {}
+    ~CapturedOpenVdbOutput() {
+        std::cout.rdbuf(saved_out_);
+        std::cerr.rdbuf(saved_err_);
+    }
+    CapturedOpenVdbOutput(const CapturedOpenVdbOutput&) = delete;
+    CapturedOpenVdbOutput& operator=(const CapturedOpenVdbOutput&) = delete;
+
+    // The first message OpenVDB wrote, without colour codes or its "WARNING: " / "WARN: " tag; empty
+    // when it wrote none.
+    std::string first_message() const {
+        const std::string raw = captured_.str();
+        std::string text;
+        for (std::size_t i = 0; i < raw.size(); ++i) {
+            if (raw[i] == '\033') {  // a terminal colour sequence, ESC [ ... m
+                while (i < raw.size() && raw[i] != 'm') ++i;
+                continue;
+            }
+            if (raw[i] == '\n') {
+                if (text.find_first_not_of(" \t") != std::string::npos) break;
+                text.clear();
+                continue;
+            }
+            text += raw[i];
+        }
+        text.erase(0, std::min(text.size(), text.find_first_not_of(" \t")));
+        for (const char* tag : {"WARNING: ", "WARN: ", "ERROR: ", "FATAL: "})
+            if (text.rfind(tag, 0) == 0) text.erase(0, std::strlen(tag));
+        constexpr std::size_t kMaxEchoed = 200;  // OpenVDB's own words, but bounded all the same
+        if (text.size() > kMaxEchoed) text = text.substr(0, kMaxEchoed) + "...";
+        return text;
+    }
+
+private:
+    std::ostringstream captured_;
+    std::streambuf* saved_out_;
+    std::streambuf* saved_err_;
+};
+
 // Every grid, fully loaded. The bytes are parsed from memory with stream exceptions on, so a truncated
 // file fails at its first short read; OpenVDB's own file reader instead reads on past the end and
 // reports garbage (a missing grid, an absurd allocation).
@@ -61,8 +112,18 @@ vdb::GridPtrVecPtr parse_grids(const std::string& bytes, const std::string& path
     std::istringstream in(bytes, std::ios::binary);
     in.exceptions(std::ios::failbit | std::ios::badbit | std::ios::eofbit);
     try {
-        vdb::io::Stream stream(in, /*delayLoad=*/false);
-        return stream.getGrids();
+        vdb::GridPtrVecPtr grids;
+        std::string warning;
+        {
+            const CapturedOpenVdbOutput captured;
+            vdb::io::Stream stream(in, /*delayLoad=*/false);
+            grids = stream.getGrids();
+            warning = captured.first_message();
+        }
+        if (!warning.empty()) fail(path, "corrupted VDB file (OpenVDB: " + warning + ")");
+        return grids;
+    } catch (const VdbError&) {
+        throw;
     } catch (const std::ios_base::failure&) {
         fail(path, "truncated or corrupted VDB file (its data ends early)");
     } catch (const vdb::IoError& e) {

@@ -18,7 +18,7 @@ fail() { echo "FAIL $1: $2"; failed=$((failed + 1)); }
 # --list names every shipped preset and marks the default.
 if out=$("$brume" play --list 2>&1); then
     missing=""
-    for p in plume ground-fog campfire explosion fog-bank crossing layers low-sun vdb-cloud; do
+    for p in plume ground-fog campfire explosion fog-bank crossing layers low-sun pop vdb-cloud; do
         printf '%s\n' "$out" | grep -q "^$p " || missing="$missing $p"
     done
     if [ -n "$missing" ]; then fail list "missing:$missing"

@@ -20,6 +20,7 @@ using testing::sphere;
 
 constexpr double kExactBound = 1e-4;    // exact methods: at most 1e-4 of the peak per frame step
 constexpr double kPoppingFloor = 5e-4;  // sorted must exceed this somewhere: 5x the exact bound
+constexpr double kPlainJump = 0.15;     // a jump of 15% of the peak in one frame step: plainly visible
 
 Scene base_scene() {
     Scene s;
@@ -123,6 +124,65 @@ TEST_F(Popping, TwoStreamsCrossing) {
         frames.push_back(s);
     }
     check(frames);
+}
+
+// Pixels where a frame step of `now` against `prev` differs from the reference's own step by more than
+// `fraction` of the reference's peak, in some channel: what a viewer sees jump.
+int popped_pixels(const Image& now, const Image& prev, const Image& ref_now, const Image& ref_prev, double fraction) {
+    float peak = 0.0f;
+    for (const float v : ref_now.rgb) peak = std::max(peak, v);
+    int count = 0;
+    for (std::size_t p = 0; p < now.rgb.size(); p += 3) {
+        bool jumped = false;
+        for (std::size_t c = 0; c < 3; ++c)
+            jumped |= std::abs((now.rgb[p + c] - prev.rgb[p + c]) - (ref_now.rgb[p + c] - ref_prev.rgb[p + c])) >
+                      fraction * peak;
+        count += jumped;
+    }
+    return count;
+}
+
+// The `pop` preset is the README's "watch it pop": sorted must pop there plainly, over a large part of
+// the frame in one step, where the exact methods do not pop at all (and check() holds them to the
+// reference's floor, as on every popping scene).
+TEST_F(Popping, PopPresetPopsPlainlyWithSortedOnly) {
+    const std::optional<Preset> preset = builtin_preset("pop");
+    ASSERT_TRUE(preset);
+    Simulator sim(*preset);
+    std::vector<Scene> frames;
+    for (int f = 0; f < 16; ++f) {  // one meeting of the lanes, at frame 3 (one every 12 frames)
+        if (f > 0) sim.step_frame();
+        Scene s = preset->scene;
+        sim.append_spheres(s.spheres);
+        s.camera = camera_at(*preset, sim.time());
+        s.camera.width = 96;
+        s.camera.height = 72;
+        frames.push_back(s);
+    }
+    check(frames);
+    std::vector<Image> refs;
+    for (const Scene& s : frames) {
+        ReferenceOptions options;
+        options.shadows = ReferenceShadows::PerSphere;
+        refs.push_back(render_reference(s, options));
+    }
+    const int pixels = 96 * 72;
+    for (const char* name : {"sorted", "ppll"}) {
+        auto method = make_method(&device(), name);
+        int most = 0;
+        Image prev;
+        for (std::size_t f = 0; f < frames.size(); ++f) {
+            Image img = method->render(frames[f], nullptr);
+            if (f > 0) most = std::max(most, popped_pixels(img, prev, refs[f], refs[f - 1], kPlainJump));
+            prev = std::move(img);
+        }
+        std::printf("%s: at most %d of %d pixels jump by over %.2f of the peak in one frame step\n", name, most,
+                    pixels, kPlainJump);
+        if (std::string(name) == "sorted")
+            EXPECT_GT(most, pixels / 25) << "sorted should pop plainly on pop: over 4% of the frame at once";
+        else
+            EXPECT_EQ(most, 0) << name << " is exact: nothing may jump against the reference";
+    }
 }
 
 }  // namespace

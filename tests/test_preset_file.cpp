@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 
 const fs::path kPresetDir = fs::path(__FILE__).parent_path().parent_path() / "presets";
 const std::vector<std::string> kShipped{"campfire", "crossing", "explosion", "fog-bank", "ground-fog",
-                                        "layers",   "low-sun",  "plume",     "vdb-cloud"};
+                                        "layers",   "low-sun",  "plume",     "pop",       "vdb-cloud"};
 
 // Every key of the schema set to something other than its default.
 constexpr const char* kEveryKey = R"([preset]

@@ -76,6 +76,30 @@ expect_error() {
     return 0
 }
 
+# expect_line NAME STATUS TEXT: the last run exited with STATUS and its stderr is exactly the one line
+# "brume: error: TEXT".
+expect_line() {
+    local name=$1 status=$2 text=$3
+    if [ "$rc" -ne "$status" ]; then
+        fail "$name" "exit status $rc, expected $status: $(first_err)"
+        return 1
+    fi
+    if [ "$(wc -l <"$err")" -ne 1 ] || [ "$(cat "$err")" != "brume: error: $text" ]; then
+        fail "$name" "stderr is not the one line 'brume: error: $text': $(head -c 300 "$err" | tr '\n' '|')"
+        return 1
+    fi
+    return 0
+}
+
+# run_bounded SECONDS ARGS...: run, killed after SECONDS; rc is 124 when it ran too long.
+run_bounded() {
+    local limit=$1
+    shift
+    timeout -s KILL "$limit" "$brume" "$@" >"$out" 2>"$err"
+    rc=$?
+    [ "$rc" -eq 137 ] && rc=124
+}
+
 # expect_success NAME: the last run exited 0.
 expect_success() {
     if [ "$rc" -ne 0 ]; then
@@ -163,6 +187,75 @@ if expect_success frames.clamped; then
 fi
 run play crossing --frames 7 --size 16x12 -o frames_one
 expect_success frames.one && grep -q "wrote 1 frame in" "$out" && ok frames.one
+# A negative N is a frame outside the preset, said once with the number as typed (not "-3--3"), status 2.
+run play crossing --frames -3 -o frames_negative
+expect_line frames.negative 2 "--frames -3 is outside the preset's frames 0-143" && ! grep -q -- "-3--3" "$err" &&
+    [ ! -e frames_negative ] && ok frames.negative
+# The README's farm recipes (Slurm --array and GNU parallel's seq) cover every frame of the preset they
+# name exactly once, no job starts past the end, and their last chunk is clamped with a note, not refused.
+readme=$data/../../README.md
+farm_frames() {  # NAME: the preset's last frame, from the refusal of a frame past it
+    "$brume" play "$1" --frames 999999 -o "$work/never_farm" 2>&1 | sed -n "s/.*outside the preset's frames 0-\([0-9]*\)\$/\1/p"
+}
+farm_cover() {  # NAME LAST FIRST:LAST...: every frame 0-LAST in exactly one chunk, no chunk starting past LAST
+    local name=$1 last=$2 chunk a b f
+    shift 2
+    local -a seen=()
+    for chunk in "$@"; do
+        a=${chunk%:*}
+        b=${chunk#*:}
+        if [ "$a" -gt "$last" ] || [ "$b" -lt "$a" ]; then echo "chunk $a-$b is refused"; return 1; fi
+        for ((f = a; f <= b && f <= last; ++f)); do
+            if [ -n "${seen[f]:-}" ]; then echo "frame $f in two chunks"; return 1; fi
+            seen[f]=1
+        done
+    done
+    for ((f = 0; f <= last; ++f)); do [ -n "${seen[f]:-}" ] || { echo "frame $f in no chunk"; return 1; }; done
+    return 0
+}
+slurm_range=$(sed -n 's/^#SBATCH --array=\([0-9]*-[0-9]*\)$/\1/p' "$readme")
+slurm_step=$(sed -n 's/^first=\$((SLURM_ARRAY_TASK_ID \* \([0-9]*\))); last=\$((first + [0-9]*))$/\1/p' "$readme")
+slurm_span=$(sed -n 's/^first=\$((SLURM_ARRAY_TASK_ID \* [0-9]*)); last=\$((first + \([0-9]*\)))$/\1/p' "$readme")
+slurm_preset=$(grep -A 3 '^#SBATCH --array=' "$readme" | sed -n 's/.* play \([a-z0-9-]*\) -o .*--frames \$first-\$last$/\1/p')
+seq_args=$(sed -n "s/^seq \([0-9]* [0-9]* [0-9]*\) | parallel .* play [a-z0-9-]* -o .*--frames {}-'\$(({}+[0-9]*))'\$/\1/p" "$readme")
+seq_span=$(sed -n "s/^seq [0-9]* [0-9]* [0-9]* | parallel .* play [a-z0-9-]* -o .*--frames {}-'\$(({}+\([0-9]*\)))'\$/\1/p" "$readme")
+seq_preset=$(sed -n "s/^seq [0-9]* [0-9]* [0-9]* | parallel .* play \([a-z0-9-]*\) -o .*--frames {}-'\$(({}+[0-9]*))'\$/\1/p" "$readme")
+if [ -z "$slurm_range" ] || [ -z "$slurm_step" ] || [ -z "$slurm_span" ] || [ -z "$slurm_preset" ] ||
+    [ -z "$seq_args" ] || [ -z "$seq_span" ] || [ -z "$seq_preset" ]; then
+    fail readme.farm_recipes "recipes not found in README.md: array '$slurm_range' step '$slurm_step' span '$slurm_span' preset '$slurm_preset'; seq '$seq_args' span '$seq_span' preset '$seq_preset'"
+else
+    farm_bad=""
+    slurm_last=$(farm_frames "$slurm_preset")
+    chunks=()
+    for ((t = ${slurm_range%-*}; t <= ${slurm_range#*-}; ++t)); do chunks+=("$((t * slurm_step)):$((t * slurm_step + slurm_span))"); done
+    why=$(farm_cover "$slurm_preset" "${slurm_last:-x}" "${chunks[@]}") || farm_bad="$farm_bad slurm ($slurm_preset, 0-$slurm_last): $why;"
+    slurm_tail=${chunks[${#chunks[@]}-1]}
+    seq_last=$(farm_frames "$seq_preset")
+    chunks=()
+    for a in $(seq $seq_args); do chunks+=("$a:$((a + seq_span))"); done
+    why=$(farm_cover "$seq_preset" "${seq_last:-x}" "${chunks[@]}") || farm_bad="$farm_bad seq ($seq_preset, 0-$seq_last): $why;"
+    seq_tail=${chunks[${#chunks[@]}-1]}
+    # The README's own count of the frames agrees with the preset.
+    if [ "$slurm_preset" = fog-bank ] && ! grep -qF "\`fog-bank\` has $((slurm_last + 1)) frames (0-$slurm_last;" "$readme"; then
+        farm_bad="$farm_bad README does not say fog-bank has $((slurm_last + 1)) frames (0-$slurm_last);"
+    fi
+    # The last chunk of each recipe runs: clamped to the last frame, with the note.
+    for tail_chunk in "$slurm_preset:$slurm_tail" "$seq_preset:$seq_tail"; do
+        p=${tail_chunk%%:*}
+        a=$(echo "$tail_chunk" | cut -d: -f2)
+        b=$(echo "$tail_chunk" | cut -d: -f3)
+        pl=$(farm_frames "$p")
+        rm -rf "$work/farm_tail"
+        run play "$p" --frames "$a-$b" --size 8x6 -o "$work/farm_tail"
+        n=$(ls "$work/farm_tail" 2>/dev/null | grep -c "^$p\.[0-9]*\.png$")
+        if [ "$rc" -ne 0 ]; then farm_bad="$farm_bad --frames $a-$b of $p: exit $rc $(first_err);"
+        elif [ "$b" -gt "$pl" ] && ! grep -qF -- "--frames $a-$b: the preset ends at frame $pl; rendering $a-$pl" "$out"; then
+            farm_bad="$farm_bad --frames $a-$b of $p: no clamping note: $(head -n 1 "$out");"
+        elif [ "$n" -ne $((pl < b ? pl - a + 1 : b - a + 1)) ]; then farm_bad="$farm_bad --frames $a-$b of $p wrote $n frames;"
+        fi
+    done
+    [ -z "$farm_bad" ] && ok readme.farm_recipes || fail readme.farm_recipes "$farm_bad"
+fi
 # A first try with no subcommand shows the help; --version answers.
 run
 if [ "$rc" -eq 2 ] && grep -q "render" "$err" && grep -q "Subcommands" "$err"; then ok usage.no_arguments; else fail usage.no_arguments "rc $rc: $(first_err)"; fi

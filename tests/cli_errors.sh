@@ -291,6 +291,15 @@ expect_error toml.deep_key "deep_key.toml:1" "nested deeper than 64" && ok toml.
 awk 'BEGIN { printf "x = "; for (i = 0; i < 31000; ++i) printf "["; for (i = 0; i < 31000; ++i) printf "]"; print "" }' > deep_array.toml
 run render deep_array.toml -o never.exr
 expect_error toml.deep_array "deep_array.toml:1" "nested deeper than 64" && ok toml.deep_array
+# The table-header forms of the same nesting, [a.a.a...] and [[a.a.a...]], are refused by line too (item 6).
+awk 'BEGIN { print "# a table header 31,001 segments deep"; printf "[a"; for (i = 0; i < 31000; ++i) printf ".a"; print "]"; print "x = 1" }' > deep_table.toml
+run_bounded 30 render deep_table.toml -o never.exr
+expect_line toml.deep_table_header 1 "deep_table.toml:2: a key nested deeper than 64 levels" && [ ! -e never.exr ] &&
+    ok toml.deep_table_header
+awk 'BEGIN { printf "[[a"; for (i = 0; i < 31000; ++i) printf ".a"; print "]]"; print "x = 1" }' > deep_array_table.toml
+run_bounded 30 render deep_array_table.toml -o never.exr
+expect_line toml.deep_array_table_header 1 "deep_array_table.toml:1: a key nested deeper than 64 levels" &&
+    [ ! -e never.exr ] && ok toml.deep_array_table_header
 # Inputs that never end are refused by name, not read until memory runs out.
 run render /dev/zero -o never.exr
 expect_error input.device "/dev/zero" "is a device" && [ ! -e never.exr ] && ok input.device
@@ -298,6 +307,13 @@ sed -n '1,/^\[\[box\]\]/p' "$data/small.toml" | sed '$d' > vdb_device.toml
 printf '[[vdb]]\nfile = "/dev/zero"\n' >> vdb_device.toml
 run render vdb_device.toml -o never.exr
 expect_error input.vdb_device "/dev/zero" "is a device" && [ ! -e never.exr ] && ok input.vdb_device
+# /dev/urandom never ends either, and is refused by name as /dev/zero is (item 7).
+run_bounded 10 render /dev/urandom -o never.exr
+expect_line input.urandom 1 "/dev/urandom: cannot read: is a device, not a scene file" && [ ! -e never.exr ] && ok input.urandom
+sed 's|/dev/zero|/dev/urandom|' vdb_device.toml > vdb_urandom.toml
+run_bounded 10 render vdb_urandom.toml -o never.exr
+expect_error input.vdb_urandom "/dev/urandom" "is a device" && [ "$(wc -l <"$err")" -eq 1 ] && [ "$rc" -eq 1 ] &&
+    [ ! -e never.exr ] && ok input.vdb_urandom
 # A list the device cannot resolve (3,000 coincident media: lavapipe cuts the resolve's loops short)
 # is refused, never written wrong; on a device without that limit it renders exactly.
 {
@@ -802,6 +818,13 @@ if expect_success render.preset_still; then
 fi
 # Counts agree with their nouns: crossing has one box.
 grep -q ", 1 box," "$out" && ok render.plurals || fail render.plurals "$(head -n 1 "$out")"
+# ... and a scene with one sphere has "1 sphere", not "1 spheres".
+{ sed '/^\[\[sphere\]\]/,$d' "$data/small.toml"; printf '[[sphere]]\ncenter = [0.0, 0.3, 0.0]\nradius = 0.5\nextinction = 1.0\nalbedo = [0.8, 0.8, 0.8]\n'; } >"$nu/one_sphere.toml"
+run render "$nu/one_sphere.toml" --size 8x6 -o "$nu/one_sphere.exr"
+if expect_success render.plurals_sphere; then
+    if grep -qF "one_sphere.toml: 8x6, 1 sphere, 1 box, " "$out" && ! grep -q "1 spheres" "$out"; then ok render.plurals_sphere
+    else fail render.plurals_sphere "$(head -n 1 "$out")"; fi
+fi
 # A full particle budget is said and counted in the statistics of a preset still (issue 14 item 4).
 printf '[timeline]\nfps = 10.0\nduration = 0.5\nmax_particles = 5\n[[emitter]]\nshape = "point"\ncenter = [0.0, 0.5, 0.0]\nrate = 150.0\nlifetime = 10.0\nparticle_radius = 0.1\nextinction = 1.0\n' >"$nu/capped.toml"
 run render "$nu/capped.toml" --frame 3 --size 8x8 -o "$nu/capped.exr" --stats "$nu/capped.json"
@@ -819,9 +842,20 @@ expect_error camera.lone_key_typo "cam1.toml:5" "positon" && [ ! -e "$nu/cam1" ]
 hs=$work/huge_strings
 mkdir -p "$hs"
 { echo "[camera]"; head -c 8000000 /dev/zero | tr '\0' x; echo " = 1"; } >"$hs/key.toml"
-run render "$hs/key.toml" -o "$hs/never.exr"
-if expect_error strings.huge_key "key.toml:2" "unknown key" "(8000000 bytes)"; then
+run_bounded 10 render "$hs/key.toml" -o "$hs/never.exr"
+if [ "$rc" -eq 124 ]; then fail strings.huge_key "still running after 10 s"
+elif expect_error strings.huge_key "key.toml:2" "unknown key" "(8000000 bytes)"; then
     if [ "$(wc -c <"$err")" -lt 400 ]; then ok strings.huge_key; else fail strings.huge_key "a $(wc -c <"$err")-byte message"; fi
+fi
+# An 8 MB table name: one bounded line, within 10 s, naming the line, and the name cut to an excerpt.
+{ echo "[camera]"; echo "width = 8"; printf '['; head -c 8000000 /dev/zero | tr '\0' t; echo "]"; echo "x = 1"; } >"$hs/table.toml"
+run_bounded 10 render "$hs/table.toml" -o "$hs/never.exr"
+if [ "$rc" -eq 124 ]; then fail strings.huge_table_name "still running after 10 s"
+elif expect_error strings.huge_table_name "table.toml:3" "unknown table" "(8000000 bytes)"; then
+    if [ "$rc" -ne 1 ] || [ "$(wc -l <"$err")" -ne 1 ] || [ "$(wc -c <"$err")" -ge 2100 ]; then
+        fail strings.huge_table_name "status $rc, $(wc -l <"$err") lines, $(wc -c <"$err") bytes"
+    elif [ -e "$hs/never.exr" ]; then fail strings.huge_table_name "wrote never.exr"
+    else ok strings.huge_table_name; fi
 fi
 { echo "[render]"; printf 'shadow_technique = "'; head -c 100000 /dev/zero | tr '\0' z; echo '"'; } >"$hs/enum.toml"
 run render "$hs/enum.toml" -o "$hs/never.exr"

@@ -757,6 +757,43 @@ expect_error output.stats_over_scene_link "would overwrite" && [ "$(cksum <"$od/
     ok output.stats_over_scene_link
 run render "$data/small.toml" "${small[@]}" -o "$od/same" --png "$od/same"
 expect_error output.same_twice "-o" "--png" "same file" && [ ! -e "$od/same" ] && ok output.same_twice
+# ... and two outputs that are one file are a command-line error: status 2, as docs/decisions.md says.
+run render "$data/small.toml" "${small[@]}" -o "$od/same" --png "$od/same"
+expect_line usage.status_same_twice 2 "--png $od/same and -o $od/same are the same file: each output needs its own name" &&
+    [ ! -e "$od/same" ] && ok usage.status_same_twice
+# A hard link to the scene is the scene: refused, by the output's name and the scene's, the scene untouched.
+ln "$od/scene.toml" "$od/scene_hard.exr"
+run render "$od/scene.toml" "${small[@]}" -o "$od/scene_hard.exr"
+expect_line output.exr_over_scene_hard_link 2 "-o $od/scene_hard.exr would overwrite the scene $od/scene.toml: name another output file" &&
+    [ "$(cksum <"$od/scene.toml")" = "$scene_sum" ] && [ "$(stat -c %h "$od/scene.toml")" -eq 2 ] &&
+    ok output.exr_over_scene_hard_link
+ln "$od/scene.toml" "$od/scene_hard.json"
+run render "$od/scene.toml" "${small[@]}" --png "$od/hard.png" --stats "$od/scene_hard.json"
+expect_line output.stats_over_scene_hard_link 2 "--stats $od/scene_hard.json would overwrite the scene $od/scene.toml: name another output file" &&
+    [ "$(cksum <"$od/scene.toml")" = "$scene_sum" ] && [ ! -e "$od/hard.png" ] && ok output.stats_over_scene_hard_link
+# A [[vdb]] file is an input too, by name and by hard link.
+run vdb-sample fog-sphere --resolution 16 -o "$od/fog.vdb"
+printf '[[vdb]]\nfile = "fog.vdb"\ntolerance = 0.2\n' >"$od/vdb_scene.toml"
+vdb_sum=$(cksum <"$od/fog.vdb")
+run render "$od/vdb_scene.toml" "${small[@]}" --stats "$od/fog.vdb"
+expect_line output.stats_over_vdb 2 "--stats $od/fog.vdb would overwrite the volume $od/fog.vdb: name another output file" &&
+    [ "$(cksum <"$od/fog.vdb")" = "$vdb_sum" ] && ok output.stats_over_vdb
+ln "$od/fog.vdb" "$od/fog_hard.json"
+run render "$od/vdb_scene.toml" "${small[@]}" --stats "$od/fog_hard.json"
+expect_line output.stats_over_vdb_hard_link 2 "--stats $od/fog_hard.json would overwrite the volume $od/fog.vdb: name another output file" &&
+    [ "$(cksum <"$od/fog.vdb")" = "$vdb_sum" ] && ok output.stats_over_vdb_hard_link
+# play --video onto the preset file, by a hard link or a symbolic link, is refused before any frame.
+cp "$data/../../presets/crossing.toml" "$od/preset.toml"
+preset_sum=$(cksum <"$od/preset.toml")
+ln "$od/preset.toml" "$od/preset_hard.mp4"
+run play "$od/preset.toml" --frames 0 --size 8x6 -o "$od/pv" --video "$od/preset_hard.mp4"
+expect_line output.video_over_preset_hard_link 2 "--video $od/preset_hard.mp4 would overwrite the preset $od/preset.toml: name another output file" &&
+    [ "$(cksum <"$od/preset.toml")" = "$preset_sum" ] && [ ! -e "$od/pv" ] && ok output.video_over_preset_hard_link
+ln -s preset.toml "$od/preset_link.mkv"
+run play "$od/preset.toml" --frames 0 --size 8x6 -o "$od/pv" --video "$od/preset_link.mkv"
+expect_line output.video_over_preset_link 2 "--video $od/preset_link.mkv would overwrite the preset $od/preset.toml: name another output file" &&
+    [ "$(cksum <"$od/preset.toml")" = "$preset_sum" ] && [ -L "$od/preset_link.mkv" ] && [ ! -e "$od/pv" ] &&
+    ok output.video_over_preset_link
 # An empty path is a command-line error, not "use the defaults" (which wrote brume.exr and brume.png here).
 (cd "$od/real" && "$brume" render "$data/small.toml" "${small[@]}" -o "" >"$out" 2>"$err"; echo $? >"$od/rc")
 rc=$(cat "$od/rc")
@@ -805,6 +842,13 @@ run render "$data/small.toml" --size abc -o never.exr
 expect_error usage.status_size "abc" && [ "$rc" -eq 2 ] && ok usage.status_size || echo "  (status $rc)"
 run render "$data/small.toml" --method magic -o never.exr
 expect_error usage.status_method "magic" && [ "$rc" -eq 2 ] && ok usage.status_method || echo "  (status $rc)"
+# A name whose extension contradicts its option is a command-line error too (status 2), refused before any work.
+run render "$data/small.toml" --size 8x6 -o status_fmt.png
+expect_line usage.status_exr_as_png 2 "-o status_fmt.png: -o writes linear OpenEXR, but the name ends in .png; name it .exr (--png writes PNG)" &&
+    [ ! -e status_fmt.png ] && ok usage.status_exr_as_png
+run render "$data/small.toml" --size 8x6 --png status_fmt.exr
+expect_line usage.status_png_as_exr 2 "--png status_fmt.exr: --png writes PNG, but the name ends in .exr; name it .png (-o writes OpenEXR)" &&
+    [ ! -e status_fmt.exr ] && ok usage.status_png_as_exr
 # Help is per benchmark: bench layers --help shows its options, not bench sim's.
 run bench layers --help
 expect_success usage.bench_help && grep -q -- "--layers" "$out" && ! grep -q -- "--particles" "$out" && ok usage.bench_help ||

@@ -813,16 +813,47 @@ cp "$data/small.toml" "$long/scene.toml"
 run render "$data/small.toml" --size 1x1 -o "$mix/out.exr" --png "$mix/out.png" --stats "$mix/out.json"
 expect_success output.mixed_setup || true
 mix_before=$(cd "$mix" && cksum out.exr out.png out.json)
-(ulimit -f 1; trap '' XFSZ; "$brume" render "$long/scene.toml" --size 1x1 --exposure 1 -o "$mix/out.exr" \
+mix_inodes=$(cd "$mix" && stat -c '%n %i' out.exr out.png out.json)
+# The failing run renders another size, so every one of its outputs differs from the old one (checked
+# on a run without the limit): a replaced file shows in its bytes as well as in its inode.
+mkdir -p "$od/mixref"
+run render "$long/scene.toml" --size 2x2 --exposure 1 -o "$od/mixref/out.exr" --png "$od/mixref/out.png" \
+    --stats "$od/mixref/out.json"
+mix_differs=yes
+for f in out.exr out.png out.json; do cmp -s "$mix/$f" "$od/mixref/$f" && mix_differs="no ($f)"; done
+(ulimit -f 1; trap '' XFSZ; "$brume" render "$long/scene.toml" --size 2x2 --exposure 1 -o "$mix/out.exr" \
     --png "$mix/out.png" --stats "$mix/out.json" >"$out" 2>"$err"; echo $? >"$od/rc")
 rc=$(cat "$od/rc")
 if expect_error output.mixed_never "$mix/out.json"; then
-    if [ "$(cd "$mix" && cksum out.exr out.png out.json)" != "$mix_before" ]; then
+    if [ "$mix_differs" != yes ]; then
+        fail output.mixed_never "the failing run's outputs would not differ from the old ones: $mix_differs"
+    elif [ "$rc" -ne 1 ] || [ "$(wc -l <"$err")" -ne 1 ]; then
+        fail output.mixed_never "status $rc, $(wc -l <"$err") lines: $(first_err)"
+    elif [ "$(cd "$mix" && stat -c '%n %i' out.exr out.png out.json)" != "$mix_inodes" ]; then
+        fail output.mixed_never "the failed run replaced some of its outputs (inodes changed)"
+    elif [ "$(cd "$mix" && cksum out.exr out.png out.json)" != "$mix_before" ]; then
         fail output.mixed_never "the failed run replaced some of its outputs"
     elif [ -n "$(ls -A "$mix" | grep '^\.')" ]; then
         fail output.mixed_never "temporary files left: $(listing "$mix")"
     else
         ok output.mixed_never
+    fi
+fi
+# A play that fails after it started (its first frame does not fit a file-size limit) removes the folders
+# it made for the frames: none is left empty, and a folder that stood before stays.
+mkdir -p "$od/play_fail"
+(ulimit -f 1; trap '' XFSZ; "$brume" play crossing --frames 0-2 --size 64x48 --format png,exr \
+    -o "$od/play_fail/made/deeper" >"$out" 2>"$err"; echo $? >"$od/rc")
+rc=$(cat "$od/rc")
+if expect_error play.failed_run_removes_folder "cannot write $od/play_fail/made/deeper/crossing.0000." "File too large"; then
+    if [ "$rc" -ne 1 ] || [ "$(wc -l <"$err")" -ne 1 ]; then
+        fail play.failed_run_removes_folder "status $rc, $(wc -l <"$err") lines: $(first_err)"
+    elif ! grep -q "^crossing: frames 0-2 of 144" "$out"; then
+        fail play.failed_run_removes_folder "the run did not start: $(head -n 1 "$out")"
+    elif [ ! -d "$od/play_fail" ] || ! dir_holds "$od/play_fail"; then
+        fail play.failed_run_removes_folder "left: $(cd "$od/play_fail" 2>/dev/null && find . | tr '\n' ' ')"
+    else
+        ok play.failed_run_removes_folder
     fi
 fi
 

@@ -5,6 +5,7 @@
 set -u
 brume=$1
 scratch=$2
+case $brume in /*) ;; *) brume=$PWD/$brume ;; esac  # the checks run in their own directory
 lavapipe=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 export VK_DRIVER_FILES=$lavapipe VK_ICD_FILENAMES=$lavapipe
 mkdir -p "$scratch"
@@ -57,6 +58,38 @@ if command -v ffmpeg >/dev/null 2>&1; then
     fi
 else
     echo "skip video: ffmpeg not installed"
+fi
+
+# A failed encoding keeps NAME.ffmpeg.log beside the frames and names it; the frames stay, and neither a
+# video nor a temporary file is left. Brume finds ffmpeg on PATH, so a stand-in that answers -version and
+# fails to encode makes the encoding fail after the frames are written (no real ffmpeg needed).
+mkdir -p fakebin
+printf '%s\n' '#!/bin/sh' 'for a in "$@"; do [ "$a" = -version ] && { echo "ffmpeg version stand-in"; exit 0; }; done' \
+    'echo "stand-in ffmpeg: cannot encode" >&2' 'exit 1' >fakebin/ffmpeg
+chmod +x fakebin/ffmpeg
+PATH=$work/fakebin:$PATH "$brume" play crossing -o vfail --frames 0-1 --size 16x12 --video vfail/crossing.mp4 >vfail.log 2>vfail.err
+rc=$?
+first=$(head -n 1 vfail.err)
+held=$(ls -A vfail 2>/dev/null | tr '\n' ' ')
+if [ "$rc" -ne 1 ]; then fail video_failed_keeps_log "exit status $rc: $first"
+elif [ "$first" != "brume: error: ffmpeg failed (exit 1) encoding vfail/crossing.mp4; its log vfail/crossing.ffmpeg.log ends:" ]; then
+    fail video_failed_keeps_log "message: $first"
+elif ! grep -qx "  stand-in ffmpeg: cannot encode" vfail.err; then fail video_failed_keeps_log "the log's tail is not shown: $(tr '\n' '|' <vfail.err)"
+elif ! grep -qx "stand-in ffmpeg: cannot encode" vfail/crossing.ffmpeg.log 2>/dev/null; then fail video_failed_keeps_log "no log kept: $held"
+elif [ "$held" != "crossing.0000.png crossing.0001.png crossing.ffmpeg.log " ]; then fail video_failed_keeps_log "the folder holds: $held"
+else ok video_failed_keeps_log; fi
+# A good encoding into the same folder afterwards removes the failed one's log.
+if command -v ffmpeg >/dev/null 2>&1; then
+    if "$brume" play crossing -o vfail --frames 0-1 --size 16x12 --video vfail/crossing.mp4 >vgood.log 2>&1 &&
+        [ "$(head -c 8 vfail/crossing.mp4 2>/dev/null | tail -c 4)" = "ftyp" ]; then
+        held=$(ls -A vfail | tr '\n' ' ')
+        if [ "$held" != "crossing.0000.png crossing.0001.png crossing.mp4 " ]; then fail video_good_removes_old_log "the folder holds: $held"
+        else ok video_good_removes_old_log; fi
+    else
+        fail video_good_removes_old_log "$(tail -2 vgood.log)"
+    fi
+else
+    echo "skip video_good_removes_old_log: ffmpeg not installed"
 fi
 
 # Interrupted: SIGINT after the first frame; exit 130, every written frame complete, no temp files.

@@ -176,6 +176,58 @@ else
     else ok preroll_interrupt; fi
 fi
 
+# The summary's simulation time includes the preroll (issue 14 item 9): a 60 s preroll of 2,000 particles
+# a second takes a measurable time, which the summary states, never more than the run took.
+cat >sim_time.toml <<'EOF'
+[timeline]
+fps = 24.0
+duration = 0.5
+substeps = 4
+preroll = 60.0
+[[emitter]]
+shape = "point"
+center = [0.0, 0.5, 0.0]
+rate = 2000.0
+lifetime = 5.0
+particle_radius = 0.1
+extinction = 1.0
+EOF
+t0=$(date +%s.%N)
+"$brume" play sim_time.toml -o sim_time --frames 0 --size 8x6 >sim_time.log 2>&1
+rc=$?
+t1=$(date +%s.%N)
+sim_s=$(sed -n 's/^wrote 1 frame in [0-9.]* s (simulation \([0-9.]*\) s) to sim_time$/\1/p' sim_time.log)
+if [ "$rc" -ne 0 ]; then fail preroll_summary "exit status $rc: $(tail -1 sim_time.log)"
+elif [ -z "$sim_s" ]; then fail preroll_summary "no 'wrote 1 frame in X s (simulation Y s)' line: $(tail -1 sim_time.log)"
+elif ! awk -v s="$sim_s" -v w="$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.6f", b - a }')" 'BEGIN { exit !(s > 0 && s <= w) }'; then
+    fail preroll_summary "simulation $sim_s s for a 60 s preroll (the run took $(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }') s)"
+else ok preroll_summary; fi
+
+# The conversion cache end to end (README "Farms"): with BRUME_CACHE_DIR set, the second job of vdb-cloud
+# reads the spheres the first converted, says so, and renders the same bytes; so does a job of other
+# frames. BRUME_CACHE=off converts again.
+cache=$work/cache
+cached_play() { env -u BRUME_CACHE BRUME_CACHE_DIR="$cache" "$brume" play vdb-cloud --size 8x6 "$@"; }
+cached_play --frames 0 -o cache1 >cache1.log 2>&1
+rc1=$?
+cached_play --frames 0 -o cache2 >cache2.log 2>&1
+rc2=$?
+cached_play --frames 1 -o cache3 >cache3.log 2>&1
+rc3=$?
+BRUME_CACHE=off BRUME_CACHE_DIR="$cache" "$brume" play vdb-cloud --size 8x6 --frames 0 -o cache4 >cache4.log 2>&1
+rc4=$?
+conv='^builtin:cloud: [0-9]* spheres from [0-9]* active voxels, optical-depth error .*, [0-9.]* s'
+entries=$(ls -A "$cache" 2>/dev/null | tr '\n' ' ')
+if [ "$rc1$rc2$rc3$rc4" != 0000 ]; then fail conversion_cache "exit statuses $rc1 $rc2 $rc3 $rc4: $(tail -1 cache1.log)"
+elif ! grep -q "$conv\$" cache1.log; then fail conversion_cache "the first job did not convert: $(head -1 cache1.log)"
+elif ! grep -q "$conv (from the conversion cache)\$" cache2.log; then fail conversion_cache "the second job did not say it read the cache: $(head -1 cache2.log)"
+elif ! grep -q "$conv (from the conversion cache)\$" cache3.log; then fail conversion_cache "a job of other frames did not read the cache: $(head -1 cache3.log)"
+elif ! grep -q "$conv\$" cache4.log; then fail conversion_cache "BRUME_CACHE=off still read the cache: $(head -1 cache4.log)"
+elif ! cmp -s cache1/vdb-cloud.0000.png cache2/vdb-cloud.0000.png; then fail conversion_cache "the cached job's frame differs"
+elif ! cmp -s cache1/vdb-cloud.0000.png cache4/vdb-cloud.0000.png; then fail conversion_cache "the uncached job's frame differs"
+elif [ "$(ls -A "$cache" | wc -l)" -ne 1 ] || ! ls -A "$cache" | grep -q '^[0-9a-f]*\.spheres$'; then fail conversion_cache "the cache holds: $entries"
+else ok conversion_cache; fi
+
 # A full particle budget is said once and counted (issue 14 item 4).
 cat >capped.toml <<'EOF'
 [timeline]

@@ -257,7 +257,8 @@ rc=$?
 if [ "$rc" -ne 0 ] && grep -q ".mp4" gif.log && [ ! -e gif ]; then ok video_name_checked_first; else fail video_name_checked_first "rc $rc: $(tail -1 gif.log)"; fi
 "$brume" play crossing -o frame_video --frames 0-1 --size 16x12 --video frame_video/crossing.0000.png >fv.log 2>&1
 rc=$?
-if [ "$rc" -ne 0 ] && [ ! -e frame_video ]; then ok video_not_a_frame; else fail video_not_a_frame "rc $rc: $(tail -1 fv.log)"; fi
+if [ "$rc" -eq 2 ] && [ "$(cat fv.log)" = "brume: error: --video frame_video/crossing.0000.png: the video is H.264, so its name must end in .mp4, .mkv, .mov or .m4v (not .png)" ] &&
+    [ ! -e frame_video ]; then ok video_not_a_frame; else fail video_not_a_frame "rc $rc: $(tail -1 fv.log)"; fi
 
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1

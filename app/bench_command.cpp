@@ -26,6 +26,11 @@ namespace brume::app {
 
 namespace {
 
+// The layers scene's spheres cover the whole frame, so each layer costs a full-screen pass and two list
+// nodes a pixel: 1,024 layers already make about a billion list nodes at 800x600.
+constexpr int kMaxBenchLayers = 1024;
+
+
 // Barta & Kovács, "Order Independent Transparency with Per-Pixel Linked Lists", Tables 1-2 (ATI Radeon
 // HD 5700, Direct3D 11): FPS against full-screen layers.
 double paper_fps(int width, int layers) {
@@ -135,7 +140,9 @@ int run_bench(const BenchArgs& args) {
     }
     const std::vector<int> layer_counts = parse_int_list(args.layers);
     for (int n : layer_counts)
-        if (n < 2 || n % 2) throw std::invalid_argument("layer counts must be even and >= 2 (got " + std::to_string(n) + ")");
+        if (n < 2 || n % 2 || n > kMaxBenchLayers)
+            throw UsageError("--layers: counts must be even, from 2 to " + std::to_string(kMaxBenchLayers) +
+                                        " (got " + std::to_string(n) + ")");
 
     vk::DeviceOptions device_options;
     device_options.device_name = args.device;

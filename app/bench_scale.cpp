@@ -9,6 +9,7 @@
 #include "render/vk/resources.h"
 #include "sim/builtin_presets.h"
 #include "sim/camera_path.h"
+#include "sim/scene_file.h"
 #include "sim/simulator.h"
 #include "sim/smoke_cloud_scene.h"
 #include "sim/vdb/volume_loader.h"
@@ -92,7 +93,9 @@ int run_bench_scale(const BenchArgs& args) {
     if (!args.size.empty()) parse_size(args.size, w, h);
     std::vector<std::size_t> counts;
     for (int n : parse_int_list(args.spheres)) {
-        if (n < 1) throw std::invalid_argument("--spheres: counts must be at least 1 (got " + std::to_string(n) + ")");
+        if (n < 1 || std::size_t(n) > kMaxSpheres)
+            throw UsageError("--spheres: counts must be from 1 to " + std::to_string(kMaxSpheres) +
+                                        ", as in a scene file (got " + std::to_string(n) + ")");
         counts.push_back(std::size_t(n));
     }
     const std::vector<std::string> specs = args.methods.empty() ? default_scale_methods() : split_list(args.methods);

@@ -98,10 +98,19 @@ void parse_size(const std::string& text, int& width, int& height) {
 
 std::vector<int> parse_int_list(const std::string& text) {
     std::vector<int> out;
-    int a = 0, b = 0, step = 1;
-    char extra = 0;
-    if (std::sscanf(text.c_str(), "%d-%d:%d%c", &a, &b, &step, &extra) == 3 && step > 0 && a <= b) {
-        for (int v = a; v <= b; v += step) out.push_back(v);
+    // A-B:S, each a whole number (overflow-checked), counted in 64 bits so that no step wraps past B.
+    const std::size_t dash = text.find('-'), colon = text.find(':');
+    if (dash != std::string::npos && colon != std::string::npos && dash < colon) {
+        const std::optional<long long> a = parse_whole_number(std::string_view(text).substr(0, dash));
+        const std::optional<long long> b = parse_whole_number(std::string_view(text).substr(dash + 1, colon - dash - 1));
+        const std::optional<long long> step = parse_whole_number(std::string_view(text).substr(colon + 1));
+        if (!a || !b || !step || *step < 1 || *a > *b || *b > INT32_MAX)
+            throw UsageError("'" + text + "' is not a range like 2-16:2 (from A to B >= A in steps of S >= 1, each at most " +
+                             std::to_string(INT32_MAX) + ")");
+        constexpr long long kMaxItems = 10000;  // a benchmark sweep, not a loop that runs for hours
+        if ((*b - *a) / *step + 1 > kMaxItems)
+            throw UsageError("'" + text + "' has more than " + std::to_string(kMaxItems) + " values");
+        for (long long v = *a; v <= *b; v += *step) out.push_back(int(v));
         return out;
     }
     std::size_t start = 0;

@@ -89,6 +89,9 @@ struct VdbVolume {
     // with tolerance still its goal.
     bool fit = false;
     VolumeTransform transform;
+    // "FILE:LINE" of its [[vdb]] table, which the conversion's messages start with (the file is read well
+    // before a volume is converted); empty for a volume built in code.
+    std::string defined_at;
 };
 
 // How the GPU methods approximate T_sun in the media when the scene has shadows (docs/accuracy.md). The CPU

@@ -165,6 +165,7 @@ VdbVolume read_volume(const Reader& in, const toml::table& t, const KeyPath& pat
     if (max_spheres)
         v.max_spheres = std::size_t(in.integer_in(*max_spheres, path / "max_spheres", 1, std::int64_t(kMaxSpheres)));
     v.transform = read_volume_transform(in, t, path);
+    v.defined_at = in.location(t);
     return v;
 }
 

@@ -73,6 +73,8 @@ public:
     Reader(std::string_view text, const std::string& file);
 
     const toml::table& root() const { return root_; }
+    // "FILE:LINE" of `n`, for a message raised after reading (a [[vdb]] volume's conversion).
+    std::string location(const toml::node& n) const { return file_ + ":" + std::to_string(n.source().begin.line); }
 
     [[noreturn]] void fail(const toml::source_region& where, const KeyPath& path, const std::string& problem) const;
     [[noreturn]] void fail(const toml::node& n, const KeyPath& path, const std::string& problem) const;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sys/stat.h>
 #include <iostream>
 #include <sstream>
 
@@ -98,6 +99,15 @@ TEST_F(VdbFile, MissingFileIsRefused) {
 
 TEST_F(VdbFile, DirectoryIsRefused) {
     EXPECT_NE(read_error(dir_).find("is a directory"), std::string::npos);
+}
+
+// A pipe may never end (fed from /dev/zero) and has no size to check: refused by name before it is opened,
+// which would also block until a writer came.
+TEST_F(VdbFile, PipeIsRefusedBeforeAnyRead) {
+    const fs::path fifo = dir_ / "volume.vdb";
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    const std::string msg = read_error(fifo);
+    EXPECT_NE(msg.find("is a pipe (FIFO), not a VDB file"), std::string::npos) << msg;
 }
 
 TEST_F(VdbFile, GarbageAndEmptyFilesAreNotVdbFiles) {

@@ -166,6 +166,12 @@ TEST(VdbVolumes, ProblemsNameTheVolume) {
     const std::string unreachable = message("[[vdb]]\nfile = \"builtin:sheet:24\"\ntolerance = 0.001\n");
     EXPECT_NE(unreachable.find("vdb[0] (builtin:sheet:24)"), std::string::npos) << unreachable;
     EXPECT_NE(unreachable.find("cannot be met"), std::string::npos) << unreachable;
+    // Conversion runs long after the file is read, but its messages still point into the file.
+    EXPECT_EQ(unreachable.rfind("bad.toml:1: vdb[0] (builtin:sheet:24): ", 0), 0u) << unreachable;
+    const std::string second = message("[[vdb]]\nfile = \"builtin:cloud:16\"\n\n[[vdb]]\nfile = \"builtin:sheet:9999\"\n");
+    EXPECT_EQ(second.rfind("bad.toml:4: vdb[1]: ", 0), 0u) << second;
+    EXPECT_NE(second.find("resolution must be in"), std::string::npos) << second;
+    EXPECT_EQ(missing.rfind("bad.toml:3: vdb[1]: ", 0), 0u) << missing;
 }
 
 TEST(VdbVolumes, RenderersRefuseUnconvertedVolumes) {

@@ -43,6 +43,10 @@ std::string read_bytes(const std::filesystem::path& path) {
     // A device never ends (/dev/zero): refused before any read, rather than read until memory runs out.
     if (std::filesystem::is_character_file(path, ec) || std::filesystem::is_block_file(path, ec))
         fail(path, "is a device, not a VDB file");
+    // A pipe or socket has no size to check and may never end: a volume is read from a file.
+    if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+        fail(path, std::filesystem::is_fifo(path, ec) ? "is a pipe (FIFO), not a VDB file: write the volume to a file"
+                                                      : "is not a regular file, not a VDB file");
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(path, std::string("cannot open: ") + std::strerror(errno));
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

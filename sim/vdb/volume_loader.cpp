@@ -47,8 +47,13 @@ std::vector<VolumeReport> convert_scene_volumes(Scene& scene, const std::vector<
         std::vector<DensityGrid> grids;  // density, then albedo when asked for
         std::chrono::steady_clock::time_point start;
     };
+    // "FILE:LINE: vdb[i]", as the scene reader's own messages start.
+    const auto table = [&](std::size_t i) {
+        const std::string& at = scene.volumes[i].defined_at;
+        return (at.empty() ? "" : at + ": ") + "vdb[" + std::to_string(i) + "]";
+    };
     const auto where = [&](std::size_t i) {
-        return "vdb[" + std::to_string(i) + "] (" + density_source_label(scene.volumes[i].source) + "): ";
+        return table(i) + " (" + density_source_label(scene.volumes[i].source) + "): ";
     };
     // Read every grid first, so that a camera left to frame the volumes is placed before any conversion,
     // which measures its error from that camera.
@@ -62,7 +67,7 @@ std::vector<VolumeReport> convert_scene_volumes(Scene& scene, const std::vector<
         try {
             l.grids = read_density_source(v.source, names, v.albedo_grid ? "" : kDefaultAlbedoGrid);
         } catch (const VdbError& e) {
-            throw VdbError("vdb[" + std::to_string(i) + "]: " + e.what());
+            throw VdbError(table(i) + ": " + e.what());
         }
         loaded.push_back(std::move(l));
     }

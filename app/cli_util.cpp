@@ -86,6 +86,22 @@ std::string refuse_empty_path(const std::string& text) {
     return text.empty() ? "an empty file name (leave the option out for the default)" : "";
 }
 
+std::string refuse_non_positive(const std::string& text) {
+    double value = 0.0;
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+    if (ec != std::errc() || ptr != end || text.empty() || !std::isfinite(value) || value <= 0.0)
+        return "not a positive number (got \"" + text.substr(0, 40) + (text.size() > 40 ? "...\")" : "\")");
+    return "";
+}
+
+std::string refuse_non_frame_number(const std::string& text) {
+    const std::optional<long long> v = parse_whole_number(text);
+    if (!v || *v < 0 || *v > INT32_MAX)
+        return "not a frame number 0, 1, 2, ... (got \"" + text.substr(0, 40) + (text.size() > 40 ? "...\")" : "\")");
+    return "";
+}
+
 void parse_size(const std::string& text, int& width, int& height) {
     const std::size_t x = text.find_first_of("xX");
     const std::optional<long long> w = x == std::string::npos ? std::nullopt : parse_whole_number(std::string_view(text).substr(0, x));

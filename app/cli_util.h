@@ -47,6 +47,10 @@ void refuse_non_finite(const Image& image, const std::string& what);
 // A CLI11 check for file options: "" is refused ("-o ''" once wrote brume.exr and brume.png in the
 // working directory, as if no -o had been given). Returns the message, or "" when `text` is fine.
 std::string refuse_empty_path(const std::string& text);
+// Checks for CLI11 options, as refuse_empty_path: "" when `text` is fine, else what is wrong with it. CLI11's
+// own PositiveNumber and NonNegativeNumber print their upper bound, the largest double, in full (309 digits).
+std::string refuse_non_positive(const std::string& text);    // a finite number > 0
+std::string refuse_non_frame_number(const std::string& text); // a whole number from 0 to 2^31 - 1
 // "2,4,8" or "2-16:2" -> numbers. Throws std::invalid_argument.
 std::vector<int> parse_int_list(const std::string& text);
 

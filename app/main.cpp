@@ -131,6 +131,24 @@ int main(int argc, char** argv) {
         return 2;
     }
 
+    // An option given an empty value ("--frames ''", an unset variable in a farm script) would read as the
+    // option left out, and quietly mean the default (every frame): refused, for every option alike.
+    for (const CLI::App* sub = &app;;) {
+        for (const CLI::Option* opt : sub->get_options()) {
+            if (opt->count() == 0 || opt->get_items_expected_min() == 0) continue;  // not given, or a flag
+            for (const std::string& value : opt->results())
+                if (value.empty()) {
+                    const std::string name = opt->get_positional() ? opt->get_name() : opt->get_name(false, true);
+                    std::fprintf(stderr, "brume: error: %s: an empty value (leave the option out for the default) (see brume%s%s --help)\n",
+                                 name.c_str(), sub == &app ? "" : " ", sub == &app ? "" : sub->get_name().c_str());
+                    return 2;
+                }
+        }
+        const std::vector<CLI::App*> parsed = sub->get_subcommands();
+        if (parsed.empty()) break;
+        sub = parsed.front();
+    }
+
     try {
         if (app.got_subcommand("render")) return brume::app::run_render(render_args);
         if (app.got_subcommand("play")) return brume::app::run_play(play_args);

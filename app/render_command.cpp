@@ -31,7 +31,7 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
                     "preset file with --frame, renders one still of that preset")
         ->check(refuse_empty_path);
     cmd->add_option("--frame", args.frame, "With a preset: the frame to render (0-based, as in play --frames; default 0)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(refuse_non_frame_number);
     cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output")->check(refuse_empty_path);
     cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB)")->check(refuse_empty_path);
     cmd->add_option("--method", args.method,

@@ -1,5 +1,7 @@
 #include "app/vdb_command.h"
 
+#include "app/cli_util.h"
+
 #include "render/atomic_file.h"
 #include "sim/builtin_presets.h"
 #include "sim/scene_file.h"
@@ -32,7 +34,7 @@ void add_vdb_commands(CLI::App& app, VdbInfoArgs& info, VdbImportArgs& import) {
                     "Instead of --tolerance: the most accurate cloud of at most this many spheres")
         ->check(CLI::Range(std::size_t(1), kMaxSpheres));
     cmd->add_option("--extinction-scale", import.extinction_scale, "Sphere extinction = density * this (per scene unit)")
-        ->check(CLI::PositiveNumber)
+        ->check(refuse_non_positive)
         ->capture_default_str();
     cmd->add_option("--albedo", import.albedo, "R,G,B single-scattering albedo, each in [0, 1]")
         ->delimiter(',')
@@ -58,16 +60,16 @@ void add_vdb_export_commands(CLI::App& app, VdbExportArgs& export_args, VdbSampl
     cmd->add_option("--frame", export_args.frame, "Frame to export, 0-based (default: the last)")
         ->each([&export_args](const std::string&) { export_args.frame_set = true; });
     CLI::Option* voxel = cmd->add_option("--voxel-size", export_args.voxel_size, "Voxel side in scene units")
-                             ->check(CLI::PositiveNumber);
+                             ->check(refuse_non_positive);
     CLI::Option* resolution =
         cmd->add_option("--resolution", export_args.resolution,
                         "Voxels across the longest side of the spheres' bounding box (when no --voxel-size)")
-            ->check(CLI::PositiveNumber)
+            ->check(refuse_non_positive)
             ->capture_default_str();
     voxel->excludes(resolution);
     cmd->add_option("--extinction-scale", export_args.extinction_scale,
                     "Grid density = sphere extinction / this (vdb-import's --extinction-scale reverses it)")
-        ->check(CLI::PositiveNumber)
+        ->check(refuse_non_positive)
         ->capture_default_str();
     cmd->add_flag("--albedo-grid", export_args.albedo_grid,
                   "Also write a grid \"albedo\": the extinction-weighted mean grey albedo per voxel");

@@ -14,13 +14,16 @@
 namespace brume::app {
 namespace {
 
-std::string tail_of(const std::filesystem::path& file, std::size_t lines) {
+// The log's last non-empty line, bounded: ffmpeg's own reason (an unknown encoder, a full disk), carried
+// on the one error line every failure gets; the whole log stays on disk.
+std::string last_line_of(const std::filesystem::path& file) {
     std::ifstream in(file);
-    std::vector<std::string> all;
-    for (std::string line; std::getline(in, line);) all.push_back(line);
-    std::string out;
-    for (std::size_t i = all.size() > lines ? all.size() - lines : 0; i < all.size(); ++i) out += "\n  " + all[i];
-    return out;
+    std::string last;
+    for (std::string line; std::getline(in, line);)
+        if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+    constexpr std::size_t kMaxEchoed = 300;
+    if (last.size() > kMaxEchoed) last = last.substr(0, kMaxEchoed) + "...";
+    return last.empty() ? "(nothing)" : "\"" + last + "\"";
 }
 
 }  // namespace
@@ -63,7 +66,7 @@ void encode_video(const std::string& pattern, int first, int count, double fps, 
         std::error_code ec;
         std::filesystem::remove(temp, ec);
         throw std::runtime_error("ffmpeg failed (" + (status < 0 ? std::string("could not start") : "exit " + std::to_string(status)) +
-                                 ") encoding " + output.string() + "; its log " + log.string() + " ends:" + tail_of(log, 6));
+                                 ") encoding " + output.string() + "; its log " + log.string() + " ends with " + last_line_of(log));
     }
     std::error_code ec;
     std::filesystem::rename(temp, resolve_output(output).path, ec);

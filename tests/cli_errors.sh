@@ -913,6 +913,26 @@ printf '[timeline]\nduration = 0.5\n[camera_path]\ntype = "keyframes"\nkeys = [{
 run play "$nu/cam1.toml" -o "$nu/cam1" --size 8x8
 expect_error camera.lone_key_typo "cam1.toml:5" "positon" && [ ! -e "$nu/cam1" ] && ok camera.lone_key_typo
 
+# Option values: an empty one is refused, never read as the option left out (a farm script's unset
+# variable would render every frame); number checks say what they want, not CLI11's 309-digit bound; the
+# bench's A-B:S ranges are overflow-checked and bounded.
+run play crossing --frames "" --size 8x6 -o "$nu/empty_frames"
+expect_line option.empty_value 2 "--frames: an empty value (leave the option out for the default) (see brume play --help)" &&
+    [ ! -e "$nu/empty_frames" ] && ok option.empty_value
+run render crossing --frame -1 --size 8x6 --png "$nu/neg.png"
+expect_line option.frame_negative 2 '--frame: not a frame number 0, 1, 2, ... (got "-1") (see brume render --help)' &&
+    [ ! -e "$nu/neg.png" ] && ok option.frame_negative
+run vdb-import builtin:ball --extinction-scale -1 -o "$nu/ball.toml"
+expect_line option.not_positive 2 '--extinction-scale: not a positive number (got "-1") (see brume vdb-import --help)' &&
+    [ ! -e "$nu/ball.toml" ] && ok option.not_positive
+run bench layers --layers 4294967296-4294967300:2
+expect_line bench.range_wraps 2 "'4294967296-4294967300:2' is not a range like 2-16:2 (from A to B >= A in steps of S >= 1, each at most 2147483647)" &&
+    ok bench.range_wraps
+run_bounded 20 bench layers --layers 2147483000-2147483647:1000
+expect_line bench.range_absurd 2 "--layers: counts must be even, from 2 to 1024 (got 2147483000)" && ok bench.range_absurd
+run bench layers --layers 2-1000000:2
+expect_line bench.range_too_long 2 "'2-1000000:2' has more than 10000 values" && ok bench.range_too_long
+
 # --- 16. Huge strings: what is echoed is bounded, names are checked where they are read (issue 14 item 8). ---
 hs=$work/huge_strings
 mkdir -p "$hs"

@@ -60,7 +60,8 @@ else
     echo "skip video: ffmpeg not installed"
 fi
 
-# A failed encoding keeps NAME.ffmpeg.log beside the frames and names it; the frames stay, and neither a
+# A failed encoding keeps NAME.ffmpeg.log beside the frames and names it, with its last line, in the one error
+# line every failure gets; the frames stay, and neither a
 # video nor a temporary file is left. Brume finds ffmpeg on PATH, so a stand-in that answers -version and
 # fails to encode makes the encoding fail after the frames are written (no real ffmpeg needed).
 mkdir -p fakebin
@@ -72,8 +73,9 @@ rc=$?
 first=$(head -n 1 vfail.err)
 held=$(ls -A vfail 2>/dev/null | tr '\n' ' ')
 if [ "$rc" -ne 1 ]; then fail video_failed_keeps_log "exit status $rc: $first"
-elif [ "${first#brume: error: ffmpeg failed (exit 1) encoding vfail/crossing.mp4; its log vfail/crossing.ffmpeg.log}" = "$first" ]; then
-    fail video_failed_keeps_log "message: $first"
+elif [ "$(wc -l <vfail.err)" -ne 1 ] ||
+     [ "$first" != 'brume: error: ffmpeg failed (exit 1) encoding vfail/crossing.mp4; its log vfail/crossing.ffmpeg.log ends with "stand-in ffmpeg: cannot encode"' ]; then
+    fail video_failed_keeps_log "message ($(wc -l <vfail.err) lines): $first"
 elif ! grep -qx "stand-in ffmpeg: cannot encode" vfail/crossing.ffmpeg.log 2>/dev/null; then fail video_failed_keeps_log "no log kept: $held"
 elif [ "$held" != "crossing.0000.png crossing.0001.png crossing.ffmpeg.log " ]; then fail video_failed_keeps_log "the folder holds: $held"
 else ok video_failed_keeps_log; fi

@@ -210,6 +210,14 @@ TEST_F(VdbFile, OnlyUniformScaleTransformsAreRead) {
     EXPECT_NE(msg.find("voxels of 1 x 2 x 1 scene units"), std::string::npos) << msg;
 }
 
+TEST_F(VdbFile, SparseVoxelsFarApartAreRefusedByName) {
+    // Issue 14: two voxels 2e8 apart made a dense copy of 2e8 voxels and then std::bad_alloc.
+    const std::string msg = read_error(write("far.vdb", encode_refused_vdb_sample(RefusedVdbSample::far_apart)));
+    EXPECT_EQ(msg.find("bad_alloc"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find("out of host memory"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("reaches 2e+08 from the origin"), std::string::npos) << msg;
+}
+
 TEST_F(VdbFile, TransformsOutsideTheRenderableRangeAreRefused) {
     // Issue 14: a voxel of 1e20 rendered every pixel NaN (squared distances overflow float) and exited 0.
     // The range is checked where the transform enters, naming the voxel size and the reach.

@@ -185,6 +185,18 @@ void read_transform(const std::string& path, const std::string& what, const vdb:
     out.voxel_size = s;
 }
 
+// The range where the grid's spheres can be rendered in floats (kMinVoxelSize in vdb_file.h says why).
+void check_range(const std::string& path, const std::string& what, const DensityGrid& g) {
+    const glm::dvec3 lo = g.support_min(), hi = g.support_max();
+    const double reach = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
+    if (g.voxel_size >= kMinVoxelSize && reach <= kMaxCoordinate) return;
+    std::ostringstream msg;
+    msg << what << " has voxels of " << g.voxel_size << " scene units and reaches " << reach
+        << " from the origin; Brume reads grids with voxels of at least " << kMinVoxelSize << " lying within "
+        << kMaxCoordinate << " of the origin (rescale the grid's transform)";
+    fail(path, msg.str());
+}
+
 void fill_values(const std::string& path, const std::string& what, const vdb::FloatGrid& grid,
                  DensityGrid& out) {
     const vdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
@@ -195,6 +207,9 @@ void fill_values(const std::string& path, const std::string& what, const vdb::Fl
                        std::to_string(kMaxDenseVoxels) + " Brume copies");
     out.min = to_ivec3(box.min());
     out.size = to_ivec3(dim);
+    // The reach is known from the box alone: a sparse grid far out (two voxels 2e8 apart) is refused
+    // before its dense copy is allocated, not after (it once ended in std::bad_alloc).
+    check_range(path, what, out);
     out.values.assign(count, 0.0f);
     for (auto it = grid.cbeginValueOn(); it; ++it) {
         const float v = *it;
@@ -212,18 +227,6 @@ void fill_values(const std::string& path, const std::string& what, const vdb::Fl
                 for (int i = b.min().x(); i <= b.max().x(); ++i)
                     out.values[out.offset(i - out.min.x, j - out.min.y, k - out.min.z)] = v;
     }
-}
-
-// The range where the grid's spheres can be rendered in floats (kMinVoxelSize in vdb_file.h says why).
-void check_range(const std::string& path, const std::string& what, const DensityGrid& g) {
-    const glm::dvec3 lo = g.support_min(), hi = g.support_max();
-    const double reach = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
-    if (g.voxel_size >= kMinVoxelSize && reach <= kMaxCoordinate) return;
-    std::ostringstream msg;
-    msg << what << " has voxels of " << g.voxel_size << " scene units and reaches " << reach
-        << " from the origin; Brume reads grids with voxels of at least " << kMinVoxelSize << " lying within "
-        << kMaxCoordinate << " of the origin (rescale the grid's transform)";
-    fail(path, msg.str());
 }
 
 std::string encode(const vdb::GridPtrVec& grids) {
@@ -286,8 +289,7 @@ std::vector<DensityGrid> decode_density_grids(const std::string& bytes, const st
         out.active_voxels = grid->activeVoxelCount();
         if (out.active_voxels == 0) fail(source, what + " is empty (no active voxels)");
         read_transform(source, what, grid->transform(), out);
-        fill_values(source, what, *grid, out);
-        check_range(source, what, out);
+        fill_values(source, what, *grid, out);  // checks the range first
         result.push_back(std::move(out));
     }
     return result;
@@ -344,6 +346,7 @@ std::string encode_refused_vdb_sample(RefusedVdbSample kind) {
     } else {
         vdb::FloatGrid::Ptr g = vdb::FloatGrid::create(0.0f);
         g->tree().setValue(vdb::Coord(0), 1.0f);
+        if (kind == RefusedVdbSample::far_apart) g->tree().setValue(vdb::Coord(200000000, 0, 0), 1.0f);
         grid = g;
         if (kind == RefusedVdbSample::nonuniform_scale) xf->preScale(vdb::Vec3d(1.0, 2.0, 1.0));
         if (kind == RefusedVdbSample::rotated) xf->postRotate(M_PI / 6.0, vdb::math::Z_AXIS);

@@ -88,6 +88,7 @@ enum class RefusedVdbSample {
     vector_grid,       // "density" holds vec3s values
     nonuniform_scale,  // voxels of 1 x 2 x 1
     rotated,           // uniform scale, rotated 30 degrees about z
+    far_apart,         // two voxels 2e8 apart along x: a sparse grid of two voxels whose dense copy is 800 MB
 };
 std::string encode_refused_vdb_sample(RefusedVdbSample kind);
 

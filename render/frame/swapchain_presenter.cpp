@@ -10,7 +10,10 @@ SwapchainPresenter::SwapchainPresenter(const vk::Device& device, VkExtent2D wind
     ensure_targets();
 }
 
-SwapchainPresenter::~SwapchainPresenter() { vkDeviceWaitIdle(device_.get()); }
+SwapchainPresenter::~SwapchainPresenter() {
+    const auto queue_lock = device_.lock_queue();
+    vkDeviceWaitIdle(device_.get());
+}
 
 void SwapchainPresenter::set_window_extent(VkExtent2D extent) {
     if (extent.width == window_extent_.width && extent.height == window_extent_.height) return;

@@ -455,6 +455,8 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
         std::uint64_t while_rendering = 0;  // presents made while the render thread had a frame
         double longest_gap_ms = 0.0;        // the longest time between two presents
         std::uint64_t frames_rendered = 0;
+        std::uint64_t polls = 0;            // turns of the loop, each polling the window's events
+        double longest_poll_gap_ms = 0.0;   // the longest time between two polls (waits for events included)
     } presents;
     VkExtent2D internal{};
     VkExtent2D last_viewport{};
@@ -463,6 +465,8 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
         if (args.frame >= 0) session.timeline().seek(int(args.frame));
         session.playback().one_frame_per_view = scripted;
         SwapchainPresenter presenter(device, window.framebuffer_extent());
+        // The queue present waits for the tone map's fence (below): this thread never waits for the queue.
+        presenter.set_deferred_present(true);
         PreviewImgui ui(window.handle(), device, presenter.render_pass(), vk::FrameRing::kDefaultSlots);
         presenter.set_overlay([&ui](VkCommandBuffer cmd) { ui.record(cmd); });
         ScriptRunner script(std::move(commands));
@@ -633,7 +637,8 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
         double simulate_ms = 0.0;  // since the last fresh frame shown
         bool moved_since = false;  // the view moved since the last fresh frame shown
         auto last_fresh = run_start;
-        auto last_present = run_start;
+        auto last_present = run_start;  // the last tone map submitted
+        auto last_queued = run_start;   // the last queue present
         // The same frame is presented again at most at the display's rate (60 Hz) while input comes, and
         // 10 times a second otherwise (the panel's figures): on lavapipe a present is CPU time that
         // the render thread's frame would otherwise have.
@@ -644,7 +649,22 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             const auto frame_start = Clock::now();
             const double dt = std::chrono::duration<double>(frame_start - last).count();
             last = frame_start;
+            if (presents.polls++ > 0) presents.longest_poll_gap_ms = std::max(presents.longest_poll_gap_ms, dt * 1000.0);
             window.poll_events();
+            // The frame submitted last goes to the screen once its tone map is done: then the queue
+            // present has nothing to wait for (SwapchainPresenter::set_deferred_present).
+            if (presenter.has_deferred_present() && shown_frame.ready()) {
+                presenter.present_deferred();
+                const auto now = Clock::now();
+                if (presents.count > 0)
+                    presents.longest_gap_ms = std::max(presents.longest_gap_ms,
+                                                       std::chrono::duration<double, std::milli>(now - last_queued).count());
+                ++presents.count;
+                if (renderer.busy()) ++presents.while_rendering;
+                last_queued = now;
+            }
+            // While a present waits for its tone map, waits are short.
+            const double longest_wait = presenter.has_deferred_present() ? 0.002 : 1.0;
             const VkExtent2D viewport = window.framebuffer_extent();
             presenter.set_window_extent(viewport);
             last_viewport = viewport;
@@ -739,13 +759,16 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             // frame, which wakes it) instead of redrawing the same frame; a few frames after the last
             // event still run, for the UI's hover and click states to settle.
             if (!fresh && quiet_frames >= 3) {
-                window.wait_events();
+                if (longest_wait < 1.0)
+                    window.wait_events_for(longest_wait);
+                else
+                    window.wait_events();
                 continue;
             }
             // The same frame again: at most at the rates above.
             const double interval = window.event_count() != events_at_present ? kDisplayInterval : kIdleInterval;
             if (!fresh && seconds_since(last_present) < interval) {
-                window.wait_events_for(std::min(kDisplayInterval, interval - seconds_since(last_present)));
+                window.wait_events_for(std::min({longest_wait, kDisplayInterval, interval - seconds_since(last_present)}));
                 continue;
             }
             // Never wait for the GPU here: when the last present is still on the queue, or the render
@@ -775,17 +798,15 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             const bool first_of_current = shown_id == requested_id && !requested_shown;
             if (first_of_current && script.wants_capture()) presenter.capture_next_frame();
             t = Clock::now();
-            const bool busy = renderer.busy();
             const bool shown = shown_frame.present(presenter);
             part.present = seconds_since(t) * 1000.0;
             queue.unlock();
             if (!shown) continue;
             const auto now = Clock::now();
-            if (presents.count > 0)
-                presents.longest_gap_ms =
-                    std::max(presents.longest_gap_ms, std::chrono::duration<double, std::milli>(now - last_present).count());
-            ++presents.count;
-            if (busy) ++presents.while_rendering;
+            if (!presenter.has_deferred_present()) {  // a captured frame is presented at once
+                ++presents.count;
+                last_queued = now;
+            }
             last_present = now;
             events_at_present = window.event_count();
             if (fresh) {
@@ -826,9 +847,11 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                     timing.total.simulate / n, timing.total.upload / n, timing.total.render / n, timing.total.ui / n,
                     timing.total.present / n);
         std::printf("preview: the window presented %llu times, %llu of them while the render thread had a frame; "
-                    "%llu frames rendered; the longest time between two presents %.1f ms\n",
+                    "%llu frames rendered; the longest time between two presents %.1f ms; events polled %llu times, "
+                    "at most %.1f ms apart\n",
                     static_cast<unsigned long long>(presents.count), static_cast<unsigned long long>(presents.while_rendering),
-                    static_cast<unsigned long long>(presents.frames_rendered), presents.longest_gap_ms);
+                    static_cast<unsigned long long>(presents.frames_rendered), presents.longest_gap_ms,
+                    static_cast<unsigned long long>(presents.polls), presents.longest_poll_gap_ms);
         if (figures) {
             figures->shown_frames = shown_frames;
             figures->tallied_frames = timing.frames;

@@ -72,9 +72,9 @@ public:
     // The heat map's figures of the last frame shown that drew it.
     void set_heat_figures(const ListLengthFigures& f) { heat_figures_ = f; }
 
-    // Counts every change of what the view shows apart from the frame number (a new timeline, an edit,
-    // the camera, the method, the comparison, the heat map, the exposure): the preview asks for a
-    // new frame when this or the frame changes.
+    // Counts every change of what the render thread draws apart from the frame number (a new timeline,
+    // an edit, the camera, the method, the comparison, the heat map, the exposure under the heat map):
+    // the preview asks for a new frame when this or the frame changes.
     std::uint64_t view_generation() const { return view_generation_; }
 
     // The camera now: the camera path's (following) or the user's.
@@ -89,7 +89,9 @@ public:
     Scene scene(std::uint32_t width, std::uint32_t height) const;
     double exposure() const { return exposure_; }
     void set_exposure(double stops) {
-        if (stops != exposure_) ++view_generation_;
+        // The tone map applies the exposure when the frame is presented; only the heat map's tint,
+        // composed on the render thread, depends on it.
+        if (stops != exposure_ && heat_map_on_) ++view_generation_;
         exposure_ = stops;
     }
 

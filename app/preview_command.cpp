@@ -653,8 +653,13 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             window.poll_events();
             // The frame submitted last goes to the screen once its tone map is done: then the queue
             // present has nothing to wait for (SwapchainPresenter::set_deferred_present).
-            if (presenter.has_deferred_present() && shown_frame.ready()) {
+            // Try-locked: the render thread holds the queue's lock through a vkDeviceWaitIdle when its
+            // targets change size (FrameResources::upload), and this thread does not wait for that.
+            std::unique_lock<std::recursive_mutex> flush_lock;
+            if (presenter.has_deferred_present() && shown_frame.ready() &&
+                (flush_lock = device.try_lock_queue()).owns_lock()) {
                 presenter.present_deferred();
+                flush_lock.unlock();
                 const auto now = Clock::now();
                 if (presents.count > 0)
                     presents.longest_gap_ms = std::max(presents.longest_gap_ms,

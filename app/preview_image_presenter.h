@@ -3,9 +3,9 @@
 // into the window with the panel over it, as often as the window is redrawn, while the render thread
 // renders the next frame into its own targets. Its submissions go through a ring of its own, and
 // ready() asks without waiting whether they are done, so the main loop never blocks on the GPU for
-// it: on lavapipe the queue runs the render thread's submissions and these in turn, and a present
-// waits for a slow frame's pass on the queue only in that the main loop skips it until the queue is
-// free.
+// it: on lavapipe the queue runs the render thread's submissions and these in turn, so a tone map
+// submitted behind a slow frame's pass is done only after it; the main loop presents again, and
+// queues the deferred present (SwapchainPresenter::set_deferred_present), once ready().
 #pragma once
 
 #include "render/frame/swapchain_presenter.h"

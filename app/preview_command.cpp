@@ -6,17 +6,18 @@
 #include "app/preview_capture.h"
 #include "app/preview_controls.h"
 #include "app/preview_edit.h"
+#include "app/preview_image_presenter.h"
 #include "app/preview_imgui.h"
 #include "app/preview_panel.h"
 #include "app/preview_pending_edit.h"
 #include "app/preview_reference.h"
 #include "app/preview_reload.h"
+#include "app/preview_renderer.h"
 #include "app/preview_script.h"
 #include "app/preview_sequence.h"
 #include "app/preview_session.h"
 #include "app/preview_window.h"
 #include "render/atomic_file.h"
-#include "render/frame/frame_path.h"
 #include "render/frame/swapchain_presenter.h"
 #include "render/methods/registry.h"
 #include "render/vk/device.h"
@@ -36,6 +37,7 @@
 #include <memory>
 #include <sstream>
 #include <optional>
+#include <utility>
 #include <unistd.h>
 
 namespace brume::app {
@@ -45,22 +47,6 @@ using Clock = std::chrono::steady_clock;
 namespace fs = std::filesystem;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// Measures the presenter's own work (acquire, tone map and UI recording, submit, queue present).
-class TimedPresenter : public Presenter {
-public:
-    explicit TimedPresenter(SwapchainPresenter& inner) : inner_(inner) {}
-    bool present(const FrameResources& frame, vk::FrameRing& ring) override {
-        const auto t0 = Clock::now();
-        const bool shown = inner_.present(frame, ring);
-        last_seconds = seconds_since(t0);
-        return shown;
-    }
-    double last_seconds = 0.0;
-
-private:
-    SwapchainPresenter& inner_;
-};
 
 // Without --size the window is the preset's resolution, enlarged by a whole factor to be at least 800
 // pixels wide: what `brume play` renders, shown at a size one can work with.
@@ -74,7 +60,7 @@ void default_viewport(const Preset& preset, int& width, int& height) {
 // What a script command reaches besides the session.
 struct ScriptTargets {
     PreviewSession& session;
-    FramePath& path;
+    PreviewRenderer& renderer;  // screenshots are rendered there (a job: never dropped)
     const PreviewWindow& window;
     SwapchainPresenter& presenter;
     bool& panel_visible;
@@ -85,6 +71,7 @@ struct ScriptTargets {
     bool& preset_edit_stale;  // the panel's list of values, read again after a scripted edit
     ReferenceCheck& reference;
     std::function<void()> start_reference;
+    std::function<bool()> reference_busy;  // its frame is rendering, or the reference is
     SequenceRender& sequence;
     // Starts brume play of frames first-last into dir with the preview's options; throws when refused.
     std::function<void(const std::string& dir, int first, int last, const std::string& formats)> start_sequence;
@@ -102,8 +89,11 @@ public:
     explicit ScriptRunner(std::vector<ScriptCommand> commands) : commands_(commands.begin(), commands.end()) {}
 
     bool active() const {
-        return !commands_.empty() || reload_wait_.active || reference_wait_ || sequence_wait_ || edit_wait_;
+        return !commands_.empty() || reload_wait_.active || reference_wait_ || sequence_wait_ || edit_wait_ ||
+               screenshot_.id != 0;
     }
+    // A capture waits for the next frame shown: the main loop asks the presenter to copy it.
+    bool wants_capture() const { return !capture_.path.empty(); }
     // After each shown frame: counts down a wait, and writes a capture asked for by the last command.
     void frame_shown(SwapchainPresenter& presenter) {
         if (frames_to_wait_ > 0) --frames_to_wait_;
@@ -131,9 +121,27 @@ public:
             }
             reload_wait_.active = false;
         }
+        if (screenshot_.id != 0) {
+            std::optional<RenderedFrame> done = targets.renderer.take_job(screenshot_.id);
+            if (!done) return true;
+            const PendingScreenshot shot = std::exchange(screenshot_, {});
+            try {
+                if (!done->error.empty()) throw std::runtime_error(done->error);
+                targets.session.write_screenshot(done->image, shot.path);
+            } catch (const std::exception& e) {
+                throw std::runtime_error(shot.where + ": " + e.what());
+            }
+            std::printf("%s", shot.line.c_str());
+            if (shot.heat_map) {
+                const ListLengthFigures& f = done->heat;
+                std::printf(", heat map: longest %.17g, mean %.17g over %llu pixels, %llu nodes", f.longest, f.mean,
+                            static_cast<unsigned long long>(f.nonempty_pixels), static_cast<unsigned long long>(f.total));
+            }
+            std::printf("\n");
+            std::fflush(stdout);
+        }
         if (reference_wait_) {
-            targets.reference.poll();
-            if (targets.reference.running()) return true;
+            if (targets.reference_busy()) return true;
             reference_wait_ = false;
             if (!targets.reference.error().empty())
                 throw std::runtime_error(reference_where_ + ": reference-error: " + targets.reference.error());
@@ -164,7 +172,7 @@ public:
             std::fflush(stdout);
         }
         while (frames_to_wait_ == 0 && capture_.path.empty() && !reload_wait_.active && !reference_wait_ &&
-               !sequence_wait_ && !edit_wait_ && !commands_.empty()) {
+               !sequence_wait_ && !edit_wait_ && screenshot_.id == 0 && !commands_.empty()) {
             const ScriptCommand c = commands_.front();
             commands_.pop_front();
             try {
@@ -179,7 +187,6 @@ public:
 private:
     bool execute(const ScriptCommand& c, ScriptTargets& targets) {
         PreviewSession& session = targets.session;
-        FramePath& path = targets.path;
         const PreviewWindow& window = targets.window;
         PreviewTimeline& timeline = session.timeline();
         switch (c.kind) {
@@ -229,25 +236,29 @@ private:
             window.set_size(int(c.number), int(c.number2));
             frames_to_wait_ = 1;  // the next frame is shown at the new size
             break;
-        case ScriptCommand::Kind::Screenshot:
-            session.screenshot(path, window.framebuffer_extent(), c.text);
-            std::printf("screenshot %s: frame %d at %ux%u, method %s", c.text.c_str(), timeline.frame(),
-                        window.framebuffer_extent().width, window.framebuffer_extent().height,
-                        session.method_spec().c_str());
-            if (session.heat_map()) {
-                const ListLengthFigures& f = session.heat_figures();
-                std::printf(", heat map: longest %.17g, mean %.17g over %llu pixels, %llu nodes", f.longest, f.mean,
-                            static_cast<unsigned long long>(f.nonempty_pixels), static_cast<unsigned long long>(f.total));
-            }
-            std::printf("\n");
+        case ScriptCommand::Kind::Screenshot: {
+            // The frame of the state the script has set, at the viewport's size, rendered on the render
+            // thread as a job (never dropped for a newer view); the script waits for it.
+            const VkExtent2D viewport = window.framebuffer_extent();
+            if (viewport.width == 0 || viewport.height == 0)
+                throw std::runtime_error("screenshot " + c.text + ": the window is minimised, there is no viewport");
+            FrameRequest request = session.frame_request(viewport.width, viewport.height, true);
+            request.want_stats = false;
+            char line[512];
+            std::snprintf(line, sizeof line, "screenshot %s: frame %d at %ux%u, method %s", c.text.c_str(),
+                          timeline.frame(), viewport.width, viewport.height, session.method_spec().c_str());
+            screenshot_ = {targets.renderer.request_job(std::move(request)), c.text, c.where, line, session.heat_map()};
             break;
-        case ScriptCommand::Kind::Capture:
+        }
+        case ScriptCommand::Kind::Capture: {
             check_writable_path(c.text);
-            if (!targets.presenter.capture_next_frame())
+            const vk::Swapchain& swapchain = targets.presenter.swapchain();
+            if (swapchain.valid() && !swapchain.can_copy())
                 throw std::runtime_error("capture: this window's swapchain images cannot be copied from");
             capture_.path = c.text;
             capture_.where = c.where;
             break;
+        }
         case ScriptCommand::Kind::ReferenceError:
             targets.start_reference();
             reference_wait_ = true;
@@ -292,6 +303,11 @@ private:
     struct PendingCapture {
         std::string path, where;
     } capture_;
+    struct PendingScreenshot {
+        std::uint64_t id = 0;  // the render thread's job; 0: none
+        std::string path, where, line;
+        bool heat_map = false;
+    } screenshot_;
     // The script starts once the first frame is on the screen, so every run shows the window working.
     long long frames_to_wait_ = 1;
 };
@@ -433,15 +449,24 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
     AdaptiveResolution adaptive;
     adaptive.set_enabled(!args.fixed_resolution);
     Timing timing;
+    // The window's presents, to show that a slow frame does not hold it (docs/preview.md).
+    struct Presents {
+        std::uint64_t count = 0;
+        std::uint64_t while_rendering = 0;  // presents made while the render thread had a frame
+        double longest_gap_ms = 0.0;        // the longest time between two presents
+        std::uint64_t frames_rendered = 0;
+        std::uint64_t polls = 0;            // turns of the loop, each polling the window's events
+        double longest_poll_gap_ms = 0.0;   // the longest time between two polls (waits for events included)
+    } presents;
     VkExtent2D internal{};
     VkExtent2D last_viewport{};
     {
         PreviewSession session(device, preset, method, options, exposure);
         if (args.frame >= 0) session.timeline().seek(int(args.frame));
         session.playback().one_frame_per_view = scripted;
-        FramePath path(device);
         SwapchainPresenter presenter(device, window.framebuffer_extent());
-        TimedPresenter timed(presenter);
+        // The queue present waits for the tone map's fence (below): this thread never waits for the queue.
+        presenter.set_deferred_present(true);
         PreviewImgui ui(window.handle(), device, presenter.render_pass(), vk::FrameRing::kDefaultSlots);
         presenter.set_overlay([&ui](VkCommandBuffer cmd) { ui.record(cmd); });
         ScriptRunner script(std::move(commands));
@@ -453,16 +478,46 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             watcher.emplace(args.preset, width, height);
             panel.watched_file = args.preset;
         }
-        ComparisonPresenter comparison(device);
+        // The frame path runs on the render thread; this thread shows its last finished frame
+        // (docs/preview.md, "What runs beside the frame"). Declared after the presenter and the UI,
+        // so it stops first.
+        PreviewRenderer renderer(device, [] { PreviewWindow::wake(); });
+        ImagePresenter shown_frame(device);
         ReferenceCheck reference;
+        // "Error against the reference": the method's frame at the reduced size is rendered on the
+        // render thread (a job), then the reference starts on its worker with it.
+        struct ReferenceFrame {
+            std::uint64_t job = 0;
+            Scene scene;
+            int frame = 0;
+            std::string method;
+        };
+        std::optional<ReferenceFrame> reference_frame;
         const std::function<void()> start_reference = [&] {
-            if (reference.running()) return;
+            if (reference.running() || reference_frame) return;
             const VkExtent2D viewport = window.framebuffer_extent();
             int w = 0, h = 0;
             ReferenceCheck::reduced_size(int(std::max(1u, viewport.width)), int(std::max(1u, viewport.height)), w, h);
-            const Scene scene = session.scene(std::uint32_t(w), std::uint32_t(h));
-            reference.start(scene, path.render(session.method(), scene), session.timeline().frame(),
-                            session.method_spec());
+            FrameRequest request = session.frame_request(std::uint32_t(w), std::uint32_t(h), true);
+            request.compare = CompareMode::Off;
+            request.heat_map = nullptr;
+            request.want_stats = false;
+            ReferenceFrame pending{0, request.scene, session.timeline().frame(), session.method_spec()};
+            pending.job = renderer.request_job(std::move(request));
+            reference_frame = std::move(pending);
+        };
+        // Polls both halves; true while either runs.
+        const std::function<bool()> reference_busy = [&] {
+            if (reference_frame) {
+                std::optional<RenderedFrame> done = renderer.take_job(reference_frame->job);
+                if (!done) return true;
+                if (!done->error.empty()) throw std::runtime_error(done->error);
+                reference.start(reference_frame->scene, std::move(done->image), reference_frame->frame,
+                                reference_frame->method);
+                reference_frame.reset();
+            }
+            reference.poll();
+            return reference.running();
         };
         panel.reference = &reference;
         panel.start_reference = start_reference;
@@ -520,9 +575,10 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             return false;
         };
         panel.preset_edit.preparing = [&pending_edit] { return pending_edit.busy(); };
-        ScriptTargets targets{session,  path,           window,       presenter, panel_visible, watcher ? &*watcher : nullptr,
-                              editor,   prepare_edit,   panel.preset_edit.stale, reference, start_reference,
-                              sequence, start_sequence, submit_edit,  pending_edit, pending_edit_error};
+        ScriptTargets targets{session,         renderer,       window,         presenter,     panel_visible,
+                              watcher ? &*watcher : nullptr,   editor,         prepare_edit,  panel.preset_edit.stale,
+                              reference,       start_reference, reference_busy, sequence,     start_sequence,
+                              submit_edit,     pending_edit,   pending_edit_error};
         panel.preset_edit.read = [&editor] { return editor->values(); };
         panel.preset_edit.set = [&](const std::string& key, const std::string& value) -> std::string {
             try {
@@ -559,11 +615,61 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
         std::uint64_t events_seen = 0;
         const auto run_start = Clock::now();
         auto last = run_start;
+        // What was last asked of the render thread, so that a view is asked for again only when it changed.
+        struct ViewKey {
+            std::uint64_t generation = 0;  // PreviewSession::view_generation()
+            int frame = 0;
+            std::uint32_t width = 0, height = 0;
+            bool list_stats = false;
+            bool operator==(const ViewKey&) const = default;
+        };
+        std::optional<ViewKey> requested_key;
+        std::uint64_t requested_id = 0;  // the view asked for last
+        bool requested_shown = false;    // ... and it has been presented
+        std::uint64_t shown_id = 0;      // the view the window shows
+        // A finished view presented for the first time adds its figures to the timing.
+        struct FreshFrame {
+            double upload_ms = 0.0, render_ms = 0.0;
+            VkExtent2D extent{};
+            int frame = 0;
+        };
+        std::optional<FreshFrame> fresh;
+        double simulate_ms = 0.0;  // since the last fresh frame shown
+        bool moved_since = false;  // the view moved since the last fresh frame shown
+        auto last_fresh = run_start;
+        auto last_present = run_start;  // the last tone map submitted
+        auto last_queued = run_start;   // the last queue present
+        // The same frame is presented again at most at the display's rate (60 Hz) while input comes, and
+        // 10 times a second otherwise (the panel's figures): on lavapipe a present is CPU time that
+        // the render thread's frame would otherwise have.
+        constexpr double kDisplayInterval = 1.0 / 60.0;
+        constexpr double kIdleInterval = 1.0 / 10.0;
+        std::uint64_t events_at_present = 0;
         while (!window.should_close()) {
             const auto frame_start = Clock::now();
             const double dt = std::chrono::duration<double>(frame_start - last).count();
             last = frame_start;
+            if (presents.polls++ > 0) presents.longest_poll_gap_ms = std::max(presents.longest_poll_gap_ms, dt * 1000.0);
             window.poll_events();
+            // The frame submitted last goes to the screen once its tone map is done: then the queue
+            // present has nothing to wait for (SwapchainPresenter::set_deferred_present).
+            // Try-locked: the render thread holds the queue's lock through a vkDeviceWaitIdle when its
+            // targets change size (FrameResources::upload), and this thread does not wait for that.
+            std::unique_lock<std::recursive_mutex> flush_lock;
+            if (presenter.has_deferred_present() && shown_frame.ready() &&
+                (flush_lock = device.try_lock_queue()).owns_lock()) {
+                presenter.present_deferred();
+                flush_lock.unlock();
+                const auto now = Clock::now();
+                if (presents.count > 0)
+                    presents.longest_gap_ms = std::max(presents.longest_gap_ms,
+                                                       std::chrono::duration<double, std::milli>(now - last_queued).count());
+                ++presents.count;
+                if (renderer.busy()) ++presents.while_rendering;
+                last_queued = now;
+            }
+            // While a present waits for its tone map, waits are short.
+            const double longest_wait = presenter.has_deferred_present() ? 0.002 : 1.0;
             const VkExtent2D viewport = window.framebuffer_extent();
             presenter.set_window_extent(viewport);
             last_viewport = viewport;
@@ -599,9 +705,25 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                     panel.preset_edit.error = pending_edit_error;
                 }
             }
-            if (!script.run(targets)) break;
-            if (reference.running()) {
-                reference.poll();
+            // The render thread's newest finished view becomes the frame shown.
+            if (std::optional<RenderedFrame> done = renderer.take_view()) {
+                if (!done->error.empty()) throw std::runtime_error(done->error);
+                session.last_stats() = done->stats;
+                if (session.heat_map()) session.set_heat_figures(done->heat);
+                fresh = FreshFrame{done->upload_ms, done->render_ms,
+                                   {std::uint32_t(done->image.width), std::uint32_t(done->image.height)}, done->frame};
+                shown_frame.set_image(std::move(done->image));
+                shown_id = done->id;
+                quiet_frames = 0;
+            }
+            // A scripted run moves on (its commands, playback) only once the frame it asked for is
+            // shown, as if each frame were rendered at once: the same frames on any machine, and a
+            // `screenshot` or `capture` of the state the script set. The window keeps presenting the
+            // last frame and polling events meanwhile.
+            const bool waiting_for_view = scripted && requested_id != 0 && !requested_shown;
+            if (!waiting_for_view && !script.run(targets)) break;
+            if (reference.running() || reference_frame) {
+                reference_busy();
                 quiet_frames = 0;  // the panel shows the result when it comes
             }
             if (sequence.running()) {
@@ -611,60 +733,109 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                 if (sequence.frames_done() != before || !sequence.running()) quiet_frames = 0;
             }
 
-            PartTimes part;
             const int frame_before = session.timeline().frame();
             const WindowInput input = window.take_input();
             bool moved = apply_controls(input, ui.wants_mouse(), ui.wants_keyboard(), dt, window, session);
             auto t = Clock::now();
-            session.advance(dt);
-            part.simulate = seconds_since(t) * 1000.0;
+            if (!waiting_for_view) session.advance(dt);
+            simulate_ms += seconds_since(t) * 1000.0;
             moved = moved || session.playback().playing || session.timeline().frame() != frame_before;
+            moved_since = moved_since || moved;
             if (window.event_count() != events_seen || moved || script.active()) quiet_frames = 0;
             events_seen = window.event_count();
-            // A still view with nothing to do waits for input instead of redrawing the same frame; a few
-            // frames after the last event still run, for the UI's hover and click states to settle.
-            if (quiet_frames >= 3 && adaptive.internal_extent(viewport).width == viewport.width) {
-                window.wait_events();
+
+            // Ask the render thread for the view when it changed (the newest request replaces one not
+            // begun: latest wins), and while the adaptive resolution refines a still view. A scripted
+            // run asks for a frame at every step, as the loop rendered one per step before, so that
+            // `wait N` is N frames rendered and shown.
+            internal = adaptive.internal_extent(viewport);
+            const ViewKey key{session.view_generation(), session.timeline().frame(), internal.width, internal.height,
+                              panel.list_stats};
+            const bool refining = internal.width != viewport.width && requested_shown && !renderer.busy();
+            if (!waiting_for_view && (scripted || key != requested_key || refining)) {
+                FrameRequest request = session.frame_request(internal.width, internal.height, panel.list_stats);
+                request.frame = session.timeline().frame();
+                requested_id = renderer.request_view(std::move(request));
+                requested_key = key;
+                requested_shown = false;
+            }
+
+            // A still view with nothing to do waits for input (or for the render thread's finished
+            // frame, which wakes it) instead of redrawing the same frame; a few frames after the last
+            // event still run, for the UI's hover and click states to settle.
+            if (!fresh && quiet_frames >= 3) {
+                if (longest_wait < 1.0)
+                    window.wait_events_for(longest_wait);
+                else
+                    window.wait_events();
+                continue;
+            }
+            // The same frame again: at most at the rates above.
+            const double interval = window.event_count() != events_at_present ? kDisplayInterval : kIdleInterval;
+            if (!fresh && seconds_since(last_present) < interval) {
+                window.wait_events_for(std::min({longest_wait, kDisplayInterval, interval - seconds_since(last_present)}));
+                continue;
+            }
+            // Never wait for the GPU here: when the last present is still on the queue, or the render
+            // thread is submitting (lavapipe runs a submission inside vkQueueSubmit), this turn
+            // presents nothing and the loop goes on polling events.
+            if (!shown_frame.has_image() || !shown_frame.ready()) {
+                window.wait_events_for(0.002);
+                continue;
+            }
+            std::unique_lock<std::recursive_mutex> queue = device.try_lock_queue();
+            if (!queue.owns_lock()) {
+                window.wait_events_for(0.002);
                 continue;
             }
             ++quiet_frames;
 
+            PartTimes part;
             t = Clock::now();
             ui.new_frame();
             panel.viewport = viewport;
-            panel.internal = internal;
+            panel.internal = fresh ? fresh->extent : internal;
             if (panel_visible) draw_panel(panel);
             ui.render();
             part.ui = seconds_since(t) * 1000.0;
 
-            internal = adaptive.internal_extent(viewport);
             presenter.set_exposure(session.exposure());
+            const bool first_of_current = shown_id == requested_id && !requested_shown;
+            if (first_of_current && script.wants_capture()) presenter.capture_next_frame();
             t = Clock::now();
-            bool shown = false;
-            double scene_ms = 0.0;
-            if (session.compare_mode() == CompareMode::Off && !session.heat_map()) {
-                const Scene scene = session.scene(internal.width, internal.height);
-                scene_ms = seconds_since(t) * 1000.0;
-                shown = path.render_to(timed, session.method(), scene, &session.last_stats(), panel.list_stats);
-                part.upload = scene_ms + path.last_upload_ms();
-            } else {
-                // Two frames or more and readbacks: the upload of each is in the render time.
-                const Image composite = session.frame_image(path, internal.width, internal.height, &session.last_stats());
-                const auto t_present = Clock::now();
-                shown = comparison.present(presenter, composite);
-                timed.last_seconds = seconds_since(t_present);
+            const bool shown = shown_frame.present(presenter);
+            part.present = seconds_since(t) * 1000.0;
+            queue.unlock();
+            if (!shown) continue;
+            const auto now = Clock::now();
+            if (!presenter.has_deferred_present()) {  // a captured frame is presented at once
+                ++presents.count;
+                last_queued = now;
             }
-            part.present = timed.last_seconds * 1000.0;
-            part.render = seconds_since(t) * 1000.0 - part.present - part.upload;
-            if (shown) {
+            last_present = now;
+            events_at_present = window.event_count();
+            if (fresh) {
+                // A frame shown for the first time: the view's frame rate and the parts of its frame.
                 ++shown_frames;
-                last_frame = session.timeline().frame();
+                last_frame = fresh->frame;
+                part.simulate = simulate_ms;
+                part.upload = fresh->upload_ms;
+                part.render = fresh->render_ms;
+                part.frame = std::chrono::duration<double, std::milli>(now - last_fresh).count();
+                timing.add(part, fresh->extent);
+                adaptive.frame_done(part.frame / 1000.0, moved_since);
+                internal = fresh->extent;
+                last_fresh = now;
+                simulate_ms = 0.0;
+                moved_since = false;
+                fresh.reset();
+            }
+            if (first_of_current) {
+                requested_shown = true;
                 script.frame_shown(presenter);
             }
-            part.frame = seconds_since(frame_start) * 1000.0;
-            timing.add(part, internal);
-            adaptive.frame_done(part.frame / 1000.0, moved);
         }
+        presents.frames_rendered = renderer.frames_rendered();
     }
 
     if (device.validation_message_count() > 0) {
@@ -680,6 +851,12 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                     last_viewport.width, last_viewport.height, 1000.0 * n / timing.total.frame,
                     timing.total.simulate / n, timing.total.upload / n, timing.total.render / n, timing.total.ui / n,
                     timing.total.present / n);
+        std::printf("preview: the window presented %llu times, %llu of them while the render thread had a frame; "
+                    "%llu frames rendered; the longest time between two presents %.1f ms; events polled %llu times, "
+                    "at most %.1f ms apart\n",
+                    static_cast<unsigned long long>(presents.count), static_cast<unsigned long long>(presents.while_rendering),
+                    static_cast<unsigned long long>(presents.frames_rendered), presents.longest_gap_ms,
+                    static_cast<unsigned long long>(presents.polls), presents.longest_poll_gap_ms);
         if (figures) {
             figures->shown_frames = shown_frames;
             figures->tallied_frames = timing.frames;

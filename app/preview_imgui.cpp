@@ -82,7 +82,10 @@ void PreviewImgui::upload_fonts() {
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
     submit.pCommandBuffers = &cmd;
-    VK_CHECK(vkQueueSubmit(device_.queue(), 1, &submit, VK_NULL_HANDLE));
+    {
+        const auto queue_lock = device_.lock_queue();
+        VK_CHECK(vkQueueSubmit(device_.queue(), 1, &submit, VK_NULL_HANDLE));
+    }
     // Once, before the first frame: waiting for the whole device costs nothing here.
     device_.wait_idle();
     ImGui_ImplVulkan_DestroyFontUploadObjects();

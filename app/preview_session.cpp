@@ -21,6 +21,7 @@ void PreviewSession::replace_preset(const Preset& preset) {
     const int frame = timeline_.frame();
     timeline_ = PreviewTimeline(preset);
     timeline_.seek(frame);
+    ++view_generation_;
 }
 
 void PreviewSession::apply_edit(const Preset& preset, const std::string& key_path) {
@@ -29,6 +30,7 @@ void PreviewSession::apply_edit(const Preset& preset, const std::string& key_pat
         return;
     }
     timeline_.replace_scene_keeping_simulation(preset);
+    ++view_generation_;
 }
 
 namespace {
@@ -46,35 +48,41 @@ std::unique_ptr<Method> make_gpu_method(vk::Device& device, const std::string& s
 }  // namespace
 
 void PreviewSession::set_comparison(const std::string& spec, CompareMode mode) {
-    std::unique_ptr<Method> next = mode == CompareMode::Off ? nullptr : make_gpu_method(device_, spec, options_);
-    device_.wait_idle();  // the old method's buffers may still be in use
+    std::shared_ptr<Method> next = mode == CompareMode::Off ? nullptr : make_gpu_method(device_, spec, options_);
+    // No wait for the device: a frame still rendering with the old method holds it (FrameRequest).
     compare_method_ = std::move(next);
+    ++view_generation_;
     compare_mode_ = mode;
     compare_spec_ = mode == CompareMode::Off ? "" : spec;
 }
 
-Image PreviewSession::frame_image(FramePath& path, std::uint32_t width, std::uint32_t height, FrameStats* stats) {
-    const Scene s = scene(width, height);
-    Image image = path.render(method(), s, stats);
-    if (compare_mode_ != CompareMode::Off) image = compose_comparison(image, path.render(compare_method(), s), compare_mode_);
-    if (!heat_map_on_) return image;
-    const Image counts = path.render(*heat_map_, s);
-    heat_figures_ = list_length_figures(counts);
-    return overlay_list_heat_map(image, counts, heat_figures_.longest, exposure_);
+FrameRequest PreviewSession::frame_request(std::uint32_t width, std::uint32_t height, bool list_stats) const {
+    FrameRequest r;
+    r.scene = scene(width, height);
+    r.method = method_;
+    r.compare = compare_mode_;
+    if (compare_mode_ != CompareMode::Off) r.compare_method = compare_method_;
+    if (heat_map_on_) r.heat_map = heat_map_;
+    r.exposure = exposure_;
+    r.list_stats = list_stats;
+    return r;
 }
 
 void PreviewSession::set_heat_map(bool on) {
-    if (on && !heat_map_) heat_map_ = std::make_unique<ListHeatMap>(device_);
+    if (on && !heat_map_) heat_map_ = std::make_shared<ListHeatMap>(device_);
+    if (on != heat_map_on_) ++view_generation_;
     heat_map_on_ = on;
     if (!on) heat_figures_ = {};
 }
 
 void PreviewSession::set_method(const std::string& spec) {
-    std::unique_ptr<Method> next = make_gpu_method(device_, spec, options_);
-    // The old method's buffers may only go once no frame that used them is still on the GPU.
-    device_.wait_idle();
+    std::shared_ptr<Method> next = make_gpu_method(device_, spec, options_);
+    // The old method's buffers may only go once no frame that used them is still on the GPU: a frame
+    // rendering with it holds it (FrameRequest), and the frame path waits for every method pass
+    // before it returns, so the last reference goes with nothing of it in flight.
     method_ = std::move(next);
     method_spec_ = spec;
+    ++view_generation_;
 }
 
 void PreviewSession::advance(double seconds) {
@@ -104,12 +112,14 @@ Camera PreviewSession::camera() const { return follow_path_ ? timeline_.scene().
 
 void PreviewSession::set_following_path(bool follow) {
     if (!follow && follow_path_) user_camera_ = camera();
+    if (follow != follow_path_) ++view_generation_;
     follow_path_ = follow;
 }
 
 void PreviewSession::set_user_camera(const Camera& camera) {
     user_camera_ = camera;
     follow_path_ = false;
+    ++view_generation_;
 }
 
 Scene PreviewSession::scene(std::uint32_t width, std::uint32_t height) const {
@@ -120,10 +130,7 @@ Scene PreviewSession::scene(std::uint32_t width, std::uint32_t height) const {
     return scene;
 }
 
-void PreviewSession::screenshot(FramePath& path, VkExtent2D viewport, const std::string& file) {
-    if (viewport.width == 0 || viewport.height == 0)
-        throw std::runtime_error("screenshot " + file + ": the window is minimised, there is no viewport");
-    const Image image = frame_image(path, viewport.width, viewport.height);
+void PreviewSession::write_screenshot(const Image& image, const std::string& file) const {
     refuse_non_finite(image, "the screenshot");
     if (file.ends_with(".exr"))
         write_exr(image, file);

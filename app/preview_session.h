@@ -5,6 +5,7 @@
 #pragma once
 
 #include "app/preview_compare.h"
+#include "app/preview_renderer.h"
 #include "app/preview_timeline.h"
 #include "render/frame/frame_path.h"
 #include "render/frame/frame_stats.h"
@@ -51,6 +52,8 @@ public:
     void set_method(const std::string& spec);
     const std::string& method_spec() const { return method_spec_; }
     GpuMethod& method() { return *method_->gpu(); }
+    // Shared with the render thread, which keeps a method it renders with until that frame is done.
+    const std::shared_ptr<Method>& shared_method() const { return method_; }
 
     // A second method beside or against the first (app/preview_compare.h); Off drops it. Throws
     // std::invalid_argument as set_method does.
@@ -59,13 +62,20 @@ public:
     const std::string& compare_spec() const { return compare_spec_; }
     GpuMethod& compare_method() { return *compare_method_->gpu(); }
     // The heat map of list length over the view (app/preview_heat_map.h); its figures are those of
-    // the last frame_image() that drew it.
+    // the last frame shown that drew it (set_heat_figures).
     void set_heat_map(bool on);
     bool heat_map() const { return heat_map_on_; }
     const ListLengthFigures& heat_figures() const { return heat_figures_; }
-    // The current frame at width x height as the view shows it: the method's, or the comparison,
-    // with the heat map over it when it is on. `stats`: the first method's figures.
-    Image frame_image(FramePath& path, std::uint32_t width, std::uint32_t height, FrameStats* stats = nullptr);
+    // What the render thread needs to render the current frame at width x height as the view shows it:
+    // the method's, or the comparison, with the heat map over it when it is on (app/preview_renderer.h).
+    FrameRequest frame_request(std::uint32_t width, std::uint32_t height, bool list_stats) const;
+    // The heat map's figures of the last frame shown that drew it.
+    void set_heat_figures(const ListLengthFigures& f) { heat_figures_ = f; }
+
+    // Counts every change of what the render thread draws apart from the frame number (a new timeline,
+    // an edit, the camera, the method, the comparison, the heat map, the exposure under the heat map):
+    // the preview asks for a new frame when this or the frame changes.
+    std::uint64_t view_generation() const { return view_generation_; }
 
     // The camera now: the camera path's (following) or the user's.
     Camera camera() const;
@@ -78,11 +88,16 @@ public:
     // The current frame at `width` x `height` with the current camera.
     Scene scene(std::uint32_t width, std::uint32_t height) const;
     double exposure() const { return exposure_; }
-    void set_exposure(double stops) { exposure_ = stops; }
+    void set_exposure(double stops) {
+        // The tone map applies the exposure when the frame is presented; only the heat map's tint,
+        // composed on the render thread, depends on it.
+        if (stops != exposure_ && heat_map_on_) ++view_generation_;
+        exposure_ = stops;
+    }
 
-    // Renders the current frame at the viewport's size and writes it: PNG as `brume play` writes it
-    // (exposed sRGB), EXR linear. Throws ImageIoError and friends on failure.
-    void screenshot(FramePath& path, VkExtent2D viewport, const std::string& file);
+    // Writes `image`, the current frame rendered at the viewport's size (frame_request): PNG as
+    // `brume play` writes it (exposed sRGB), EXR linear. Throws ImageIoError and friends on failure.
+    void write_screenshot(const Image& image, const std::string& file) const;
 
     FrameStats& last_stats() { return stats_; }
 
@@ -92,17 +107,19 @@ private:
     PreviewTimeline timeline_;
     Playback playback_;
     std::string method_spec_;
-    std::unique_ptr<Method> method_;
+    // Shared pointers: the render thread holds the ones of the frame it renders (app/preview_renderer.h).
+    std::shared_ptr<Method> method_;
     CompareMode compare_mode_ = CompareMode::Off;
     std::string compare_spec_;
-    std::unique_ptr<Method> compare_method_;
+    std::shared_ptr<Method> compare_method_;
     bool heat_map_on_ = false;
-    std::unique_ptr<ListHeatMap> heat_map_;
+    std::shared_ptr<ListHeatMap> heat_map_;
     ListLengthFigures heat_figures_;
     bool follow_path_ = true;
     Camera user_camera_;
     double exposure_;
     FrameStats stats_;
+    std::uint64_t view_generation_ = 0;
 };
 
 }  // namespace brume::app

@@ -93,6 +93,10 @@ VkExtent2D PreviewWindow::framebuffer_extent() const {
 
 void PreviewWindow::poll_events() const { glfwPollEvents(); }
 void PreviewWindow::wait_events() const { glfwWaitEventsTimeout(0.1); }
+void PreviewWindow::wait_events_for(double seconds) const {
+    if (seconds > 0.0) glfwWaitEventsTimeout(seconds);
+}
+void PreviewWindow::wake() { glfwPostEmptyEvent(); }
 bool PreviewWindow::should_close() const { return glfwWindowShouldClose(window_); }
 void PreviewWindow::request_close() const { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 void PreviewWindow::set_title(const std::string& title) const { glfwSetWindowTitle(window_, title.c_str()); }

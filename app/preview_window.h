@@ -45,8 +45,12 @@ public:
     // The framebuffer's size in pixels now; zero while minimised.
     VkExtent2D framebuffer_extent() const;
     void poll_events() const;
-    // Blocks until an event arrives (a minimised window does no work).
+    // Blocks until an event arrives (a minimised window does no work), or 0.1 s.
     void wait_events() const;
+    // Blocks until an event arrives or `seconds` pass.
+    void wait_events_for(double seconds) const;
+    // Ends a wait_events*() now; callable from any thread (the render thread, when a frame is done).
+    static void wake();
     bool should_close() const;
     void request_close() const;
     void set_title(const std::string& title) const;

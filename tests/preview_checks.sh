@@ -5,7 +5,8 @@
 # does and renders what `brume render` renders from there; the validation layer stays silent across
 # resizes and method switches; Save adds a missing key to its table; an edit the simulator does not
 # read keeps the checkpoints; "render sequence" writes brume play's frames byte for byte; brume bench
-# preview prints its table; bad scripts and a missing display are refused in one clear line.
+# preview prints its table; a slow frame does not stop the window presenting; bad scripts and a
+# missing display are refused in one clear line.
 # Usage: preview_checks.sh BRUME SCRATCH_DIR
 set -u
 brume=$(realpath "$1")
@@ -276,6 +277,25 @@ rc=$?
 if [ "$rc" -ne 0 ]; then fail bench_preview "rc $rc: $(tail -2 bench.log)"
 elif [ "$(grep -cE '^(campfire|crossing) +[0-9]+x[0-9]+ +[0-9.]+ ' bench.log)" != 2 ]; then fail bench_preview "no table rows: $(tail -4 bench.log)"
 else ok bench_preview_table; fi
+
+# A slow frame does not hold the window: the test hook BRUME_PREVIEW_SLOW_FRAME_MS makes the render
+# thread take 1.2 s over each view, and the main loop must go on presenting (at 10 Hz at least with no
+# input) and polling events meanwhile; a loop that rendered its frames itself would do neither for
+# 1.2 s. The scripted screenshot still waits for the frame the script set: play's frame, byte for byte.
+printf 'frame %d\nwait 1\nscreenshot slow.png\nquit\n' $frame >slow.script
+BRUME_PREVIEW_SLOW_FRAME_MS=1200 "$brume" preview plume --size $size --method ppll --script slow.script --validate \
+    >slow.log 2>&1
+rc=$?
+line=$(grep '^preview: the window presented' slow.log)
+field() { echo "$line" | sed -n "s/$1/\1/p"; }
+verdict=$(echo "$(field '.*; \([0-9]*\) frames rendered.*') $(field '.* times, \([0-9]*\) of them.*') \
+    $(field '.*between two presents \([0-9.]*\) ms.*') $(field '.*at most \([0-9.]*\) ms apart.*')" | awk '{
+    if ($1 >= 2 && $2 >= 10 && $3 < 600 && $4 < 300) print "ok"
+    else printf "%s frames rendered, %s presents while rendering, presents %s ms and polls %s ms apart at most", $1, $2, $3, $4 }')
+if [ "$rc" -ne 0 ] || [ -z "$line" ]; then fail slow_frame "rc $rc: $(tail -2 slow.log)"
+elif [ "$verdict" != "ok" ]; then fail slow_frame.window_presents "$verdict: $line"
+elif ! cmp -s slow.png "play.plume.ppll/plume.$(printf %04d $frame).png"; then fail slow_frame.screenshot "differs from play"
+else ok slow_frame_does_not_block_the_window; fi
 
 # Hot reload: a broken file is refused with its file:line error while the last good frame stays; the
 # fixed file is read and shown. The shell edits the file while the preview's script waits for it.

@@ -10,7 +10,10 @@ SwapchainPresenter::SwapchainPresenter(const vk::Device& device, VkExtent2D wind
     ensure_targets();
 }
 
-SwapchainPresenter::~SwapchainPresenter() { vkDeviceWaitIdle(device_.get()); }
+SwapchainPresenter::~SwapchainPresenter() {
+    const auto queue_lock = device_.lock_queue();
+    vkDeviceWaitIdle(device_.get());
+}
 
 void SwapchainPresenter::set_window_extent(VkExtent2D extent) {
     if (extent.width == window_extent_.width && extent.height == window_extent_.height) return;
@@ -33,7 +36,15 @@ bool SwapchainPresenter::present(const FrameResources& frame, vk::FrameRing& rin
     return present_view(frame.hdr_view(), frame.extent(), ring);
 }
 
+bool SwapchainPresenter::present_deferred() {
+    if (!deferred_index_) return false;
+    if (!swapchain_.present(*deferred_index_, deferred_ready_)) recreate_ = true;
+    deferred_index_.reset();
+    return true;
+}
+
 bool SwapchainPresenter::present_view(VkImageView hdr, VkExtent2D hdr_extent, vk::FrameRing& ring) {
+    present_deferred();  // the last image first (the caller waited for it: this does not block)
     if (recreate_ || !swapchain_.valid()) {
         framebuffers_.clear();
         swapchain_.recreate(window_extent_);
@@ -67,6 +78,11 @@ bool SwapchainPresenter::present_view(VkImageView hdr, VkExtent2D hdr_extent, vk
                           VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, 0);
     }
     ring.submit(slot.image_acquired, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, slot.ready_to_present);
+    if (deferred_ && !capture) {
+        deferred_index_ = *index;
+        deferred_ready_ = slot.ready_to_present;
+        return true;
+    }
     if (!swapchain_.present(*index, slot.ready_to_present)) recreate_ = true;
     if (capture) {
         // A capture is rare (a screenshot): waiting for this frame costs one frame of overlap.

@@ -13,6 +13,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace brume {
@@ -34,6 +35,17 @@ public:
     // methods), sampled in SHADER_READ_ONLY_OPTIMAL. Switching between views must wait for the device:
     // the tone-map pass has one descriptor set.
     bool present_view(VkImageView hdr, VkExtent2D hdr_extent, vk::FrameRing& ring);
+
+    // Deferred presents (the preview's main thread, which must not wait for the queue): present()
+    // submits the tone map and returns, and the queue present waits for present_deferred(), which the
+    // caller makes once the submission is done (its ring's fence). On lavapipe vkQueuePresentKHR waits
+    // for the queue to finish everything submitted before it, another thread's slow frame included;
+    // after the tone map's fence it has nothing left to wait for. A frame that is captured is
+    // presented at once.
+    void set_deferred_present(bool deferred) { deferred_ = deferred; }
+    bool has_deferred_present() const { return deferred_index_.has_value(); }
+    // Queues the deferred present, if there is one. Returns whether there was.
+    bool present_deferred();
 
     // Copies the next frame shown, overlay included, exactly as the window shows it. False when the
     // swapchain's images cannot be copied from (the surface does not allow it).
@@ -57,6 +69,9 @@ private:
     bool recreate_ = false;
     double exposure_stops_ = 0.0;
     std::function<void(VkCommandBuffer)> overlay_;
+    bool deferred_ = false;
+    std::optional<std::uint32_t> deferred_index_;
+    VkSemaphore deferred_ready_ = VK_NULL_HANDLE;
     bool capture_requested_ = false;
     vk::Buffer capture_buffer_;
     std::vector<std::uint8_t> capture_;

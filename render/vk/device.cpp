@@ -231,7 +231,10 @@ Device::Device(const DeviceOptions& options) {
 Device::~Device() { release(); }
 
 void Device::release() {
-    if (device_) vkDeviceWaitIdle(device_);
+    if (device_) {
+        const auto queue_lock = lock_queue();
+        vkDeviceWaitIdle(device_);
+    }
     if (device_) vkDestroyDevice(device_, nullptr);
     device_ = VK_NULL_HANDLE;
     if (surface_) vkDestroySurfaceKHR(instance_, surface_, nullptr);
@@ -296,6 +299,9 @@ std::uint32_t Device::find_memory_type(std::uint32_t type_bits, VkMemoryProperty
     throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT, "no suitable Vulkan memory type");
 }
 
-void Device::wait_idle() const { VK_CHECK(vkDeviceWaitIdle(device_)); }
+void Device::wait_idle() const {
+    const auto queue_lock = lock_queue();
+    VK_CHECK(vkDeviceWaitIdle(device_));
+}
 
 }  // namespace brume::vk

@@ -76,8 +76,22 @@ public:
     std::uint32_t find_memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,
                                    VkMemoryPropertyFlags preferred = 0) const;
 
-    // Waits until the device has finished everything submitted to it.
+    // Waits until the device has finished everything submitted to it (under the queue's lock).
     void wait_idle() const;
+
+    // The queue is externally synchronised (Vulkan: vkQueueSubmit*, vkQueuePresentKHR, vkQueueWaitIdle
+    // and vkDeviceWaitIdle must not run at the same time on it from two threads). The preview renders
+    // on one thread and presents on another, so every one of those calls in Brume holds this lock
+    // (FrameRing::submit, Swapchain::present, wait_idle, the UI's font upload). It is recursive so
+    // that a caller may hold it around a whole present (SwapchainPresenter's acquire, submit and
+    // present) while the calls inside take it again.
+    std::unique_lock<std::recursive_mutex> lock_queue() const { return std::unique_lock(queue_mutex_); }
+    // As lock_queue(), without waiting: not owning the lock when another thread holds it (the preview's
+    // main thread skips a present rather than wait for a frame's submission, which lavapipe runs
+    // inside vkQueueSubmit).
+    std::unique_lock<std::recursive_mutex> try_lock_queue() const {
+        return std::unique_lock(queue_mutex_, std::try_to_lock);
+    }
 
 private:
     static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
@@ -98,6 +112,7 @@ private:
     bool validation_enabled_ = false;
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name_ = nullptr;
 
+    mutable std::recursive_mutex queue_mutex_;
     mutable std::mutex messages_mutex_;
     std::vector<std::string> messages_;
     std::size_t message_count_ = 0;

@@ -90,7 +90,10 @@ void FrameRing::submit(VkSemaphore wait_semaphore, VkPipelineStageFlags2 wait_st
     submit.pWaitSemaphoreInfos = &wait_info;
     submit.signalSemaphoreInfoCount = signal ? 1 : 0;
     submit.pSignalSemaphoreInfos = &signal_info;
-    VK_CHECK(vkQueueSubmit2(device_.queue(), 1, &submit, slot.done));
+    {
+        const auto queue_lock = device_.lock_queue();  // the queue is shared with other threads' rings
+        VK_CHECK(vkQueueSubmit2(device_.queue(), 1, &submit, slot.done));
+    }
     slot.pending = true;
 }
 
@@ -103,6 +106,16 @@ void FrameRing::wait(FrameSlot& slot) {
 }
 
 void FrameRing::wait() { wait(slots_[current_]); }
+
+bool FrameRing::idle() const {
+    for (const FrameSlot& s : slots_) {
+        if (!s.pending) continue;
+        const VkResult r = vkGetFenceStatus(device_.get(), s.done);
+        if (r == VK_NOT_READY) return false;
+        VK_CHECK(r);
+    }
+    return true;
+}
 
 void FrameRing::wait_all() {
     for (FrameSlot& s : slots_) wait(s);

@@ -41,6 +41,9 @@ public:
     void wait();
     // Waits for every slot: nothing the ring submitted is still running afterwards.
     void wait_all();
+    // Without waiting: true when nothing the ring submitted is still running (wait_all() would return
+    // at once).
+    bool idle() const;
 
     FrameSlot& current() { return slots_[current_]; }
     std::uint32_t slot_count() const { return std::uint32_t(slots_.size()); }

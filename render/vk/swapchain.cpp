@@ -26,7 +26,9 @@ Swapchain::Swapchain(const Device& device, VkExtent2D wanted) : device_(device) 
 }
 
 Swapchain::~Swapchain() {
-    if (swapchain_.get()) vkDeviceWaitIdle(device_.get());
+    if (!swapchain_.get()) return;
+    const auto queue_lock = device_.lock_queue();
+    vkDeviceWaitIdle(device_.get());
 }
 
 bool Swapchain::recreate(VkExtent2D wanted) {
@@ -39,7 +41,7 @@ bool Swapchain::recreate(VkExtent2D wanted) {
         extent.width = std::clamp(wanted.width, caps.minImageExtent.width, caps.maxImageExtent.width);
         extent.height = std::clamp(wanted.height, caps.minImageExtent.height, caps.maxImageExtent.height);
     }
-    VK_CHECK(vkDeviceWaitIdle(device_.get()));
+    device_.wait_idle();
     views_.clear();
     images_.clear();
     if (extent.width == 0 || extent.height == 0 || wanted.width == 0 || wanted.height == 0) {
@@ -119,7 +121,11 @@ bool Swapchain::present(std::uint32_t index, VkSemaphore ready) {
     info.swapchainCount = 1;
     info.pSwapchains = &swapchain;
     info.pImageIndices = &index;
-    const VkResult r = vkQueuePresentKHR(device_.queue(), &info);
+    VkResult r;
+    {
+        const auto queue_lock = device_.lock_queue();
+        r = vkQueuePresentKHR(device_.queue(), &info);
+    }
     if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR) return false;
     VK_CHECK(r);
     return true;

@@ -969,6 +969,12 @@ expect_success readme.tour_scene && has_magic "$tour/out.png" $PNG_MAGIC && ok r
 run render plume --frame 40 --size 16x12 --png "$tour/plume.png"
 expect_success readme.tour_preset_still && has_magic "$tour/plume.png" $PNG_MAGIC && ok readme.tour_preset_still
 
+# The README and docs cite the repository's docs or papers by title, never the project's private brief
+# (../shared/..., "GUIDE section N"), which a user of the repository does not have.
+# docs/reliability.md quotes the issue that found them, so it is not searched.
+cites=$(grep -nE '\.\./shared/|GUIDE( section| §|\.md)' "$data/../../README.md" $(ls "$data"/../../docs/*.md | grep -v '/reliability\.md$') 2>/dev/null | head -n 3)
+[ -z "$cites" ] && ok readme.no_private_citations || fail readme.no_private_citations "$cites"
+
 # --- 18. A seeded sample of fuzzed inputs through the binary (tests/test_fuzz_inputs.cpp runs thousands
 # through the readers): no signal, no hang, one bounded error line, an existing output left as it was. ---
 fz=$work/fuzz

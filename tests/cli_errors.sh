@@ -933,6 +933,15 @@ expect_line bench.range_absurd 2 "--layers: counts must be even, from 2 to 1024 
 run bench layers --layers 2-1000000:2
 expect_line bench.range_too_long 2 "'2-1000000:2' has more than 10000 values" && ok bench.range_too_long
 
+# A frame too large for the device's memory (--size 16384x16384 once gave a raw vkBindImageMemory failure
+# with a source path): one line that says what to do, nothing written. A 3 GB address-space limit makes the
+# 4 GiB HDR target fail on any machine, quickly; the same command at 64x48 succeeds under it.
+( ulimit -v 3000000; "$brume" render --size 16384x16384 -o "$nu/huge.exr" >"$out" 2>"$err" ); rc=$?
+expect_line memory.frame_too_large 1 "the Vulkan device has too little memory for this frame's images and lists: try a smaller --size or a smaller scene" &&
+    [ ! -e "$nu/huge.exr" ] && ok memory.frame_too_large
+( ulimit -v 3000000; "$brume" render --size 64x48 -o "$nu/fits.exr" >"$out" 2>"$err" ); rc=$?
+expect_success memory.frame_that_fits && [ -s "$nu/fits.exr" ] && ok memory.frame_that_fits
+
 # --- 16. Huge strings: what is echoed is bounded, names are checked where they are read (issue 14 item 8). ---
 hs=$work/huge_strings
 mkdir -p "$hs"

@@ -37,7 +37,8 @@ struct Integrator {
 
 // Sub-intervals per segment and the 3-point Gauss-Legendre rule on each (exact for degree-5 integrands;
 // T_sun has kinks where the segment crosses a shadow edge). One already meets the stated error
-// (tests/test_gpu_light.cpp, docs/accuracy.md); each more costs three T_sun lookups per segment.
+// (tests/test_gpu_light.cpp, docs/accuracy.md); each more costs three more reads of the depth map
+// (sun_map_depth: eight texels each) and box tests per segment.
 const int SUN_SUBINTERVALS = 1;
 // 1 when the frame uses the accurate shadow technique. A specialization constant as well as the
 // uniform: lavapipe runs the body of an `if` under an empty lane mask even when no lane takes it,

@@ -1,8 +1,9 @@
 // T_sun at a point (docs/accuracy.md, "Light through the smoke"), the float twin of render/sun_light.h:
 // 0 if the ray x + s l (s > 0, l toward the sun) meets a box, else exp(-sum_k tau_k len_k(x)). The
 // spheres come from the light-space grid (SunGridHeader in shared.h): only those whose shadow disc
-// overlaps x's cell. The opaque pass evaluates it once per lit box fragment; the media use the
-// per-sphere values in GpuSphere.emission_sun.w.
+// overlaps x's cell. The opaque pass evaluates it once per lit box fragment. In the media, the per-sphere
+// technique uses the values in GpuSphere.emission_sun.w, and the accurate one sun_media_transmittance
+// below (the light-space depth map).
 // Needs bindings.glsl and rays.glsl.
 #ifndef BRUME_SUN_TRANSMITTANCE_GLSL
 #define BRUME_SUN_TRANSMITTANCE_GLSL
@@ -20,14 +21,22 @@ float sun_ray_length_inside(vec3 x, vec3 l, vec3 c, float r2) {
     return max(s - b, 0.0);
 }
 
-// `skip_box`: the box x lies on (a ray leaving a convex box through a face it lights never re-enters it).
-float sun_transmittance(vec3 x, uint skip_box) {
-    if (frame.params.z == 0.0) return 1.0;
+// Whether the ray x + s l (s > 0) toward the sun meets a box: a box's shadow is exact (T_sun = 0) for
+// both techniques. `skip_box`: the box x lies on (a ray leaving a convex box through a face it lights
+// never re-enters it); any value >= the box count skips none.
+bool sun_box_blocked(vec3 x, uint skip_box) {
     vec3 l = -frame.sun_dir.xyz;
     for (uint b = 0u; b < frame.counts.w; ++b) {
         float t;
-        if (b != skip_box && intersect_box(x, l, boxes[b].min_corner.xyz, boxes[b].max_corner.xyz, t)) return 0.0;
+        if (b != skip_box && intersect_box(x, l, boxes[b].min_corner.xyz, boxes[b].max_corner.xyz, t)) return true;
     }
+    return false;
+}
+
+float sun_transmittance(vec3 x, uint skip_box) {
+    if (frame.params.z == 0.0) return 1.0;
+    if (sun_box_blocked(x, skip_box)) return 0.0;
+    vec3 l = -frame.sun_dir.xyz;
     uint side = sun_grid.size.x;
     if (side == 0u) return 1.0;
     ivec2 cell = ivec2(floor((vec2(dot(x, sun_grid.u_axis.xyz), dot(x, sun_grid.v_axis.xyz)) -
@@ -78,11 +87,7 @@ float sun_map_depth(vec3 rel) {
 // x = eye + rel.
 float sun_media_transmittance(vec3 x, vec3 rel) {
     if (frame.params.z == 0.0) return 1.0;
-    vec3 l = -frame.sun_dir.xyz;
-    for (uint b = 0u; b < frame.counts.w; ++b) {
-        float t;
-        if (intersect_box(x, l, boxes[b].min_corner.xyz, boxes[b].max_corner.xyz, t)) return 0.0;
-    }
+    if (sun_box_blocked(x, 0xffffffffu)) return 0.0;
     if (sun_grid.map_size.x == 0u) return 1.0;  // no sphere casts a shadow
     return exp(-sun_map_depth(rel));
 }

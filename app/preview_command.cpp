@@ -213,11 +213,14 @@ private:
                 targets.preset_edit_stale = true;
                 break;
             }
+            const int replayed_from = session.last_edit_replayed_from();
             std::printf("set %s = %s (%s)\n", c.text.c_str(), c.value.c_str(),
-                        edit_affects_simulation(c.text)
-                            ? "the simulation restarts from frame 0"
-                            : ("simulated frames kept: 0-" + std::to_string(timeline.simulated_until()) + ", " +
-                               std::to_string(timeline.checkpoints().size()) + " checkpoints").c_str());
+                        replayed_from == 0  ? "the simulation restarts from frame 0"
+                        : replayed_from > 0 ? ("the simulation replays from frame " + std::to_string(replayed_from) +
+                                               ", before the emitter's first birth; " +
+                                               std::to_string(timeline.checkpoints().size()) + " checkpoints kept").c_str()
+                                            : ("simulated frames kept: 0-" + std::to_string(timeline.simulated_until()) +
+                                               ", " + std::to_string(timeline.checkpoints().size()) + " checkpoints").c_str());
             targets.preset_edit_stale = true;
             break;
         }

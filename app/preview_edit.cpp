@@ -183,6 +183,19 @@ bool edit_affects_simulation(const std::string& key_path) {
     return key_path != "timeline.duration";  // anything else, a key this list does not know included
 }
 
+std::optional<std::size_t> edited_emitter(const std::string& key_path) {
+    const std::string prefix = "emitter[";
+    if (key_path.rfind(prefix, 0) != 0) return std::nullopt;
+    const std::size_t close = key_path.find(']', prefix.size());
+    if (close == std::string::npos || close == prefix.size() || close - prefix.size() > 5) return std::nullopt;
+    std::size_t index = 0;
+    for (std::size_t i = prefix.size(); i < close; ++i) {
+        if (key_path[i] < '0' || key_path[i] > '9') return std::nullopt;
+        index = index * 10 + std::size_t(key_path[i] - '0');
+    }
+    return index;
+}
+
 Preset PresetEditor::set(const std::string& key_path, const std::string& value) {
     toml::table holder;
     try {

@@ -8,6 +8,7 @@
 #include "sim/preset.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +20,10 @@ namespace brume::app {
 // render settings, fixed spheres and volumes, the name and the duration do not (the simulator reads
 // none of them: sim/simulator.h), so the frames simulated before such an edit stay valid.
 bool edit_affects_simulation(const std::string& key_path);
+// The emitter an edit changes alone ("emitter[2].rate", "emitter[0].curves.fade_in": 2, 0), for
+// PreviewTimeline::replace_emitter_keeping_past; nullopt for any other key, and for "", which stands
+// for several edits merged (preview_pending_edit.cpp).
+std::optional<std::size_t> edited_emitter(const std::string& key_path);
 
 // One value of the preset's TOML that the panel can edit: a number, an integer, a boolean, a string,
 // or a short array of numbers (a vector, a range).

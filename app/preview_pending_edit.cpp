@@ -11,9 +11,12 @@ namespace {
 
 // The key a merged edit is applied with: one the simulator reads wins, since the preset it goes
 // with holds that edit too (PreviewSession::apply_edit keeps the simulation only for keys it does
-// not read).
+// not read). Two the simulator reads merge into "", which names no single emitter
+// (edited_emitter), so the merged edit replays the simulation from the start.
 std::string merged_key(const std::string& earlier, const std::string& later) {
-    return edit_affects_simulation(earlier) ? earlier : later;
+    const bool a = edit_affects_simulation(earlier), b = edit_affects_simulation(later);
+    if (a && b) return earlier == later ? earlier : "";
+    return a ? earlier : later;
 }
 
 }  // namespace

@@ -26,11 +26,22 @@ void PreviewSession::replace_preset(const Preset& preset) {
 
 void PreviewSession::apply_edit(const Preset& preset, const std::string& key_path) {
     if (edit_affects_simulation(key_path)) {
+        // An emitter edit keeps the frames before that emitter's first birth; anything else the
+        // simulator reads replays it from the start.
+        const std::optional<std::size_t> emitter = edited_emitter(key_path);
+        const std::optional<int> from = emitter ? timeline_.replace_emitter_keeping_past(preset, *emitter) : std::nullopt;
+        if (from) {
+            ++view_generation_;
+            last_edit_replayed_from_ = *from;
+            return;
+        }
         replace_preset(preset);
+        last_edit_replayed_from_ = 0;
         return;
     }
     timeline_.replace_scene_keeping_simulation(preset);
     ++view_generation_;
+    last_edit_replayed_from_ = -1;
 }
 
 namespace {

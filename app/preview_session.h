@@ -45,8 +45,11 @@ public:
     // user's camera and the exposure stay.
     void replace_preset(const Preset& preset);
     // An edit: as replace_preset, except that an edit the simulator does not read
-    // (!edit_affects_simulation(key_path)) keeps the simulated frames and checkpoints.
+    // (!edit_affects_simulation(key_path)) keeps the simulated frames and checkpoints, and an edit of
+    // one emitter keeps those from before its first birth (PreviewTimeline::replace_emitter_keeping_past).
     void apply_edit(const Preset& preset, const std::string& key_path);
+    // The frame the last edit's simulation replayed from: 0 from the start, -1 when it kept all.
+    int last_edit_replayed_from() const { return last_edit_replayed_from_; }
 
     // Throws std::invalid_argument naming the method when it is unknown or has no GPU frame path.
     void set_method(const std::string& spec);
@@ -120,6 +123,7 @@ private:
     double exposure_;
     FrameStats stats_;
     std::uint64_t view_generation_ = 0;
+    int last_edit_replayed_from_ = -1;
 };
 
 }  // namespace brume::app

@@ -3,6 +3,7 @@
 #include "sim/camera_path.h"
 
 #include <algorithm>
+#include <iterator>
 #include <stdexcept>
 
 namespace brume::app {
@@ -49,6 +50,27 @@ void PreviewTimeline::replace_scene_keeping_simulation(const Preset& preset) {
     // A shorter duration: the frames past the new end are no longer reachable.
     simulated_until_ = std::min(simulated_until_, frame_count() - 1);
     if (sim_.frame() > frame_count() - 1) seek(frame_count() - 1);
+}
+
+std::optional<int> PreviewTimeline::replace_emitter_keeping_past(const Preset& preset, std::size_t emitter) {
+    // Checkpoints are in frame order, and an emitter that has not emitted by a frame has not emitted by
+    // any earlier one: the kept ones are a prefix.
+    auto keep_end = checkpoints_.begin();
+    while (keep_end != checkpoints_.end() && keep_end->second.can_adopt_emitter(preset, emitter)) ++keep_end;
+    if (keep_end == checkpoints_.begin()) return std::nullopt;
+    const int frame = sim_.frame();
+    checkpoints_.erase(keep_end, checkpoints_.end());
+    checkpoint_bytes_ = 0;
+    for (auto& [f, checkpoint] : checkpoints_) {
+        checkpoint.adopt_emitter(preset, emitter);
+        if (f != 0) checkpoint_bytes_ += std::uint64_t(checkpoint.size()) * kParticleBytes;
+    }
+    preset_ = preset;
+    sim_ = std::prev(checkpoints_.end())->second;
+    const int from = sim_.frame();
+    simulated_until_ = from;
+    seek(frame);
+    return from;
 }
 
 Scene PreviewTimeline::scene() const {

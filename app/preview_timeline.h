@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <optional>
 
 namespace brume::app {
 
@@ -33,6 +34,13 @@ public:
     // checkpoint stay, since the simulator would compute them again bit for bit. The caller
     // guarantees that `preset` differs from the current one only there (edit_affects_simulation).
     void replace_scene_keeping_simulation(const Preset& preset);
+    // An edit of emitter `emitter` alone (`preset` differs from the current one only there): the
+    // checkpoints from before either version of the emitter first emits are kept (Simulator::
+    // adopt_emitter), the later ones dropped, and the current frame simulated again from the latest
+    // kept one, whose frame it returns. Returns nullopt, changing nothing, when even frame 0 comes after
+    // the emitter's first birth (an emitter that starts at once, or during the preroll): then only a
+    // new timeline will do.
+    std::optional<int> replace_emitter_keeping_past(const Preset& preset, std::size_t emitter);
     // The current frame's scene exactly as `brume play` builds it: the preset's scene, the live
     // particles as spheres after its fixed ones, the camera path's camera at this time, the
     // preset's resolution.

@@ -54,6 +54,27 @@ void Simulator::reset() {
     }
 }
 
+bool Simulator::can_adopt_emitter(const Preset& next, std::size_t e) const {
+    if (e >= emitters_.size() || next.emitters.size() != emitters_.size()) return false;
+    if (emitters_[e].counter != 0) return false;  // the current emitter has had births (or budget skips)
+    const double now = time_at(step_);
+    const EmitterDesc& d = next.emitters[e];
+    for (const EmitterDesc::Burst& b : d.bursts)
+        if (b.time <= now && b.count > 0) return false;
+    return continuous_count(d, now) == 0;
+}
+
+void Simulator::adopt_emitter(const Preset& next, std::size_t e) {
+    if (!can_adopt_emitter(next, e)) throw std::logic_error("simulator: the emitter has emitted; it cannot be swapped");
+    preset_.emitters[e] = next.emitters[e];
+    require_density_loaded(preset_.emitters[e]);
+    EmitterState& st = emitters_[e];
+    st = EmitterState{};
+    st.bursts = preset_.emitters[e].bursts;
+    std::stable_sort(st.bursts.begin(), st.bursts.end(),
+                     [](const EmitterDesc::Burst& a, const EmitterDesc::Burst& b) { return a.time < b.time; });
+}
+
 void Simulator::step_frame() {
     for (std::uint64_t s = 0; s < substeps_; ++s) {
         check_stop();

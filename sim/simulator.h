@@ -67,6 +67,14 @@ public:
     std::uint64_t emitted(std::size_t emitter) const { return emitters_[emitter].counter; }
     std::uint64_t skipped() const { return skipped_; }
     std::uint64_t step_index() const { return step_; }
+
+    // An edit of emitter `e` alone: `next` is the current preset with only that emitter changed. While
+    // neither the current emitter nor next's has emitted anything by now (no birth, none skipped by the
+    // budget), the state is exactly what a fresh Simulator of `next` stepped to this frame would hold,
+    // so the emitter can be swapped in place and the past kept (the preview's edits, whose frames before
+    // the emitter's first birth stay valid). can_adopt_emitter says whether that holds.
+    bool can_adopt_emitter(const Preset& next, std::size_t e) const;
+    void adopt_emitter(const Preset& next, std::size_t e);
     double step_seconds() const { return 1.0 / steps_per_second_; }
 
 private:

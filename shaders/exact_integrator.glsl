@@ -12,8 +12,8 @@
 //
 // With the accurate shadow technique (frame.params.w = 1) the sun term of a segment is instead
 // sigma_s L_sun P times the integral of exp(-sigma_t u) T_sun(x(u)) over it, by Gauss-Legendre
-// quadrature with T_sun read from the light-space depth map, box shadows exact
-// (sun_transmittance.glsl sun_media_transmittance); for that the integrator knows its ray. start_integrator() takes the pixel-centre ray of gl_FragCoord (a fragment
+// quadrature with T_sun read from the light-space depth map over the lit pieces of the segment,
+// box shadows cut out exactly (sun_transmittance.glsl find_sun_box_spans); for that the integrator knows its ray. start_integrator() takes the pixel-centre ray of gl_FragCoord (a fragment
 // shader); a resolve in another stage defines BRUME_NO_FRAGMENT_RAY and calls start_integrator(eye, dir).
 #ifndef BRUME_EXACT_INTEGRATOR_GLSL
 #define BRUME_EXACT_INTEGRATOR_GLSL
@@ -48,20 +48,41 @@ layout(constant_id = 3) const uint ACCURATE_SHADOWS = 0u;
 const float GL3_NODE = 0.7745966692414834;
 const float GL3_W_OUTER = 0.5555555555555556, GL3_W_CENTRE = 0.8888888888888888;
 
-// integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt, T_sun from the light-space
-// depth map (sun_media_transmittance).
-float sun_segment_integral(vec3 origin, vec3 dir, float a, float b, float sigma_t) {
-    float h = (b - a) / float(SUN_SUBINTERVALS);
+// integral over [u, v] of exp(-sigma_t (t - a)) g(t) dt by SUN_SUBINTERVALS Gauss-Legendre rules, g the
+// map's T_sun (boxes = false: the caller cut the box shadows out) or the whole T_sun (boxes = true).
+float sun_quadrature(vec3 origin, vec3 dir, float a, float u, float v, float sigma_t, bool boxes) {
+    float h = (v - u) / float(SUN_SUBINTERVALS);
     vec3 from_eye = origin - frame.eye.xyz;  // 0 for every resolve's rays: they start at the eye
     float sum = 0.0;
     for (int k = 0; k < SUN_SUBINTERVALS; ++k) {
-        float m = a + (float(k) + 0.5) * h;
+        float m = u + (float(k) + 0.5) * h;
         float tl = m - 0.5 * h * GL3_NODE, tr = m + 0.5 * h * GL3_NODE;
-        sum += GL3_W_OUTER * exp(-sigma_t * (tl - a)) * sun_media_transmittance(origin + tl * dir, from_eye + tl * dir);
-        sum += GL3_W_CENTRE * exp(-sigma_t * (m - a)) * sun_media_transmittance(origin + m * dir, from_eye + m * dir);
-        sum += GL3_W_OUTER * exp(-sigma_t * (tr - a)) * sun_media_transmittance(origin + tr * dir, from_eye + tr * dir);
+        float gl = boxes ? sun_media_transmittance(origin + tl * dir, from_eye + tl * dir) : sun_media_map_transmittance(from_eye + tl * dir);
+        float gm = boxes ? sun_media_transmittance(origin + m * dir, from_eye + m * dir) : sun_media_map_transmittance(from_eye + m * dir);
+        float gr = boxes ? sun_media_transmittance(origin + tr * dir, from_eye + tr * dir) : sun_media_map_transmittance(from_eye + tr * dir);
+        sum += GL3_W_OUTER * exp(-sigma_t * (tl - a)) * gl + GL3_W_CENTRE * exp(-sigma_t * (m - a)) * gm +
+               GL3_W_OUTER * exp(-sigma_t * (tr - a)) * gr;
     }
     return sum * 0.5 * h;
+}
+
+// integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt. The box shadows are cut out
+// exactly (find_sun_box_spans, once per ray): T_sun is 0 there, and the quadrature runs over the lit
+// pieces only, where T_sun is the map's, smooth (a rule straddling a shadow edge was the technique's
+// largest error under a low sun).
+float sun_segment_integral(vec3 origin, vec3 dir, float a, float b, float sigma_t) {
+    if (frame.params.z == 0.0) return sun_quadrature(origin, dir, a, a, b, sigma_t, true);  // T_sun = 1
+    if (sun_box_span_count == SUN_BOX_SPANS_NONE) return sun_quadrature(origin, dir, a, a, b, sigma_t, true);
+    float sum = 0.0, lit_from = a;
+    for (uint k = 0u; k < sun_box_span_count && lit_from < b; ++k) {
+        vec2 s = sun_box_spans[k];
+        if (s.y <= lit_from) continue;
+        if (s.x >= b) break;
+        if (s.x > lit_from) sum += sun_quadrature(origin, dir, a, lit_from, s.x, sigma_t, false);
+        lit_from = s.y;
+    }
+    if (lit_from < b) sum += sun_quadrature(origin, dir, a, lit_from, b, sigma_t, false);
+    return sum;
 }
 
 // Integrates the segment up to the event's distance, then enters or leaves the event's medium.
@@ -115,6 +136,7 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
 }
 
 Integrator start_integrator(vec3 origin, vec3 unit_dir) {
+    if (ACCURATE_SHADOWS != 0u && frame.params.w != 0.0 && frame.params.z != 0.0) find_sun_box_spans(origin, unit_dir);
     return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), vec3(0.0), vec3(0.0), 0, 0.0, false, origin, unit_dir);
 }
 

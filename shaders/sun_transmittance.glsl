@@ -83,13 +83,106 @@ float sun_map_depth(vec3 rel) {
     return mix(mix(a, b, f.x), mix(d, e, f.x), f.y);
 }
 
+// The distances t >= 0 along the ray o + t d whose point's ray toward the sun meets the box
+// [bmin, bmax]: one interval (x < y), empty when x >= y. Closed form: on each axis the sun ray's
+// parameter s inside the box's slab is an interval whose ends are linear in t, and a point is in
+// the shadow where the slabs' intervals overlap at some s > 0, a set of linear inequalities in t.
+// The shadow of a convex box along one direction is convex, so the set is one interval.
+vec2 sun_box_shadow_span(vec3 o, vec3 d, vec3 bmin, vec3 bmax) {
+    vec3 l = -frame.sun_dir.xyz;
+    float t0 = 0.0, t1 = 3.0e38;
+    // s_lo(t) = lo_a + lo_b t and s_hi(t) = hi_a + hi_b t per axis; an axis the sun ray runs along
+    // bounds t itself and s not at all (free).
+    vec3 lo_a, lo_b, hi_a, hi_b;
+    bvec3 free_axis;
+    for (int i = 0; i < 3; ++i) {
+        free_axis[i] = abs(l[i]) < 1e-7;
+        if (free_axis[i]) {
+            // bmin <= o + t d <= bmax on this axis
+            if (abs(d[i]) < 1e-20) {
+                if (o[i] < bmin[i] || o[i] > bmax[i]) return vec2(1.0, 0.0);
+            } else {
+                float ta = (bmin[i] - o[i]) / d[i], tb = (bmax[i] - o[i]) / d[i];
+                t0 = max(t0, min(ta, tb));
+                t1 = min(t1, max(ta, tb));
+            }
+            lo_a[i] = lo_b[i] = hi_a[i] = hi_b[i] = 0.0;
+            continue;
+        }
+        float inv = 1.0 / l[i];
+        float a0 = (bmin[i] - o[i]) * inv, a1 = (bmax[i] - o[i]) * inv, b = -d[i] * inv;
+        lo_a[i] = min(a0, a1);
+        hi_a[i] = max(a0, a1);
+        lo_b[i] = b;
+        hi_b[i] = b;
+    }
+    // Every lower end (and s = 0) below every upper end: c + k t < 0 for c = lo_a - hi_a, k = lo_b - hi_b.
+    for (int j = 0; j < 3; ++j) {
+        if (free_axis[j]) continue;
+        for (int i = -1; i < 3; ++i) {
+            if (i >= 0 && free_axis[i]) continue;
+            float c = (i < 0 ? 0.0 : lo_a[i]) - hi_a[j];
+            float k = (i < 0 ? 0.0 : lo_b[i]) - hi_b[j];
+            if (abs(k) < 1e-20) {
+                if (c >= 0.0) return vec2(1.0, 0.0);
+            } else if (k > 0.0) {
+                t1 = min(t1, -c / k);
+            } else {
+                t0 = max(t0, -c / k);
+            }
+        }
+    }
+    return vec2(t0, t1);
+}
+
+// The accurate technique's box shadows along one view ray, found once per ray: the merged intervals
+// of t in some box's shadow, in order. With more boxes than fit, sun_box_span_count is
+// SUN_BOX_SPANS_NONE and each sample tests the boxes itself (sun_media_transmittance).
+const uint SUN_BOX_SPANS = 8u;
+const uint SUN_BOX_SPANS_NONE = 0xffffffffu;
+vec2 sun_box_spans[SUN_BOX_SPANS];
+uint sun_box_span_count = SUN_BOX_SPANS_NONE;
+
+void find_sun_box_spans(vec3 o, vec3 d) {
+    sun_box_span_count = SUN_BOX_SPANS_NONE;
+    if (frame.counts.w > SUN_BOX_SPANS) return;
+    uint n = 0u;
+    for (uint b = 0u; b < frame.counts.w; ++b) {
+        vec2 s = sun_box_shadow_span(o, d, boxes[b].min_corner.xyz, boxes[b].max_corner.xyz);
+        if (!(s.x < s.y)) continue;
+        // Insertion by start, then merged with what it overlaps.
+        uint k = n;
+        while (k > 0u && sun_box_spans[k - 1u].x > s.x) {
+            sun_box_spans[k] = sun_box_spans[k - 1u];
+            --k;
+        }
+        sun_box_spans[k] = s;
+        ++n;
+    }
+    uint m = 0u;
+    for (uint k = 0u; k < n; ++k) {
+        if (m > 0u && sun_box_spans[k].x <= sun_box_spans[m - 1u].y) {
+            sun_box_spans[m - 1u].y = max(sun_box_spans[m - 1u].y, sun_box_spans[k].y);
+        } else {
+            sun_box_spans[m] = sun_box_spans[k];
+            ++m;
+        }
+    }
+    sun_box_span_count = m;
+}
+
+// The spheres' part of T_sun in the media by the accurate technique, exp(-map depth); x = eye + rel.
+float sun_media_map_transmittance(vec3 rel) {
+    if (sun_grid.map_size.x == 0u) return 1.0;  // no sphere casts a shadow
+    return exp(-sun_map_depth(rel));
+}
+
 // T_sun in the media by the accurate technique: 0 in a box's shadow (exact), else exp(-map depth).
 // x = eye + rel.
 float sun_media_transmittance(vec3 x, vec3 rel) {
     if (frame.params.z == 0.0) return 1.0;
     if (sun_box_blocked(x, 0xffffffffu)) return 0.0;
-    if (sun_grid.map_size.x == 0u) return 1.0;  // no sphere casts a shadow
-    return exp(-sun_map_depth(rel));
+    return sun_media_map_transmittance(rel);
 }
 
 #endif

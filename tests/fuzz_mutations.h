@@ -4,14 +4,35 @@
 // feeds a sample to the brume binary itself.
 #pragma once
 
+#include <algorithm>
 #include <cctype>
 #include <cstddef>
+#include <filesystem>
 #include <iterator>
 #include <random>
 #include <string>
 #include <vector>
 
 namespace brume::fuzz {
+
+// One file the fuzz runs mutate; `preset`: presets/*.toml but default.toml (the built-in scene) are
+// preset files, the others (tests/data, examples) scene files.
+struct Input {
+    std::filesystem::path path;
+    bool preset;
+};
+
+// Every shipped preset, test scene and example under the source tree `root`, in path order, so that a
+// seeded run mutates the same files in the same order on every machine.
+inline std::vector<Input> inputs(const std::filesystem::path& root) {
+    std::vector<Input> out;
+    for (const char* dir : {"presets", "tests/data", "examples"})
+        for (const auto& e : std::filesystem::directory_iterator(root / dir))
+            if (e.path().extension() == ".toml")
+                out.push_back({e.path(), std::string(dir) == "presets" && e.path().filename() != "default.toml"});
+    std::sort(out.begin(), out.end(), [](const Input& a, const Input& b) { return a.path < b.path; });
+    return out;
+}
 
 // Positions of number tokens (a digit not inside a word) in the text.
 inline std::vector<std::size_t> numbers(const std::string& t) {

@@ -107,22 +107,6 @@ Outcome run_brume(const fs::path& dir, const std::vector<std::string>& args) {
     return outcome;
 }
 
-struct Input {
-    fs::path path;
-    bool preset;  // presets/*.toml but default.toml are preset files: rendered at --frame 0
-};
-
-std::vector<Input> inputs() {
-    std::vector<Input> out;
-    const fs::path root = BRUME_SOURCE_DIR;
-    for (const char* dir : {"presets", "tests/data", "examples"})
-        for (const auto& e : fs::directory_iterator(root / dir))
-            if (e.path().extension() == ".toml")
-                out.push_back({e.path(), std::string(dir) == "presets" && e.path().filename() != "default.toml"});
-    std::sort(out.begin(), out.end(), [](const Input& a, const Input& b) { return a.path < b.path; });  // seeded order
-    return out;
-}
-
 std::vector<std::string> lines(const std::string& text) {
     std::vector<std::string> out;
     std::istringstream in(text);
@@ -141,7 +125,7 @@ std::vector<std::string> listing(const fs::path& dir) {
 bool is_exr(const std::string& bytes) { return bytes.size() > 4 && bytes.compare(0, 4, "\x76\x2f\x31\x01") == 0; }
 
 TEST(FuzzCli, EveryMutatedInputRendersOrFailsCleanlyAndKeepsTheExistingOutput) {
-    const std::vector<Input> files = inputs();
+    const std::vector<fuzz::Input> files = fuzz::inputs(BRUME_SOURCE_DIR);
     ASSERT_GE(files.size(), 20u) << "the shipped presets and test scenes were not found under " << BRUME_SOURCE_DIR;
     // Only lavapipe, with the validation layer on, as in every GPU test (tests/gpu_test_env.h).
     setenv("VK_DRIVER_FILES", "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json", 1);
@@ -153,7 +137,7 @@ TEST(FuzzCli, EveryMutatedInputRendersOrFailsCleanlyAndKeepsTheExistingOutput) {
     std::mt19937_64 rng(14);  // seeded: a failure reproduces
     const auto start = std::chrono::steady_clock::now();
     int cases = 0, rendered = 0, refused = 0;
-    for (const Input& input : files) {
+    for (const fuzz::Input& input : files) {
         const std::string original = read(input.path);
         for (int k = 0; k < kMutationsPerFile; ++k) {
             const std::string name = input.path.stem().string() + "." + std::to_string(k);

@@ -34,32 +34,16 @@ std::string read(const fs::path& p) {
     return s.str();
 }
 
-struct Input {
-    fs::path path;
-    std::string text;
-    bool preset;  // presets/*.toml but default.toml (the built-in scene) are preset files
-};
-
-std::vector<Input> inputs() {
-    std::vector<Input> out;
-    const fs::path root = BRUME_SOURCE_DIR;
-    for (const char* dir : {"presets", "tests/data", "examples"})
-        for (const auto& e : fs::directory_iterator(root / dir))
-            if (e.path().extension() == ".toml")
-                out.push_back({e.path(), read(e.path()),
-                               std::string(dir) == "presets" && e.path().filename() != "default.toml"});
-    return out;
-}
-
 TEST(FuzzInputs, EveryMutationParsesOrFailsWithOneBoundedLine) {
-    const std::vector<Input> files = inputs();
+    const std::vector<fuzz::Input> files = fuzz::inputs(BRUME_SOURCE_DIR);
     ASSERT_GE(files.size(), 10u) << "the shipped presets and test scenes were not found under " << BRUME_SOURCE_DIR;
     std::mt19937_64 rng(20261202);  // seeded: a failure reproduces
     const auto start = std::chrono::steady_clock::now();
     int cases = 0, rejected = 0;
-    for (const Input& f : files) {
+    for (const fuzz::Input& f : files) {
+        const std::string original = read(f.path);
         for (int k = 0; k < 300; ++k) {
-            const std::string text = fuzz::mutate(f.text, rng);
+            const std::string text = fuzz::mutate(original, rng);
             ++cases;
             try {
                 if (f.preset)

@@ -210,12 +210,7 @@ TEST_P(AutoLongLists, AreExactOrRefusedNeverWrong) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lengths, AutoLongLists,
-                         ::testing::Values(LongList{800, false, false}, LongList{800, false, true},
-                                           LongList{3000, false, false}, LongList{3000, false, true},
-                                           LongList{20000, false, false}, LongList{20000, false, true},
-                                           LongList{800, true, false}, LongList{800, true, true},
-                                           LongList{3000, true, false}, LongList{3000, true, true},
-                                           LongList{20000, true, false}, LongList{20000, true, true}),
+                         ::testing::ValuesIn(testing::long_lists()),
                          [](const ::testing::TestParamInfo<LongList>& info) { return testing::long_list_name(info.param); });
 
 }  // namespace

@@ -216,13 +216,7 @@ TEST_P(PpllLongLists, AreExactOrRefusedNeverWrong) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lengths, PpllLongLists,
-                         ::testing::Values(LongList{800, false, false}, LongList{800, false, true},
-                                           LongList{3000, false, false}, LongList{3000, false, true},
-                                           LongList{20000, false, false}, LongList{20000, false, true},
-                                           LongList{400, true, false}, LongList{400, true, true},
-                                           LongList{800, true, false}, LongList{800, true, true},
-                                           LongList{3000, true, false}, LongList{3000, true, true},
-                                           LongList{20000, true, false}, LongList{20000, true, true}),
+                         ::testing::ValuesIn(testing::long_lists(true)),
                          [](const ::testing::TestParamInfo<LongList>& info) { return testing::long_list_name(info.param); });
 
 TEST_F(Ppll, LayersSceneHasExactlyTheStatedLayersEverywhere) {

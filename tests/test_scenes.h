@@ -223,6 +223,23 @@ inline Scene long_list_scene(const LongList& p) {
     return s;
 }
 
+// The long lists: 800, 3,000 and 20,000 nodes, chains and coincident stacks, thin and thick;
+// with_400 adds the coincident 400, the longest the general path resolves on lavapipe.
+inline std::vector<LongList> long_lists(bool with_400 = false) {
+    std::vector<LongList> out;
+    for (const bool coincident : {false, true}) {
+        if (coincident && with_400) {
+            out.push_back({400, true, false});
+            out.push_back({400, true, true});
+        }
+        for (const int nodes : {800, 3000, 20000}) {
+            out.push_back({nodes, coincident, false});
+            out.push_back({nodes, coincident, true});
+        }
+    }
+    return out;
+}
+
 inline std::string long_list_name(const LongList& p) {
     return std::to_string(p.nodes) + (p.coincident ? "_coincident" : "_chain") + (p.thick ? "_thick" : "_thin");
 }

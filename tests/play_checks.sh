@@ -179,20 +179,8 @@ fi
 
 # The summary's simulation time includes the preroll (issue 14 item 9): a 60 s preroll of 2,000 particles
 # a second takes a measurable time, which the summary states, never more than the run took.
-cat >sim_time.toml <<'EOF'
-[timeline]
-fps = 24.0
-duration = 0.5
-substeps = 4
-preroll = 60.0
-[[emitter]]
-shape = "point"
-center = [0.0, 0.5, 0.0]
-rate = 2000.0
-lifetime = 5.0
-particle_radius = 0.1
-extinction = 1.0
-EOF
+# The long-preroll preset above, with a 60 s preroll and half a second of frames.
+sed -e 's/^duration = .*/duration = 0.5/' -e 's/^preroll = .*/preroll = 60.0/' long_preroll.toml >sim_time.toml
 t0=$(date +%s.%N)
 "$brume" play sim_time.toml -o sim_time --frames 0 --size 8x6 >sim_time.log 2>&1
 rc=$?

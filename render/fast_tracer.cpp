@@ -461,7 +461,11 @@ private:
 
 }  // namespace
 
-Image render_fast_trace(const Scene& scene, const FastTraceOptions& options) {
+namespace {
+
+// The frame, each pixel handed to store(i, j, value) once (from the worker that traced it).
+template <class Store>
+void trace_frame(const Scene& scene, const FastTraceOptions& options, const Store& store) {
     if (!scene.volumes.empty())
         throw std::logic_error("fast tracer: the scene's [[vdb]] volumes were not converted to spheres "
                                "(sim/vdb/volume_loader.h convert_scene_volumes)");
@@ -491,7 +495,6 @@ Image render_fast_trace(const Scene& scene, const FastTraceOptions& options) {
 
     const CameraRays rays = make_camera_rays(scene.camera);
     const bool plain = tracer.plain();
-    Image image(width, height);
     const std::size_t tiles = bins.tile_count();
     struct Scratch {
         TileLists lists;
@@ -516,15 +519,34 @@ Image render_fast_trace(const Scene& scene, const FastTraceOptions& options) {
                         sum += plain ? tracer.radiance<true>(d, w.lists.spheres.data(), items, count, w.ray)
                                      : tracer.radiance<false>(d, w.lists.spheres.data(), items, count, w.ray);
                     }
-                const dvec3 v = sum / double(k * k);
-                float* p = image.pixel(i, j);
-                p[0] = float(v.x);
-                p[1] = float(v.y);
-                p[2] = float(v.z);
+                store(i, j, sum / double(k * k));
             }
         }
     });
+}
+
+}  // namespace
+
+Image render_fast_trace(const Scene& scene, const FastTraceOptions& options) {
+    Image image(scene.camera.width > 0 ? scene.camera.width : 0, scene.camera.height > 0 ? scene.camera.height : 0);
+    trace_frame(scene, options, [&image](int i, int j, const dvec3& v) {
+        float* p = image.pixel(i, j);
+        p[0] = float(v.x);
+        p[1] = float(v.y);
+        p[2] = float(v.z);
+    });
     return image;
+}
+
+void render_fast_trace_rgba(const Scene& scene, const FastTraceOptions& options, float* rgba) {
+    const std::size_t width = std::size_t(std::max(scene.camera.width, 0));
+    trace_frame(scene, options, [rgba, width](int i, int j, const dvec3& v) {
+        float* p = rgba + 4 * (std::size_t(j) * width + std::size_t(i));
+        p[0] = float(v.x);
+        p[1] = float(v.y);
+        p[2] = float(v.z);
+        p[3] = 1.0f;
+    });
 }
 
 }  // namespace brume

@@ -5,7 +5,7 @@
 //
 // How: the spheres are sorted near to far by a lower bound of their event distances
 // (render/nearest_bounds.h) and binned into 8x8-pixel tiles (render/tile_bins.h). Each pixel takes its
-// tile's spheres in that order and keeps its pending events in a small binary heap; when a sphere
+// tile's spheres in that order and keeps its pending events in a short sorted run; when a sphere
 // arrives, every pending event before its bound is final (no later sphere has an event before it) and
 // is integrated at once. So the events are integrated in exact order, and once transmittance falls
 // below the scene's min_transmittance the ray stops: the spheres behind are never intersected.
@@ -31,5 +31,8 @@ struct FastTraceOptions {
 // One ray per pixel centre, or the mean of camera.supersample^2 sub-pixel rays, as the reference.
 // Throws std::invalid_argument for a camera with no pixels and std::logic_error for unconverted volumes.
 Image render_fast_trace(const Scene& scene, const FastTraceOptions& options = {});
+// The same frame written straight into rgba (camera.width * camera.height pixels of 4 floats, row by
+// row, alpha 1): the frame path's upload buffer, without an Image between.
+void render_fast_trace_rgba(const Scene& scene, const FastTraceOptions& options, float* rgba);
 
 }  // namespace brume

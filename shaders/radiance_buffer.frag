@@ -1,7 +1,7 @@
 #version 460
 // A frame resolved elsewhere into the frame's HDR target: tiles' compute resolve (tiles_resolve.comp)
-// and the CPU tracers (render/methods/cpu_trace_pass.h) leave their radiance in a buffer, row by row.
-// It reads nothing else, so the CPU tracers' frames skip the opaque pass.
+// leaves its radiance in a buffer, row by row. (The CPU tracers copy theirs in instead:
+// FrameResources::copy_to_hdr.)
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
 

@@ -70,7 +70,7 @@ void FrameResources::upload(const Scene& scene) {
                              VK_IMAGE_ASPECT_DEPTH_BIT, "frame.depth");
         hdr_image_ = DeviceImage(device_, kHdrFormat, extent,
                            VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                               VK_IMAGE_USAGE_SAMPLED_BIT,
+                               VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                            VK_IMAGE_ASPECT_COLOR_BIT, "frame.hdr");
         hdr_readback_ = Buffer(device_, VkDeviceSize(extent.width) * extent.height * 16,
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback, "frame.hdr_readback");
@@ -230,6 +230,22 @@ void FrameResources::resolve_to_hdr(VkCommandBuffer cmd, VkPipeline pipeline,
     descriptors.bind(cmd);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     end_hdr_rendering(cmd);
+}
+
+void FrameResources::copy_to_hdr(VkCommandBuffer cmd, VkBuffer radiance) const {
+    // Source stages as begin_hdr_rendering's: the last frame's readback copy or a presenter's sampling.
+    image_barrier(cmd, hdr_image_.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                  VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                  VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0,
+                  VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {extent_.width, extent_.height, 1};
+    vkCmdCopyBufferToImage(cmd, radiance, hdr_image_.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    // Into the layout and the stage that record_hdr_readback and record_hdr_to_sampled start from.
+    image_barrier(cmd, hdr_image_.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
 }
 
 void FrameResources::record_hdr_readback(VkCommandBuffer cmd) const {

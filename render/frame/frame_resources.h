@@ -51,6 +51,10 @@ public:
     void draw_spheres(VkCommandBuffer cmd, VkPipeline pipeline, const vk::SharedDescriptors& descriptors) const;
     // The usual last pass of a method: one fullscreen triangle with `pipeline` into the HDR target.
     void resolve_to_hdr(VkCommandBuffer cmd, VkPipeline pipeline, const vk::SharedDescriptors& descriptors) const;
+    // A frame made elsewhere (the CPU tracers): `radiance`, RGBA32F pixels row by row at the target's
+    // size (a TRANSFER_SRC buffer), copied into the HDR target, which is left as a resolve leaves it.
+    // A copy, not a fullscreen draw: on lavapipe the draw took 10-15% of a 2-layer trace frame.
+    void copy_to_hdr(VkCommandBuffer cmd, VkBuffer radiance) const;
 
     // After the method's last pass: copies the HDR target into host memory (read_hdr() once the
     // frame completed), or makes it readable by a presenter's sampler.

@@ -59,6 +59,7 @@ public:
     void begin_hdr_rendering(VkCommandBuffer cmd) const { frame_.begin_hdr_rendering(cmd); }
     void end_hdr_rendering(VkCommandBuffer cmd) const { frame_.end_hdr_rendering(cmd); }
     void resolve_to_hdr(VkCommandBuffer cmd, VkPipeline pipeline) const;
+    void copy_to_hdr(VkCommandBuffer cmd, VkBuffer radiance) const { frame_.copy_to_hdr(cmd, radiance); }
     // Ends the GPU pass named `pass` (FrameStats::passes).
     void mark(VkCommandBuffer cmd, std::string pass) const { clock_.mark(cmd, std::move(pass)); }
 

@@ -1,5 +1,5 @@
-// A CPU tracer as a step of the frame path: the frame is traced on the CPU in prepare(), uploaded,
-// and drawn into the HDR target, so a presenter or the readback sees it as any GPU method's frame.
+// A CPU tracer as a step of the frame path: the frame is traced on the CPU in prepare() into an upload
+// buffer and copied into the HDR target, so a presenter or the readback sees it as any GPU method's frame.
 // Two tracers: the double-precision reference (render/reference.h), which `auto` may take, and the
 // float `trace` (render/fast_tracer.h), the fastest exact path on a CPU device such as lavapipe
 // (docs/performance.md, "trace").
@@ -30,7 +30,6 @@ public:
 private:
     CpuTracer tracer_;
     int threads_;
-    vk::UniquePipeline composite_pipeline_;
     vk::Buffer radiance_;
     double trace_ms_ = 0.0;
 };

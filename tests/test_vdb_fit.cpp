@@ -121,7 +121,7 @@ TEST(VdbFit, ErrorHoldsFromUnseenViewsAndMassIsConserved) {
     EXPECT_LE(fit.error.relative_rms, o.tolerance);
     // Far fewer spheres than voxels: the point of fitting.
     EXPECT_LT(fit.spheres.size(), grid.active_voxels / 100);
-    const OpticalDepthViews unseen(grid, o.extinction_scale, grid_unseen_views(grid, 72));
+    const OpticalDepthViews unseen(grid, o.extinction_scale, grid_unseen_views(grid, 72), 0, PixelRays::Jittered);
     EXPECT_LE(unseen.measure(fit.spheres).relative_rms, 1.25 * o.tolerance);
     EXPECT_NEAR(spheres_extinction_mass(fit.spheres), grid.mass() * o.extinction_scale, 1e-9 * grid.mass() * o.extinction_scale);
     for (const Sphere& s : fit.spheres) {
@@ -145,7 +145,7 @@ TEST(VdbFit, MergingSpendsFewerSpheresForTheSameTolerance) {
     ASSERT_TRUE(merged.met_tolerance && unmerged.met_tolerance);
     EXPECT_LT(merged.spheres.size(), unmerged.spheres.size());
     EXPECT_LE(merged.error.relative_rms, o.tolerance);
-    const OpticalDepthViews unseen(grid, o.extinction_scale, grid_unseen_views(grid, 72));
+    const OpticalDepthViews unseen(grid, o.extinction_scale, grid_unseen_views(grid, 72), 0, PixelRays::Jittered);
     EXPECT_LE(unseen.measure(merged.spheres).relative_rms, 1.25 * o.tolerance);
     EXPECT_NEAR(spheres_extinction_mass(merged.spheres), grid.mass() * o.extinction_scale,
                 1e-9 * grid.mass() * o.extinction_scale);

@@ -1,6 +1,7 @@
 // Density grids as sphere clouds (sim/vdb/sphere_cloud.h) and the optical-depth error measured against
 // the grid itself (sim/vdb/optical_depth_error.h): the tolerance bounds that error, also from views the
 // conversion never saw; mass is conserved exactly; uniform regions cost few spheres.
+#include "sim/camera_rays.h"
 #include "sim/vdb/optical_depth_error.h"
 #include "sim/vdb/sphere_cloud.h"
 #include "sim/vdb/vdb_file.h"
@@ -60,6 +61,57 @@ TEST(VdbOpticalDepth, SphereDepthIsExtinctionTimesChord) {
     const std::vector<double> depth = sphere_optical_depths({s}, camera);
     EXPECT_NEAR(depth[20 * 41 + 20], 2.0 * 1.0, 1e-12);  // the centre pixel's ray passes through the centre
     EXPECT_EQ(depth[0], 0.0);
+}
+
+// Jittered rays: each inside its own pixel, off its centre, the same on every call; and the spheres' depths
+// along them, which skip the pixels outside each sphere's rectangle, equal a brute force over every pixel.
+TEST(VdbOpticalDepth, JitteredRaysStayInTheirPixelAndTheRectanglesStillHoldEverySphere) {
+    Camera camera;
+    camera.position = {0.3, -0.2, 4};
+    camera.look_at = {0, 0, 0};
+    camera.fov_y_deg = 50.0;
+    camera.width = 37;
+    camera.height = 29;
+    const CameraRays rays = make_camera_rays(camera);
+    double moved = 0.0;
+    for (int j = 0; j < camera.height; ++j)
+        for (int i = 0; i < camera.width; ++i) {
+            const glm::dvec3 d = pixel_ray(rays, i, j, PixelRays::Jittered);
+            EXPECT_EQ(d, pixel_ray(rays, i, j, PixelRays::Jittered));
+            // Back to image coordinates: the ray must pass through [i, i + 1) x [j, j + 1).
+            const double z = glm::dot(d, rays.forward);
+            const double px = (glm::dot(d, rays.right) / glm::dot(rays.right, rays.right) / z + 1.0) * 0.5 * camera.width;
+            const double py = (1.0 - glm::dot(d, rays.up) / glm::dot(rays.up, rays.up) / z) * 0.5 * camera.height;
+            EXPECT_GE(px, i - 1e-9);
+            EXPECT_LT(px, i + 1 + 1e-9);
+            EXPECT_GE(py, j - 1e-9);
+            EXPECT_LT(py, j + 1 + 1e-9);
+            moved += std::hypot(px - (i + 0.5), py - (j + 0.5));
+        }
+    EXPECT_GT(moved / (camera.width * camera.height), 0.2);  // a uniform offset averages about 0.38 pixels
+    std::vector<Sphere> spheres;
+    for (int k = 0; k < 40; ++k) {
+        Sphere s;
+        s.center = {std::sin(1.7 * k) * 1.4, std::cos(2.3 * k) * 1.1, std::sin(0.9 * k) * 0.8};
+        s.radius = 0.02 + 0.01 * (k % 7);  // down to a fraction of a pixel, where a missed edge pixel shows
+        s.extinction = 1.0 + k;
+        spheres.push_back(s);
+    }
+    const std::vector<double> depth = sphere_optical_depths(spheres, camera, PixelRays::Jittered);
+    int met = 0;
+    for (int j = 0; j < camera.height; ++j)
+        for (int i = 0; i < camera.width; ++i) {
+            const glm::dvec3 d = pixel_ray(rays, i, j, PixelRays::Jittered);
+            double brute = 0.0;
+            for (const Sphere& s : spheres) {
+                const glm::dvec3 oc = s.center - rays.eye;
+                const double b = glm::dot(oc, d), h2 = s.radius * s.radius - (glm::dot(oc, oc) - b * b);
+                if (h2 > 0.0) brute += s.extinction * 2.0 * std::sqrt(h2);
+            }
+            met += brute > 0.0;
+            EXPECT_NEAR(depth[std::size_t(j) * camera.width + i], brute, 1e-9 * (1.0 + brute)) << i << ", " << j;
+        }
+    EXPECT_GT(met, 20);
 }
 
 TEST(VdbSphereCloud, AUniformCellIsOneSphereOfItsMass) {

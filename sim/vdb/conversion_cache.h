@@ -28,7 +28,8 @@ namespace brume {
 // Bump whenever a conversion (tiling, sim/vdb/sphere_cloud.cpp and sphere_lattice.cpp; fitting,
 // sphere_fit.cpp; the measurement, optical_depth_error.cpp) can give different spheres or figures for the
 // same input: every entry written before then becomes a miss.
-inline constexpr int kConversionVersion = 3;  // 2: fits merge spheres; 3: a fit stops once it reached its cap
+inline constexpr int kConversionVersion = 4;  // 2: fits merge spheres; 3: a fit stops once it reached its cap;
+                                              // 4: a fit stops on jittered held-out views
 
 // Where entries live: $BRUME_CACHE_DIR when set (tests, farms with a shared disk), else
 // $XDG_CACHE_HOME/brume/vdb (an absolute XDG_CACHE_HOME only, as the XDG base directory specification

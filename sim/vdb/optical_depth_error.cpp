@@ -39,7 +39,7 @@ void clip_to_box(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo,
 // few-pixel spheres of a fit, the cube's corners and a pixel of slack held three to four times the pixels
 // the sphere covers, and every one was tested (docs/vdb.md "Fitting time"). The whole image when the sphere
 // reaches the eye's plane.
-void sphere_pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1, int& j0, int& j1) {
+void sphere_pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1, int& j0, int& j1, PixelRays sampling) {
     const glm::dvec3 v = s.center - rays.eye;
     const double z = glm::dot(v, rays.forward);
     // Wholly behind the eye: no ray (t >= 0) meets it. (A camera inside a cloud has half the cloud there.)
@@ -63,12 +63,33 @@ void sphere_pixel_rect(const CameraRays& rays, const Sphere& s, int& i0, int& i1
     slopes(y, uy_lo, uy_hi);
     const double x_lo = (ux_lo / sx + 1.0) * 0.5 * rays.width, x_hi = (ux_hi / sx + 1.0) * 0.5 * rays.width;
     const double y_lo = (1.0 - uy_hi / sy) * 0.5 * rays.height, y_hi = (1.0 - uy_lo / sy) * 0.5 * rays.height;
-    // Pixel i's ray passes through i + 0.5; a hundredth of a pixel of slack for rounding in the rays.
-    constexpr double slack = 0.01;
+    // Pixel i's ray passes through i + 0.5 (jittered: anywhere in [i, i + 1)); a hundredth of a pixel of
+    // slack for rounding in the rays.
+    const double slack = sampling == PixelRays::Jittered ? 0.51 : 0.01;
     const auto first = [&](double lo, int n) { return int(std::clamp(std::ceil(lo - 0.5 - slack), 0.0, double(n))); };
     const auto end = [&](double hi, int n) { return int(std::clamp(std::floor(hi - 0.5 + slack) + 1.0, 0.0, double(n))); };
     i0 = first(x_lo, rays.width), i1 = std::max(i0, end(x_hi, rays.width));
     j0 = first(y_lo, rays.height), j1 = std::max(j0, end(y_hi, rays.height));
+}
+
+namespace {
+
+// A fixed pseudo-random number in [0, 1) for x (an integer hash, so every thread count and run agrees).
+double hash_unit(std::uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return double(x >> 8) * (1.0 / 16777216.0);
+}
+
+}  // namespace
+
+glm::dvec3 pixel_ray(const CameraRays& rays, int i, int j, PixelRays sampling) {
+    if (sampling == PixelRays::Centres) return rays.pixel_direction(i, j);
+    const std::uint32_t index = std::uint32_t(j) * std::uint32_t(rays.width) + std::uint32_t(i);
+    return rays.direction(i + hash_unit(2u * index), j + hash_unit(2u * index + 1u));
 }
 
 double grid_optical_depth(const DensityGrid& grid, double extinction_scale, const glm::dvec3& origin,
@@ -101,15 +122,15 @@ double grid_optical_depth(const DensityGrid& grid, double extinction_scale, cons
     return sum * extinction_scale;
 }
 
-std::vector<double> sphere_optical_depths(const std::vector<Sphere>& spheres, const Camera& camera) {
+std::vector<double> sphere_optical_depths(const std::vector<Sphere>& spheres, const Camera& camera, PixelRays sampling) {
     const CameraRays rays = make_camera_rays(camera);
     std::vector<double> depth(std::size_t(rays.width) * std::size_t(rays.height), 0.0);
     for (const Sphere& s : spheres) {
         int i0, i1, j0, j1;
-        sphere_pixel_rect(rays, s, i0, i1, j0, j1);
+        sphere_pixel_rect(rays, s, i0, i1, j0, j1, sampling);
         for (int j = j0; j < j1; ++j)
             for (int i = i0; i < i1; ++i) {
-                const glm::dvec3 d = rays.pixel_direction(i, j);
+                const glm::dvec3 d = pixel_ray(rays, i, j, sampling);
                 const glm::dvec3 oc = s.center - rays.eye;
                 const double b = glm::dot(oc, d);
                 const double h2 = s.radius * s.radius - (glm::dot(oc, oc) - b * b);
@@ -124,14 +145,15 @@ std::vector<double> sphere_optical_depths(const std::vector<Sphere>& spheres, co
 
 namespace {
 
-std::vector<double> grid_depths(const DensityGrid& grid, double extinction_scale, const Camera& camera, int threads) {
+std::vector<double> grid_depths(const DensityGrid& grid, double extinction_scale, const Camera& camera, int threads,
+                                PixelRays sampling) {
     const CameraRays rays = make_camera_rays(camera);
     std::vector<double> depth(std::size_t(rays.width) * std::size_t(rays.height), 0.0);
     parallel_for(std::size_t(rays.height), threads, [&](std::size_t row, int) {
         const int j = int(row);
         for (int i = 0; i < rays.width; ++i)
             depth[std::size_t(j) * std::size_t(rays.width) + std::size_t(i)] =
-                grid_optical_depth(grid, extinction_scale, rays.eye, rays.pixel_direction(i, j));
+                grid_optical_depth(grid, extinction_scale, rays.eye, pixel_ray(rays, i, j, sampling));
     });
     return depth;
 }
@@ -188,14 +210,14 @@ std::vector<Camera> grid_axis_views(const DensityGrid& grid, int resolution) {
 }
 
 OpticalDepthViews::OpticalDepthViews(const DensityGrid& grid, double extinction_scale, std::vector<Camera> views,
-                                     int threads)
-    : views_(std::move(views)), threads_(threads) {
-    for (const Camera& c : views_) grid_depths_.push_back(grid_depths(grid, extinction_scale, c, threads_));
+                                     int threads, PixelRays sampling)
+    : views_(std::move(views)), threads_(threads), sampling_(sampling) {
+    for (const Camera& c : views_) grid_depths_.push_back(grid_depths(grid, extinction_scale, c, threads_, sampling_));
 }
 
 OpticalDepthError OpticalDepthViews::measure(const std::vector<Sphere>& spheres) const {
     std::vector<std::vector<double>> sphere_depths(views_.size());
-    parallel_for(views_.size(), threads_, [&](std::size_t v, int) { sphere_depths[v] = sphere_optical_depths(spheres, views_[v]); });
+    parallel_for(views_.size(), threads_, [&](std::size_t v, int) { sphere_depths[v] = sphere_optical_depths(spheres, views_[v], sampling_); });
     ErrorSums sums;
     for (std::size_t v = 0; v < views_.size(); ++v)
         for (std::size_t p = 0; p < grid_depths_[v].size(); ++p) sums.add(grid_depths_[v][p], sphere_depths[v][p]);

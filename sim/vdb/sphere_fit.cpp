@@ -498,7 +498,7 @@ SphereFit fit_spheres(const DensityGrid& grid, const SphereCloudOptions& options
     // a little better than the grid between them (at 2%, 2.57% from unseen views), so the fit also has to
     // measure within kValidationMargin of the tolerance on views it is not fitted to.
     const OpticalDepthViews validation(grid, options.extinction_scale, grid_validation_views(grid, kValidationResolution),
-                                       options.threads);
+                                       options.threads, PixelRays::Jittered);
     use_views(resolution_for(settings.seed_spheres));
     fitter.set(seed_lattice(grid, options, std::min(settings.seed_spheres, cap)));
     fitter.forward();

@@ -637,7 +637,9 @@ vdb_refused vdb_sample.no_output "-o" -- vdb-sample cloud
 run vdb-import builtin:fog-sphere:16 --fit --tolerance 0.1 -o "$vdb/fit.toml"
 if expect_success vdb_import.fit; then
     if ! grep -q "fitted in" "$out"; then fail vdb_import.fit "no 'fitted in' in: $(head -n 1 "$out")"
-    elif ! grep -q "fit round  1" "$err"; then fail vdb_import.fit "no progress on stderr: $(first_err)"
+    elif ! grep -q "fit round  1 \[" "$err"; then fail vdb_import.fit "no progress on stderr: $(first_err)"
+    elif ! tail -n 1 "$err" | grep -q "\[####################\] 100%"; then
+        fail vdb_import.fit "the last round's bar is not full: $(tail -n 1 "$err")"
     elif [ ! -s "$vdb/fit.toml" ]; then fail vdb_import.fit "no scene written"
     else ok vdb_import.fit; fi
 fi

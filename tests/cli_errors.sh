@@ -937,6 +937,16 @@ expect_line bench.range_too_long 2 "'2-1000000:2' has more than 10000 values" &&
 run bench scale --spheres 2147483000
 expect_line bench.spheres_too_many 2 "--spheres: counts must be from 1 to 50000000, as in a scene file (got 2147483000)" &&
     ok bench.spheres_too_many
+# bench scale's list figures come from the list-length pass, not from a ppll frame: every method's row of
+# a scene carries the same fragment count, and it is not zero.
+run bench scale --spheres 300 --size 64x36 --methods trace,ppll --no-presets --frames 1
+if expect_success bench.scale_rows; then
+    counts=$(awk '$1 == 300 {print $2}' "$out" | sort -u)
+    rows=$(awk '$1 == 300' "$out" | wc -l)
+    if [ "$rows" != 2 ]; then fail bench.scale_rows "expected 2 rows for 300 spheres, got $rows: $(head -c 300 "$out")"
+    elif [ "$(echo "$counts" | wc -l)" != 1 ] || [ "${counts:-0}" -le 0 ]; then fail bench.scale_rows "fragments differ or are 0: $counts"
+    else ok bench.scale_rows; fi
+fi
 
 # A frame too large for the device's memory (--size 16384x16384 once gave a raw vkBindImageMemory failure
 # with a source path): one line that says what to do, nothing written. A 3 GB address-space limit makes the

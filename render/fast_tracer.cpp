@@ -110,17 +110,18 @@ float phi_signed(float x, float exp_minus_x) {
 }
 
 // The longest piece, in map cells, over which the accurate technique takes the optical depth toward the
-// sun as linear. Measured on the presets at 640x360: 1 cell costs up to a fifth more than 2 (fog-bank,
-// low-sun) for a slightly smaller error; 4 cells save a tenth but nearly double plume's and explosion's
-// p99.9 error.
-constexpr float kSunPieceCells = 2.0f;
-// A lit piece is halved, up to kSunPieceSplits times (down to a quarter cell), while the light it may
-// carry times its change of optical depth toward the sun exceeds kSunPieceDepthChange: the depth bends
-// most where it changes fast, at the edges of shadow cylinders (a square-root kink), and there a linear
-// depth over 2 cells was half of plume's and explosion's p99.9 error. Measured on both at 640x360
-// (bench shadows): p99.9 1.36e-2 and 1.16e-2 to 9.7e-3 and 7.9e-3 for 13% and 39% more lookups; halving
-// every piece instead (1 cell) doubles the lookups and leaves plume at 1.10e-2.
-constexpr int kSunPieceSplits = 3;
+// sun as linear, before lit_piece halves it where the depth changes fast. A lit piece is halved, up to
+// kSunPieceSplits times (down to a quarter cell), while the light it may carry times its change of
+// optical depth toward the sun exceeds kSunPieceDepthChange: the depth bends most where it changes
+// fast, at the edges of shadow cylinders (a square-root kink), and there a linear depth over 2 cells
+// was half of plume's and explosion's p99.9 error. Measured with bench shadows (docs/accuracy.md):
+// 2-cell pieces, unrefined: p99.9 at 128x96 plume 1.44e-2, explosion 1.20e-2; halving every piece
+// (1 cell) doubles the lookups and leaves plume at 1.10e-2; refined from 2 cells (3 splits) 9.05e-3
+// and 7.53e-3 (with the 0.09 map); refined from 4 cells (4 splits) 9.01e-3 and 7.61e-3 for 10-33%
+// fewer lookups than that (low-sun, fog-bank: long smooth fog); from 8 cells explosion rises to 8.8e-3
+// and low-sun's 2.3e-3 to 3.9e-3.
+constexpr float kSunPieceCells = 4.0f;
+constexpr int kSunPieceSplits = 4;
 constexpr float kSunPieceDepthChange = 0.1f;
 
 class FastTracer {

@@ -61,7 +61,7 @@ TEST_P(Presets, SimulatedFrameMatchesReference) {
 // 32x24 (docs/accuracy.md, "The shipped presets"), with headroom. These are larger than on the test
 // clouds of test_gpu_light.cpp: the accurate technique's map is trilinear between vertices 0.09 of a
 // mean radius apart, furthest off in dense, fine smoke (ppll: plume p99.9 1.4e-2, explosion 1.7e-2;
-// trace, whose pieces are refined where the depth changes fast: 1.45e-2 and 8.3e-3, 2.0e-2 and 1.24e-2
+// trace, whose pieces are refined where the depth changes fast: 1.45e-2 and 8.2e-3, 2.0e-2 and 1.24e-2
 // before; at 32x24 p99.9 is the worst pixel or two; the target is 1e-2, met by trace at 128x96
 // and 640x360; the mean at most 3.6e-4). Box shadows are cut out of each segment exactly by
 // both paths, so a low sun's sharp shadows across long fog segments no longer show (low-sun p99.9

@@ -14,8 +14,8 @@ namespace {
 // The lattice spacing as a fraction of the spheres' mean radius: a shadow cylinder's edge, where the
 // optical depth has its steepest slope, is then resolved by a few vertices across the sphere. 0.09
 // rather than 0.1: with trace's refined pieces the map's blur is what is left of plume's and
-// explosion's p99.9 error (1.0e-2 and 8.7e-3 at 0.1, 9.1e-3 and 7.5e-3 at 0.09, 128x96), for 1.37x
-// the vertices (docs/accuracy.md).
+// explosion's p99.9 error (bench shadows at 128x96, pieces refined from 2 cells: 1.04e-2 and 8.7e-3
+// at 0.1, 9.05e-3 and 7.5e-3 at 0.09), for 1.37x the vertices (docs/accuracy.md).
 constexpr double kCellPerRadius = 0.09;
 // Rows of columns per work item of the build: each item splats the spheres that reach its rows.
 constexpr int kBandRows = 4;

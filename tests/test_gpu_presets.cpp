@@ -63,7 +63,7 @@ TEST_P(Presets, SimulatedFrameMatchesReference) {
 // mean radius apart, furthest off in dense, fine smoke (plume p99.9 1.4e-2 by both paths, explosion
 // 8e-3; before trace's pieces were refined and ppll's long pieces halved, 2.0e-2 and 1.2-1.7e-2; at
 // 32x24 p99.9 is the worst pixel or two; the target, 1e-2, both meet at 128x96; the mean at
-// most 3.6e-4). Box shadows are cut out of each segment exactly by
+// most 2.3e-4). Box shadows are cut out of each segment exactly by
 // both paths, so a low sun's sharp shadows across long fog segments no longer show (low-sun p99.9
 // 1.5e-3 by ppll; 2.4e-2 when ppll's quadrature straddled them). The per-sphere technique's constant
 // T_sun per sphere is furthest off in wide, thin fog (ground-fog, mean 2.1e-2). Each technique must

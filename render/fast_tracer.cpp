@@ -1,5 +1,6 @@
 #include "render/fast_tracer.h"
 
+#include "render/box_shadow_volume.h"
 #include "render/nearest_bounds.h"
 #include "render/opaque_surfaces.h"
 #include "render/sun_depth_map.h"
@@ -123,6 +124,9 @@ float phi_signed(float x, float exp_minus_x) {
 constexpr float kSunPieceCells = 4.0f;
 constexpr int kSunPieceSplits = 4;
 constexpr float kSunPieceDepthChange = 0.1f;
+// Below this a segment's transmittance is not divided by (sun_segment_integral): the quotient would lose
+// the digits the integrand kept.
+constexpr float kDivisibleTransmittance = 1e-20f;
 
 class FastTracer {
 public:
@@ -152,7 +156,8 @@ public:
                 hi = glm::max(hi, sp.center + dvec3(sp.radius));
             }
             for (const Box& box : scene.boxes)
-                if (shadow_reaches(box, sun_.toward_sun(), lo, hi)) shadow_boxes_.push_back(box);
+                if (shadow_reaches(box, sun_.toward_sun(), lo, hi))
+                    shadow_volumes_.emplace_back(box, sun_.toward_sun(), eye_);
         }
         media_.resize(scene.spheres.size());
         for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
@@ -229,9 +234,8 @@ public:
         ray.d = d;
         if (!kPlain && accurate_shadows_) {
             ray.map = sun_map_.ray(d);
-            box_shadows(d, t_opaque, scratch.shadows);
-            ray.shadows = scratch.shadows.data();
-            ray.shadow_count = scratch.shadows.size() / 2;
+            ray.t_opaque = t_opaque;
+            ray.shadow_scratch = &scratch.shadows;  // box_shadows fills it once a segment is lit
         }
 
         // The pending events, sorted, in pending[head, size): final ones leave from the front, new ones
@@ -295,17 +299,18 @@ private:
     }
 
     // The intervals of t in [0, t_opaque) along eye + t d inside some box's shadow volume (T_sun = 0
-    // there), sorted and merged, as pairs (lo, hi) in `out`. Closed form per box.
+    // there), sorted and merged, as pairs (lo, hi) in `out`. Per box, its bounding planes (render/box_shadow_volume.h).
     void box_shadows(const dvec3& d, float t_opaque, std::vector<float>& out) const {
         out.clear();
-        for (const Box& box : shadow_boxes_) {
-            double lo, hi;
-            if (!box_shadow_interval(box, sun_.toward_sun(), eye_, d, lo, hi)) continue;
-            lo = std::max(lo, 0.0);
-            hi = std::min(hi, double(t_opaque));
+        const float dx = float(d.x), dy = float(d.y), dz = float(d.z);
+        for (const BoxShadowVolume& volume : shadow_volumes_) {
+            float lo, hi;
+            if (!volume.interval(dx, dy, dz, lo, hi)) continue;
+            lo = std::max(lo, 0.0f);
+            hi = std::min(hi, t_opaque);
             if (!(hi > lo)) continue;
-            out.push_back(float(lo));
-            out.push_back(float(hi));
+            out.push_back(lo);
+            out.push_back(hi);
         }
         if (out.size() <= 2) return;
         // Sort the pairs by their start (insertion: a ray meets few shadows), then merge overlaps in place.
@@ -344,10 +349,11 @@ private:
         float source[3];     // L_ambient + L_sun P(theta): the unshadowed L_s of this ray
         float sun_phase[3];  // L_sun P(theta)
         float ambient[3];
-        // The accurate technique: the ray in the optical-depth map, and its box shadows (box_shadows).
+        // The accurate technique: the ray in the optical-depth map, and where its box shadows go once
+        // it meets media (box_shadows, up to the opaque surface at t_opaque).
         SunDepthMap::Ray map{};
-        const float* shadows = nullptr;
-        std::size_t shadow_count = 0;
+        float t_opaque = 0.0f;
+        std::vector<float>* shadow_scratch = nullptr;
     };
     // Front-to-back state of one ray: running sums of the media it is in (shaders/exact_integrator.glsl).
     struct State {
@@ -360,9 +366,14 @@ private:
         int inside = 0;
         float t_prev = 0.0f;
         // The accurate technique: the optical depth toward the sun at t_prev, when od_valid (kept from the
-        // segment before, so each event costs one lookup), and the first box shadow not yet passed.
+        // segment before, so each event costs one lookup); the ray's box shadows, sorted pairs (lo, hi),
+        // once shadows_ready (its first lit segment), and the first one not yet passed.
         float od_prev = 0.0f;
+        float sun_prev = 1.0f;  // exp(-od_prev)
         bool od_valid = false;
+        bool shadows_ready = false;
+        const float* shadows = nullptr;
+        std::size_t shadow_count = 0;
         std::size_t shadow_next = 0;
         dvec3 color() const { return dvec3(radiance[0], radiance[1], radiance[2]); }
     };
@@ -372,20 +383,34 @@ private:
     // from the map at the ends of pieces no longer than kSunPieceCells (halved where it changes fast,
     // lit_piece) and linear between them, where the integral has a closed form. Leaves the depth at b in
     // the state for the next segment.
-    float sun_segment_integral(State& st, const Ray& ray, float a, float b, float sigma_t) const {
+    float sun_segment_integral(State& st, const Ray& ray, float a, float b, float sigma_t,
+                               float segment_transmittance) const {
         const float max_piece = kSunPieceCells * sun_map_.cell();
         float p = a;
-        float od_p = st.od_valid ? st.od_prev : sun_map_.optical_depth(ray.map, a);
+        if (!st.shadows_ready) {  // the ray's first lit segment: its box shadows (most rays meet no media)
+            box_shadows(ray.d, ray.t_opaque, *ray.shadow_scratch);
+            st.shadows = ray.shadow_scratch->data();
+            st.shadow_count = ray.shadow_scratch->size() / 2;
+            st.shadows_ready = true;
+        }
         // The integrand at p, exp(-sigma_t (p - a) - depth(p)), carried from piece to piece: each piece's
-        // exp(-x) takes it to the next, so a piece costs one exponential.
-        float at_p = exp_nonpositive(-od_p);
+        // exp(-x) takes it to the next, so a piece costs one exponential; at a it is the sun's
+        // transmittance the segment before left (sun_prev), or a lookup's after free space.
+        float od_p, at_p;
+        if (st.od_valid) {
+            od_p = st.od_prev;
+            at_p = st.sun_prev;
+        } else {
+            od_p = sun_map_.optical_depth(ray.map, a);
+            at_p = exp_nonpositive(-od_p);
+        }
         float sum = 0.0f;
         while (p < b) {
-            while (st.shadow_next < ray.shadow_count && ray.shadows[2 * st.shadow_next + 1] <= p) ++st.shadow_next;
-            const bool shadowed = st.shadow_next < ray.shadow_count && ray.shadows[2 * st.shadow_next] <= p;
+            while (st.shadow_next < st.shadow_count && st.shadows[2 * st.shadow_next + 1] <= p) ++st.shadow_next;
+            const bool shadowed = st.shadow_next < st.shadow_count && st.shadows[2 * st.shadow_next] <= p;
             float q = std::min(b, p + max_piece);
-            if (st.shadow_next < ray.shadow_count)
-                q = std::min(q, shadowed ? ray.shadows[2 * st.shadow_next + 1] : ray.shadows[2 * st.shadow_next]);
+            if (st.shadow_next < st.shadow_count)
+                q = std::min(q, shadowed ? st.shadows[2 * st.shadow_next + 1] : st.shadows[2 * st.shadow_next]);
             if (!(q > p)) q = b;  // a piece shorter than float's step: end the segment (adds nothing)
             const float od_q = sun_map_.optical_depth(ray.map, q);
             if (shadowed) {
@@ -398,6 +423,10 @@ private:
         }
         st.od_prev = od_p;
         st.od_valid = true;
+        // exp(-depth(b)): the integrand at b without the segment's own attenuation, a quotient rather than
+        // an exponential; where that attenuation is too deep to divide by, the ray is about to stop.
+        st.sun_prev = segment_transmittance > kDivisibleTransmittance ? at_p / segment_transmittance
+                                                                      : exp_nonpositive(-od_p);
         return sum;
     }
 
@@ -434,7 +463,7 @@ private:
             if (kPlain) {
                 for (int a = 0; a < 3; ++a) st.radiance[a] += st.sigma_s[a] * ray.source[a] * tw;
             } else if (accurate_shadows_) {
-                const float sun = st.transmittance * sun_segment_integral(st, ray, st.t_prev, t, st.sigma_t);
+                const float sun = st.transmittance * sun_segment_integral(st, ray, st.t_prev, t, st.sigma_t, segment_transmittance);
                 for (int a = 0; a < 3; ++a)
                     st.radiance[a] += (st.sigma_s[a] * ray.ambient[a] + st.sigma_e[a]) * tw +
                                       st.sigma_s[a] * ray.sun_phase[a] * sun;
@@ -478,7 +507,7 @@ private:
     SunLight sun_;
     OpaqueSurfaces opaque_;  // after sun_, which it reads
     SunDepthMap sun_map_;    // the accurate technique's optical depth toward the sun
-    std::vector<Box> shadow_boxes_;  // the accurate technique's box shadows, those that reach the media
+    std::vector<BoxShadowVolume> shadow_volumes_;  // the accurate technique's box shadows, those that reach the media
     dvec3 eye_;
     float min_transmittance_;
     bool accurate_shadows_;

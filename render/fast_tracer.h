@@ -14,9 +14,10 @@
 // integrator, shaders/exact_integrator.glsl): the opaque surfaces are the reference's own
 // (render/opaque_surfaces.h, double). With shadows, the per-sphere technique is closed form as on the
 // GPU. The accurate technique reads the spheres' optical depth toward the sun from a light-space map
-// built once per frame (render/sun_depth_map.h), at every event and every two map cells along a
-// segment, takes it as linear in between (a closed form), and cuts the box shadows out of each segment
-// exactly; lit boxes take the exact T_sun at the hit. Bit-identical for any thread count.
+// built once per frame (render/sun_depth_map.h), at every event and at most every four map cells along
+// a segment (closer where the depth changes fast), takes it as linear in between (a closed form), and
+// cuts the box shadows (render/box_shadow_volume.h) out of each segment exactly; lit boxes take the
+// exact T_sun at the hit. Bit-identical for any thread count.
 #pragma once
 
 #include "render/image.h"

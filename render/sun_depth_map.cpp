@@ -19,6 +19,8 @@ namespace {
 constexpr double kCellPerRadius = 0.09;
 // Rows of columns per work item of the build: each item splats the spheres that reach its rows.
 constexpr int kBandRows = 4;
+// Columns whose suffix sums are taken side by side (the build's last step).
+constexpr int kColumnsAtOnce = 8;
 
 struct Projected {
     double u, v, s, r, tau;
@@ -111,7 +113,11 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
 
     const std::size_t column = std::size_t(ns);
     const std::size_t band_vertices = std::size_t(kBandRows) * std::size_t(nu) * column;
-    std::vector<std::vector<float>> scratch(std::size_t(worker_count(threads, std::size_t(bands))));
+    struct Scratch {
+        std::vector<float> runs;           // the band's whole-cell runs, as differences
+        std::vector<std::uint8_t> touched;  // the band's columns some sphere reached
+    };
+    std::vector<Scratch> scratch(std::size_t(worker_count(threads, std::size_t(bands))));
     parallel_for(std::size_t(bands), threads, [&](std::size_t band, int worker) {
         // A vertex's depth is the sum over the lattice cells above it of each cell's share of the chords:
         // depth(k) = sum over cells c >= k of inc(c), cell c = [s_c, s_c+1], inc(c) = sum tau |cell ∩ chord|.
@@ -119,11 +125,18 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
         // its ends lie in: the whole cells go in as a difference (`runs`: +tau cell at the run's top cell,
         // -tau cell below its bottom cell), the end cells straight into the map, so each column a sphere
         // crosses costs O(1), not O(chord). Two suffix sums per column, in double, then give the depths.
-        std::vector<float>& runs = scratch[std::size_t(worker)];
+        std::vector<float>& runs = scratch[std::size_t(worker)].runs;
+        std::vector<std::uint8_t>& touched = scratch[std::size_t(worker)].touched;
         runs.assign(band_vertices, 0.0f);
+        touched.assign(std::size_t(kBandRows) * std::size_t(nu), 0);
         const int row0 = int(band) * kBandRows, row1 = std::min(row0 + kBandRows, nv);
         const int top_cell = ns - 2;  // cells 0 .. ns - 2 lie between the ns vertices
-        const auto cell_of = [&](double s) { return std::clamp(int(std::floor((s - s_lo_) / cell)), 0, top_cell); };
+        // The cell an end lies in; by the inverse spacing (a product, not a quotient: two per column). An
+        // end on a cell's boundary may land in either neighbour, which changes no sum: the fraction
+        // added below is measured from the cell's own bounds.
+        // Clamped first, then truncated: within [0, top_cell] truncation is floor, without a libm call.
+        const double inverse_cell = 1.0 / cell;
+        const auto cell_of = [&](double s) { return int(std::clamp((s - s_lo_) * inverse_cell, 0.0, double(top_cell))); };
         for (std::uint32_t n = band_first[band]; n < band_first[band + 1]; ++n) {
             const Projected& p = spheres[band_items[n]];
             int j0, j1;
@@ -142,6 +155,7 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                     if (!(h2 > 0.0)) continue;
                     const double half = std::sqrt(h2);
                     const double top = p.s + half, bottom = p.s - half;
+                    touched[std::size_t(j - row0) * std::size_t(nu) + std::size_t(i)] = 1;
                     const std::size_t local = (std::size_t(j - row0) * std::size_t(nu) + std::size_t(i)) * column;
                     float* inc = depth_.data() + (std::size_t(j) * std::size_t(nu) + std::size_t(i)) * column;
                     const int cb = cell_of(bottom), ct = cell_of(top);
@@ -158,18 +172,33 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                 }
             }
         }
+        // The suffix sums, kColumnsAtOnce columns side by side: each column's sum is one chain of
+        // dependent additions, so taking several at each step keeps the adder busy (the same sums in the
+        // same order: the values do not change). A column no sphere reached holds 0 and is skipped.
         for (int j = row0; j < row1; ++j)
-            for (int i = 0; i < nu; ++i) {
-                const float* run = runs.data() + (std::size_t(j - row0) * std::size_t(nu) + std::size_t(i)) * column;
-                float* out = depth_.data() + (std::size_t(j) * std::size_t(nu) + std::size_t(i)) * column;
-                // Vertex ns - 1 lies at or above every top: 0. Then down, cell k's increment each step.
-                double whole = 0.0, depth = 0.0;
-                out[ns - 1] = 0.0f;
-                for (int k = top_cell; k >= 0; --k) {
-                    whole += double(run[k]);
-                    depth += double(out[k]) + whole;
-                    out[k] = float(depth);
+            for (int i = 0; i < nu; i += kColumnsAtOnce) {
+                int ids[kColumnsAtOnce];
+                int n = 0;
+                for (int c = i; c < std::min(i + kColumnsAtOnce, nu); ++c)
+                    if (touched[std::size_t(j - row0) * std::size_t(nu) + std::size_t(c)]) ids[n++] = c;
+                if (n == 0) continue;
+                const float* run[kColumnsAtOnce];
+                float* out[kColumnsAtOnce];
+                double whole[kColumnsAtOnce], depth[kColumnsAtOnce];
+                for (int c = 0; c < n; ++c) {
+                    run[c] = runs.data() + (std::size_t(j - row0) * std::size_t(nu) + std::size_t(ids[c])) * column;
+                    out[c] = depth_.data() + (std::size_t(j) * std::size_t(nu) + std::size_t(ids[c])) * column;
+                    // Vertex ns - 1 lies at or above every top: 0. Then down, cell k's increment each step.
+                    out[c][ns - 1] = 0.0f;
+                    whole[c] = 0.0;
+                    depth[c] = 0.0;
                 }
+                for (int k = top_cell; k >= 0; --k)
+                    for (int c = 0; c < n; ++c) {
+                        whole[c] += double(run[c][k]);
+                        depth[c] += double(out[c][k]) + whole[c];
+                        out[c][k] = float(depth[c]);
+                    }
             }
     });
 }

@@ -1,0 +1,37 @@
+// A box's shadow volume, the points x with x + s l in the box for some s >= 0 (l toward the sun), as the
+// intersection of its bounding planes, set up once per frame so that each view ray from one origin
+// takes its interval in the shadow by a few float products: trace's accurate shadow technique
+// (render/fast_tracer.cpp) asks it once per ray and box. The closed form it must agree with, in double,
+// is render/sun_light.h box_shadow_interval (tests/test_box_shadow_volume.cpp holds them together).
+//
+// The volume is the box swept away from the sun, a convex polyhedron whose faces are the box's faces
+// that the sun reaches or grazes (n . l >= 0) and the planes through the box's silhouette edges that
+// hold l. Coordinates are relative to the origin (the eye), so float keeps its precision there.
+#pragma once
+
+#include "sim/scene.h"
+
+#include <glm/vec3.hpp>
+
+namespace brume {
+
+class BoxShadowVolume {
+public:
+    BoxShadowVolume(const Box& box, const glm::dvec3& toward_sun, const glm::dvec3& origin);
+
+    // The interval [t_lo, t_hi] of t along origin + t d inside the volume (t_lo may be -inf, t_hi +inf);
+    // false when the line misses it.
+    bool interval(float dx, float dy, float dz, float& t_lo, float& t_hi) const;
+
+    int plane_count() const { return count_; }
+
+private:
+    struct Plane {
+        float nx, ny, nz, h;  // inside: n . (x - origin) <= h
+    };
+    static constexpr int kMaxPlanes = 18;  // 6 faces and 12 edges, at most
+    Plane planes_[kMaxPlanes];
+    int count_ = 0;
+};
+
+}  // namespace brume

@@ -1,0 +1,101 @@
+// A box's shadow volume as planes (render/box_shadow_volume.h), trace's per-ray form, against the
+// closed form the reference uses (render/sun_light.h box_shadow_interval): the same interval on random
+// boxes, suns and rays, the sun on an axis and slanted, the eye inside the shadow and outside; and the
+// faces a box's sweep has. CPU only.
+#include "render/box_shadow_volume.h"
+#include "render/sun_light.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <random>
+
+namespace brume {
+namespace {
+
+// The interval both ways; a miss must be a miss both ways, and a hit the same interval to float's
+// rounding of the distances (relative to the box's distance from the eye).
+void expect_same_interval(const Box& box, const glm::dvec3& l, const glm::dvec3& eye, const glm::dvec3& d,
+                          int& hits) {
+    double lo = 0.0, hi = 0.0;
+    const bool exact = box_shadow_interval(box, l, eye, d, lo, hi);
+    const BoxShadowVolume volume(box, l, eye);
+    float flo = 0.0f, fhi = 0.0f;
+    const bool planes = volume.interval(float(d.x), float(d.y), float(d.z), flo, fhi);
+    const double scale = glm::length(0.5 * (box.min + box.max) - eye) + glm::length(box.max - box.min);
+    const double tolerance = 1e-5 * scale;
+    if (exact && hi - lo > 2.0 * tolerance) {
+        ASSERT_TRUE(planes) << "a hit [" << lo << ", " << hi << "] the planes miss";
+        ++hits;
+        if (std::isinf(lo)) {
+            EXPECT_TRUE(std::isinf(flo) && flo < 0.0f);
+        } else {
+            EXPECT_NEAR(flo, lo, tolerance);
+        }
+        if (std::isinf(hi)) {
+            EXPECT_TRUE(std::isinf(fhi) && fhi > 0.0f);
+        } else {
+            EXPECT_NEAR(fhi, hi, tolerance);
+        }
+    } else if (!exact) {
+        // A line that misses by more than rounding must miss the planes too, or graze them.
+        if (planes) {
+            EXPECT_LE(double(fhi) - double(flo), 2.0 * tolerance) << "a miss the planes call a hit";
+        }
+    }
+}
+
+TEST(BoxShadowVolume, AgreesWithTheClosedFormOnRandomBoxesSunsAndRays) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), size(0.05, 3.0);
+    int hits = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const glm::dvec3 lo(4.0 * u(rng), 4.0 * u(rng), 4.0 * u(rng));
+        const Box box{lo, lo + glm::dvec3(size(rng), size(rng), size(rng))};
+        glm::dvec3 l(u(rng), u(rng) + 0.3, u(rng));
+        if (trial % 4 == 0) l = glm::dvec3(0.0, 1.0, 0.0);  // the sun overhead: side faces hold l
+        if (trial % 4 == 1) l = glm::dvec3(1.0, 0.5, 0.0);  // l in a coordinate plane: edges along z hold none
+        if (glm::length(l) < 1e-3) continue;
+        l = glm::normalize(l);
+        const glm::dvec3 eye(6.0 * u(rng), 6.0 * u(rng), 6.0 * u(rng));
+        for (int ray = 0; ray < 50; ++ray) {
+            // Half the rays aimed at the shadow (a point below the box), half anywhere.
+            glm::dvec3 target = ray % 2 == 0 ? 0.5 * (box.min + box.max) - (2.0 + 3.0 * (u(rng) + 1.0)) * l +
+                                                   glm::dvec3(u(rng), u(rng), u(rng)) * 0.5 * (box.max - box.min)
+                                             : eye + glm::dvec3(u(rng), u(rng), u(rng));
+            const glm::dvec3 d = glm::normalize(target - eye);
+            expect_same_interval(box, l, eye, d, hits);
+            if (HasFatalFailure()) return;
+        }
+    }
+    EXPECT_GT(hits, 4000) << "too few rays met a shadow to compare the intervals";
+}
+
+TEST(BoxShadowVolume, HasTheFacesOfTheSweep) {
+    const Box box{{-1.0, 0.0, -1.0}, {1.0, 2.0, 1.0}};
+    const glm::dvec3 eye(0.0, 0.0, 10.0);
+    // Overhead sun: the top and the four sides (the sweep is a square prism below the top).
+    EXPECT_EQ(BoxShadowVolume(box, {0.0, 1.0, 0.0}, eye).plane_count(), 5);
+    // The sun slanted in a coordinate plane: two lit faces, the two faces that hold l, and the two
+    // silhouette edges along z.
+    EXPECT_EQ(BoxShadowVolume(box, {1.0, 1.0, 0.0}, eye).plane_count(), 6);
+    // The sun slanted off every axis: three lit faces and the six silhouette edges.
+    EXPECT_EQ(BoxShadowVolume(box, {0.3, 1.0, 0.6}, eye).plane_count(), 9);
+}
+
+TEST(BoxShadowVolume, ARayStraightDownUnderTheBoxIsShadowedUpToItsTop) {
+    const Box box{{-1.0, 2.0, -1.0}, {1.0, 3.0, 1.0}};
+    const BoxShadowVolume volume(box, {0.0, 1.0, 0.0}, {0.0, -1.0, 0.0});
+    float lo = 0.0f, hi = 0.0f;
+    ASSERT_TRUE(volume.interval(0.0f, 1.0f, 0.0f, lo, hi));
+    EXPECT_TRUE(std::isinf(lo) && lo < 0.0f);
+    EXPECT_FLOAT_EQ(hi, 4.0f);
+    // Beside it: no shadow.
+    const BoxShadowVolume beside(box, {0.0, 1.0, 0.0}, {1.5, -1.0, 0.0});
+    EXPECT_FALSE(beside.interval(0.0f, 1.0f, 0.0f, lo, hi));
+}
+
+}  // namespace
+}  // namespace brume

@@ -31,6 +31,7 @@ struct Projected {
 SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
                          std::size_t max_vertices) {
     if (!sun.shadows() || scene.spheres.empty()) return;
+    max_vertices = std::min(max_vertices, kMaxVertices);
     u_ = sun.grid_u();
     v_ = sun.grid_v();
     l_ = sun.toward_sun();
@@ -76,6 +77,10 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
     nu_ = nu;
     nv_ = nv;
     ns_ = ns;
+    stride_v_ = nu * ns;
+    last_u_ = float(nu - 1);
+    last_v_ = float(nv - 1);
+    last_s_ = float(ns - 1);
     cell_d_ = cell;
     cell_ = float(cell);
     u_lo_ = u_lo - cell;

@@ -35,6 +35,8 @@ public:
                 std::size_t max_vertices = kDefaultMaxVertices);
 
     static constexpr std::size_t kDefaultMaxVertices = std::size_t(8) << 20;  // 32 MiB of floats
+    // The most any budget allows: a vertex's index stays an int.
+    static constexpr std::size_t kMaxVertices = std::size_t(1) << 30;
 
     bool empty() const { return depth_.empty(); }
     float cell() const { return cell_; }
@@ -59,14 +61,14 @@ public:
     float optical_depth(const Ray& r, float t) const {
         const float gu = r.u0 + t * r.du, gv = r.v0 + t * r.dv;
         // Outside the lattice's columns (or NaN): outside every shadow cylinder.
-        if (!(gu >= 0.0f && gv >= 0.0f && gu < float(nu_ - 1) && gv < float(nv_ - 1))) return 0.0f;
-        const float gs = std::min(std::max(r.s0 + t * r.ds, 0.0f), float(ns_ - 1));
+        if (!(gu >= 0.0f && gv >= 0.0f && gu < last_u_ && gv < last_v_)) return 0.0f;
+        const float gs = std::min(std::max(r.s0 + t * r.ds, 0.0f), last_s_);
+        // 32-bit indices: the lattice holds at most kMaxVertices (a constructor's bound).
         const int i = int(gu), j = int(gv), k = std::min(int(gs), ns_ - 2);
         const float fu = gu - float(i), fv = gv - float(j), fs = gs - float(k);
-        const float* p = depth_.data() + (std::size_t(j) * std::size_t(nu_) + std::size_t(i)) * std::size_t(ns_) + k;
-        const std::size_t su = std::size_t(ns_), sv = std::size_t(nu_) * std::size_t(ns_);
+        const float* p = depth_.data() + ((j * nu_ + i) * ns_ + k);
         const auto along_s = [fs](const float* q) { return q[0] + fs * (q[1] - q[0]); };
-        const float a = along_s(p), b = along_s(p + su), c = along_s(p + sv), e = along_s(p + sv + su);
+        const float a = along_s(p), b = along_s(p + ns_), c = along_s(p + stride_v_), e = along_s(p + stride_v_ + ns_);
         const float ab = a + fu * (b - a), ce = c + fu * (e - c);
         return ab + fv * (ce - ab);
     }
@@ -77,6 +79,8 @@ private:
     double cell_d_ = 1.0;
     float cell_ = 1.0f;
     int nu_ = 0, nv_ = 0, ns_ = 0;
+    int stride_v_ = 0;                             // nu_ * ns_: from one row of columns to the next
+    float last_u_ = 0.0f, last_v_ = 0.0f, last_s_ = 0.0f;  // nu_ - 1, nv_ - 1, ns_ - 1
     std::vector<float> depth_;  // (j * nu + i) * ns + k: vertex (u_lo + i cell, v_lo + j cell, s_lo + k cell)
 };
 

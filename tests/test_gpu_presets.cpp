@@ -11,7 +11,9 @@
 #include "sim/simulator.h"
 #include "sim/vdb/volume_loader.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <string>
 
 namespace brume {
 namespace {
@@ -72,6 +74,26 @@ constexpr double kAccurateMean = 1e-3, kAccurateP999 = 1.8e-2;
 constexpr double kPerSphereMean = 3e-2, kPerSphereP999 = 0.3;
 constexpr double kTraceAccurateMean = 1e-3, kTraceAccurateP999 = 1.8e-2;
 
+// Each preset's own p99.9 of the accurate technique at the test's size, as measured (trace, ppll), so
+// that a regression on one preset shows even where it stays under the common bound above (ppll's
+// explosion read 1.7e-2 before its long pieces were halved, 8.0e-3 after). The bound is 1.5x the
+// figure, and at least 1e-3 (float rounding between drivers); a preset missing here has the common
+// bound only.
+struct MeasuredP999 {
+    const char* preset;
+    double trace, ppll;
+};
+constexpr MeasuredP999 kMeasuredAccurateP999[] = {
+    {"campfire", 5.5e-4, 5.1e-4},  {"crossing", 1.49e-3, 1.37e-3}, {"explosion", 8.21e-3, 7.98e-3},
+    {"fog-bank", 5.5e-4, 2.8e-4},  {"ground-fog", 3.27e-3, 3.43e-3}, {"low-sun", 2.0e-3, 1.74e-3},
+    {"plume", 1.45e-2, 1.41e-2},   {"pop", 2.88e-3, 2.84e-3},     {"vdb-cloud", 2.02e-3, 1.42e-3},
+};
+double accurate_p999_bound(const std::string& preset, bool trace) {
+    for (const MeasuredP999& m : kMeasuredAccurateP999)
+        if (preset == m.preset) return std::min(std::max(1.5 * (trace ? m.trace : m.ppll), 1e-3), trace ? kTraceAccurateP999 : kAccurateP999);
+    return trace ? kTraceAccurateP999 : kAccurateP999;
+}
+
 // Both techniques against the exact model on the preset's frame, at 32x24 (16x12 for the 5,000-sphere
 // cloud): the exact reference's shadows cost O(pixels x spheres), which is why this runs small rather
 // than not at all. On lavapipe the accurate technique's sun lookups can exceed the device's loop budget
@@ -105,13 +127,13 @@ TEST_P(Presets, ShadowTechniquesWithinTheirStatedErrorOfTheExactModel) {
     const testing::ShadowError traced = testing::shadow_error(render_fast_trace(scene), exact);
     std::printf("  trace accurate mean %.3g p99.9 %.3g\n", traced.mean, traced.p999);
     EXPECT_LT(traced.mean, kTraceAccurateMean);
-    EXPECT_LT(traced.p999, kTraceAccurateP999);
+    EXPECT_LT(traced.p999, accurate_p999_bound(GetParam(), true));
     EXPECT_LT(traced.mean, per_sphere.mean);
     try {
         const testing::ShadowError accurate = testing::shadow_error(ppll.render(scene), exact);
         std::printf("  accurate mean %.3g p99.9 %.3g\n", accurate.mean, accurate.p999);
         EXPECT_LT(accurate.mean, kAccurateMean);
-        EXPECT_LT(accurate.p999, kAccurateP999);
+        EXPECT_LT(accurate.p999, accurate_p999_bound(GetParam(), false));
         EXPECT_LT(accurate.mean, per_sphere.mean);
     } catch (const ListResolveError& e) {
         std::printf("  accurate refused: %s\n", e.what());

@@ -51,20 +51,37 @@ layout(constant_id = 3) const uint ACCURATE_SHADOWS = 0u;
 const float GL3_NODE = 0.7745966692414834;
 const float GL3_W_OUTER = 0.5555555555555556, GL3_W_CENTRE = 0.8888888888888888;
 
+// T_sun at a quadrature node x = eye + rel: the map's, and 0 where one of the first `boxes` boxes
+// blocks the sun. The caller passes 0 boxes when it cut the box shadows out (or there are none): a
+// loop that runs no iteration costs nothing on lavapipe, where an `if` or a `?:` between two calls
+// runs both bodies under a lane mask (measured: that doubled the lookups and ran the box loop at
+// every node of every ray).
+float sun_node_transmittance(vec3 x, vec3 rel, uint boxes_to_test) {
+    float g = sun_media_map_transmittance(rel);
+    vec3 l = -frame.sun_dir.xyz;
+    for (uint k = 0u; k < boxes_to_test; ++k) {
+        float t;
+        if (intersect_box(x, l, boxes[k].min_corner.xyz, boxes[k].max_corner.xyz, t)) {
+            g = 0.0;
+            break;
+        }
+    }
+    return g;
+}
+
 // integral over [u, v] of exp(-sigma_t (t - a)) g(t) dt by one or two Gauss-Legendre rules, g the
-// map's T_sun (boxes = false: the caller cut the box shadows out) or the whole T_sun (boxes = true).
-float sun_quadrature(vec3 origin, vec3 dir, float a, float u, float v, float sigma_t, bool boxes) {
-    // (frame.params.z == 0: no shadows, T_sun = 1, one rule is exact enough.)
-    int pieces = (frame.params.z != 0.0 && (v - u) * sun_grid.map_origin.w > SUN_HALVE_CELLS) ? 2 : 1;
+// node's T_sun (sun_node_transmittance).
+float sun_quadrature(vec3 origin, vec3 dir, float a, float u, float v, float sigma_t, uint boxes_to_test) {
+    int pieces = (v - u) * sun_grid.map_origin.w > SUN_HALVE_CELLS ? 2 : 1;
     float h = (v - u) / float(pieces);
     vec3 from_eye = origin - frame.eye.xyz;  // 0 for every resolve's rays: they start at the eye
     float sum = 0.0;
     for (int k = 0; k < pieces; ++k) {
         float m = u + (float(k) + 0.5) * h;
         float tl = m - 0.5 * h * GL3_NODE, tr = m + 0.5 * h * GL3_NODE;
-        float gl = boxes ? sun_media_transmittance(origin + tl * dir, from_eye + tl * dir) : sun_media_map_transmittance(from_eye + tl * dir);
-        float gm = boxes ? sun_media_transmittance(origin + m * dir, from_eye + m * dir) : sun_media_map_transmittance(from_eye + m * dir);
-        float gr = boxes ? sun_media_transmittance(origin + tr * dir, from_eye + tr * dir) : sun_media_map_transmittance(from_eye + tr * dir);
+        float gl = sun_node_transmittance(origin + tl * dir, from_eye + tl * dir, boxes_to_test);
+        float gm = sun_node_transmittance(origin + m * dir, from_eye + m * dir, boxes_to_test);
+        float gr = sun_node_transmittance(origin + tr * dir, from_eye + tr * dir, boxes_to_test);
         sum += GL3_W_OUTER * exp(-sigma_t * (tl - a)) * gl + GL3_W_CENTRE * exp(-sigma_t * (m - a)) * gm +
                GL3_W_OUTER * exp(-sigma_t * (tr - a)) * gr;
     }
@@ -74,19 +91,22 @@ float sun_quadrature(vec3 origin, vec3 dir, float a, float u, float v, float sig
 // integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt. The box shadows are cut out
 // exactly (find_sun_box_spans, once per ray): T_sun is 0 there, and the quadrature runs over the lit
 // pieces only, where T_sun is the map's, smooth (a rule straddling a shadow edge was the technique's
-// largest error under a low sun).
+// largest error under a low sun). With more boxes than SUN_BOX_SPANS the spans are not kept and each
+// node tests the boxes. Without shadows (frame.params.z == 0) there is no map (T_sun = 1) and no box
+// test. One path for all three, so lavapipe runs no body that no lane takes.
 float sun_segment_integral(vec3 origin, vec3 dir, float a, float b, float sigma_t) {
-    if (frame.params.z == 0.0) return sun_quadrature(origin, dir, a, a, b, sigma_t, true);  // T_sun = 1
-    if (sun_box_span_count == SUN_BOX_SPANS_NONE) return sun_quadrature(origin, dir, a, a, b, sigma_t, true);
+    bool spans_kept = sun_box_span_count != SUN_BOX_SPANS_NONE;
+    uint spans = spans_kept ? sun_box_span_count : 0u;
+    uint boxes_to_test = (frame.params.z != 0.0 && !spans_kept) ? frame.counts.w : 0u;
     float sum = 0.0, lit_from = a;
-    for (uint k = 0u; k < sun_box_span_count && lit_from < b; ++k) {
+    for (uint k = 0u; k < spans && lit_from < b; ++k) {
         vec2 s = sun_box_spans[k];
         if (s.y <= lit_from) continue;
         if (s.x >= b) break;
-        if (s.x > lit_from) sum += sun_quadrature(origin, dir, a, lit_from, s.x, sigma_t, false);
+        if (s.x > lit_from) sum += sun_quadrature(origin, dir, a, lit_from, s.x, sigma_t, 0u);
         lit_from = s.y;
     }
-    if (lit_from < b) sum += sun_quadrature(origin, dir, a, lit_from, b, sigma_t, false);
+    if (lit_from < b) sum += sun_quadrature(origin, dir, a, lit_from, b, sigma_t, boxes_to_test);
     return sum;
 }
 

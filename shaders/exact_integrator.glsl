@@ -11,9 +11,10 @@
 // sigma_s * source of the unextended model exactly.
 //
 // With the accurate shadow technique (frame.params.w = 1) the sun term of a segment is instead
-// sigma_s L_sun P times the integral of exp(-sigma_t u) T_sun(x(u)) over it, by Gauss-Legendre
-// quadrature with T_sun read from the light-space depth map over the lit pieces of the segment,
-// box shadows cut out exactly (sun_transmittance.glsl find_sun_box_spans); for that the integrator knows its ray. start_integrator() takes the pixel-centre ray of gl_FragCoord (a fragment
+// sigma_s L_sun P times the integral of exp(-sigma_t u) T_sun(x(u)) over it, with the depth toward
+// the sun read from the light-space depth map at the ends of short pieces and linear between (a
+// closed form, as trace does), box shadows cut out exactly (sun_transmittance.glsl
+// find_sun_box_spans); for that the integrator knows its ray. start_integrator() takes the pixel-centre ray of gl_FragCoord (a fragment
 // shader); a resolve in another stage defines BRUME_NO_FRAGMENT_RAY and calls start_integrator(eye, dir).
 #ifndef BRUME_EXACT_INTEGRATOR_GLSL
 #define BRUME_EXACT_INTEGRATOR_GLSL
@@ -33,9 +34,17 @@ struct Integrator {
     bool stopped;    // transmittance fell below the scene's threshold
     vec3 origin;     // the ray, for the accurate shadow technique's samples of T_sun
     vec3 dir;
+    // The accurate technique: the optical depth toward the sun at t_prev and exp(-it), when od_valid
+    // (kept from the segment before, so each event costs one lookup), and the first box shadow span
+    // the ray has not passed.
+    float od_prev;
+    float sun_prev;
+    bool od_valid;
+    uint span_next;
 };
 
-// The 3-point Gauss-Legendre rule (exact for degree-5 integrands) on each lit piece, and on two halves
+// With more boxes than SUN_BOX_SPANS (sun_segment_integral's fallback, which each node tests the boxes
+// in): the 3-point Gauss-Legendre rule (exact for degree-5 integrands) on the segment, and on two halves
 // of a piece longer than SUN_HALVE_CELLS map cells: T_sun has kinks where the segment crosses a shadow
 // edge, and a long piece is where a rule straddles them most. Measured with bench shadows at 128x96
 // (docs/accuracy.md): one rule per piece left explosion's p99.9 at 1.21e-2; halving every piece,
@@ -88,25 +97,98 @@ float sun_quadrature(vec3 origin, vec3 dir, float a, float u, float v, float sig
     return sum * 0.5 * h;
 }
 
-// integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt. The box shadows are cut out
-// exactly (find_sun_box_spans, once per ray): T_sun is 0 there, and the quadrature runs over the lit
-// pieces only, where T_sun is the map's, smooth (a rule straddling a shadow edge was the technique's
-// largest error under a low sun). With more boxes than SUN_BOX_SPANS the spans are not kept and each
-// node tests the boxes. Without shadows (frame.params.z == 0) there is no map (T_sun = 1) and no box
-// test. One path for all three, so lavapipe runs no body that no lane takes.
-float sun_segment_integral(vec3 origin, vec3 dir, float a, float b, float sigma_t) {
+// (1 - exp(-x)) / x for x of either sign, exp(-x) given: the exponent of a lit piece also holds the
+// change of the depth toward the sun, which may fall along it.
+float one_minus_exp_over_x_signed(float x, float exp_minus_x) {
+    if (abs(x) < 0.125) return one_minus_exp_over_x(x, exp_minus_x);  // its series holds for either sign
+    return (1.0 - exp_minus_x) / x;
+}
+
+// The spheres' optical depth toward the sun at origin + t dir, from the map (0 without one).
+float sun_depth_along(vec3 from_eye, vec3 dir, float t) {
+    return sun_grid.map_size.x == 0u ? 0.0 : sun_map_depth(from_eye + t * dir);
+}
+
+// integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt, the accurate technique as
+// trace computes it (render/fast_tracer.cpp sun_segment_integral): T_sun is 0 inside the ray's box
+// shadows (find_sun_box_spans, exact) and exp(-depth) elsewhere, the depth read from the map at the
+// ends of pieces no longer than SUN_PIECE_CELLS map cells (halved, up to SUN_PIECE_SPLITS times,
+// where the light the piece may carry times its change of depth exceeds SUN_PIECE_DEPTH_CHANGE) and
+// linear between, where the integral has a closed form. The depth and the sun's transmittance at b
+// stay in the integrator for the next segment: one lookup per event and one per piece, one
+// exponential each, where a 3-point rule took three of each. A segment takes at most
+// SUN_MAX_PIECES pieces before halving (longer ones where it is longer), so its loop is bounded.
+// With more boxes than SUN_BOX_SPANS (no spans kept) the 3-point rules with each node testing the
+// boxes (sun_quadrature) run instead, in a loop of one iteration or none: lavapipe runs no body that
+// no lane takes.
+const float SUN_PIECE_CELLS = 4.0;
+const int SUN_PIECE_SPLITS = 4;
+const float SUN_PIECE_DEPTH_CHANGE = 0.1;
+const float SUN_MAX_PIECES = 256.0;
+const float SUN_DIVISIBLE_TRANSMITTANCE = 1e-20;
+float sun_segment_integral(inout Integrator it, float a, float b, float sigma_t, float segment_transmittance) {
     bool spans_kept = sun_box_span_count != SUN_BOX_SPANS_NONE;
     uint spans = spans_kept ? sun_box_span_count : 0u;
-    uint boxes_to_test = (frame.params.z != 0.0 && !spans_kept) ? frame.counts.w : 0u;
-    float sum = 0.0, lit_from = a;
-    for (uint k = 0u; k < spans && lit_from < b; ++k) {
-        vec2 s = sun_box_spans[k];
-        if (s.y <= lit_from) continue;
-        if (s.x >= b) break;
-        if (s.x > lit_from) sum += sun_quadrature(origin, dir, a, lit_from, s.x, sigma_t, 0u);
-        lit_from = s.y;
+    uint node_boxes = (frame.params.z != 0.0 && !spans_kept) ? frame.counts.w : 0u;
+    float sum = 0.0;
+    for (uint once = 0u; once < min(node_boxes, 1u); ++once) {
+        sum = sun_quadrature(it.origin, it.dir, a, a, b, sigma_t, node_boxes);
+        it.od_valid = false;
     }
-    if (lit_from < b) sum += sun_quadrature(origin, dir, a, lit_from, b, sigma_t, boxes_to_test);
+    vec3 from_eye = it.origin - frame.eye.xyz;  // 0 for every resolve's rays: they start at the eye
+    // The integrand at p, exp(-sigma_t (p - a) - depth(p)), carried from piece to piece.
+    float p = a;
+    float od_p = it.od_valid ? it.od_prev : sun_depth_along(from_eye, it.dir, a);
+    float at_p = it.od_valid ? it.sun_prev : exp(-od_p);
+    float inverse_cell = sun_grid.map_size.x == 0u ? 0.0 : sun_grid.map_origin.w;
+    float max_piece = inverse_cell > 0.0 ? max(SUN_PIECE_CELLS / inverse_cell, (b - a) / SUN_MAX_PIECES) : b - a;
+    float weight = it.transmittance;
+    float end = node_boxes == 0u ? b : a;  // the 3-point rules took the segment
+    while (p < end) {
+        while (it.span_next < spans && sun_box_spans[it.span_next].y <= p) ++it.span_next;
+        bool shadowed = it.span_next < spans && sun_box_spans[it.span_next].x <= p;
+        float q = min(end, p + max_piece);
+        if (it.span_next < spans) q = min(q, shadowed ? sun_box_spans[it.span_next].y : sun_box_spans[it.span_next].x);
+        if (!(q > p)) q = end;  // a piece shorter than float's step: end the segment (adds nothing)
+        float od_q = sun_depth_along(from_eye, it.dir, q);
+        // [p, q], halved where its depth changes fast: the far ends of the halves still to come wait
+        // on a stack, nearest last, with their level.
+        float wait_t[SUN_PIECE_SPLITS], wait_od[SUN_PIECE_SPLITS];
+        int wait_level[SUN_PIECE_SPLITS];
+        int waiting = 0, level = 0;
+        float r = q, od_r = od_q;
+        for (;;) {
+            if (!shadowed && level < SUN_PIECE_SPLITS && weight * at_p * abs(od_r - od_p) > SUN_PIECE_DEPTH_CHANGE) {
+                wait_t[waiting] = r;
+                wait_od[waiting] = od_r;
+                wait_level[waiting] = level + 1;
+                ++waiting;
+                ++level;
+                r = 0.5 * (p + r);
+                od_r = sun_depth_along(from_eye, it.dir, r);
+                continue;
+            }
+            float len = r - p;
+            float x = sigma_t * len + (od_r - od_p);
+            float e = exp(-clamp(x, -87.0, 87.0));
+            if (!shadowed) sum += at_p * len * one_minus_exp_over_x_signed(x, e);  // in a box's shadow: nothing
+            at_p *= e;
+            p = r;
+            od_p = od_r;
+            if (waiting == 0) break;
+            --waiting;
+            r = wait_t[waiting];
+            od_r = wait_od[waiting];
+            level = wait_level[waiting];
+        }
+    }
+    if (node_boxes == 0u) {
+        it.od_prev = od_p;
+        it.od_valid = true;
+        // exp(-depth(b)): the integrand at b without the segment's own attenuation, a quotient rather
+        // than an exponential; where that attenuation is too deep to divide by, the ray is about to stop.
+        it.sun_prev = segment_transmittance > SUN_DIVISIBLE_TRANSMITTANCE ? at_p / segment_transmittance : exp(-od_p);
+    }
     return sum;
 }
 
@@ -123,7 +205,7 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
         if (ACCURATE_SHADOWS != 0u && frame.params.w != 0.0 && it.inside > 0) {
             // Accurate shadows: ambient and emission in closed form, the sun term by quadrature.
             vec3 sun_phase = source - frame.ambient.rgb;
-            float sun = sun_segment_integral(it.origin, it.dir, it.t_prev, t, it.sigma_t);
+            float sun = sun_segment_integral(it, it.t_prev, t, it.sigma_t, segment_transmittance);
             it.radiance += it.transmittance * ((it.sigma_s * frame.ambient.rgb + it.sigma_e) * w + it.sigma_s * sun_phase * sun);
         } else {
             vec3 lost = (it.sigma_s - it.sigma_sun) * (source - frame.ambient.rgb) - it.sigma_e;
@@ -135,6 +217,7 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
             return;
         }
     }
+    if (it.inside == 0) it.od_valid = false;  // free space: the next segment looks its start up
     GpuSphere g = spheres[key.y >> 1u];
     float tau = g.albedo_extinction.w;
     vec3 tau_albedo = tau * g.albedo_extinction.rgb;
@@ -162,7 +245,8 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
 
 Integrator start_integrator(vec3 origin, vec3 unit_dir) {
     if (ACCURATE_SHADOWS != 0u && frame.params.w != 0.0 && frame.params.z != 0.0) find_sun_box_spans(origin, unit_dir);
-    return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), vec3(0.0), vec3(0.0), 0, 0.0, false, origin, unit_dir);
+    return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), vec3(0.0), vec3(0.0), 0, 0.0, false, origin, unit_dir, 0.0, 1.0,
+                      false, 0u);
 }
 
 #ifndef BRUME_NO_FRAGMENT_RAY

@@ -58,8 +58,9 @@ TEST_F(GpuLight, PerSphereShadowsStayWithinTheirStatedError) {
     }
 }
 
-// The accurate technique samples T_sun along each view segment (3-point Gauss-Legendre through the
-// light-space grid): its error against the exact model, and its cost beside the frame without shadows.
+// The accurate technique reads the depth toward the sun from the light-space map along each view
+// segment (linear between lookups, as trace): its error against the exact model, and its cost beside
+// the frame without shadows.
 constexpr double kAccurateMean = 1e-3;
 constexpr double kAccurateP999 = 1e-2;
 
@@ -86,6 +87,32 @@ TEST_F(GpuLight, AccurateShadowsMeetTheirTarget) {
         EXPECT_LT(e.p999, kAccurateP999);
         EXPECT_LT(e.mean, cheap.mean) << "the accurate technique should beat the per-sphere one";
     }
+}
+
+// With more boxes than the integrator keeps shadow spans for (SUN_BOX_SPANS, 8), each quadrature node
+// tests the boxes itself (shaders/exact_integrator.glsl's fallback): the same cloud under a row of
+// twelve posts toward the sun, whose shadows cross it, within the same target; and the shadows are
+// seen (the frame without the posts is further from the model).
+TEST_F(GpuLight, AccurateShadowsWithMoreBoxesThanSpansMeetTheirTarget) {
+    PpllMethod ppll(device());
+    Scene s = shadowed_cloud(false);
+    const std::size_t boxes_before = s.boxes.size();
+    for (int k = 0; k < 12; ++k) {
+        // Where the cloud's centre sees the sun at y = 2.6: 2.6 / 0.6 of (0.7, 0.6, 0.3) from it.
+        const double x = 3.03 - 1.65 + 0.3 * k;
+        s.boxes.push_back(Box{{x, 2.6, 1.1}, {x + 0.18, 2.75, 1.5}, {0.2, 0.2, 0.2}, {0.5, 0.5, 0.5}});
+    }
+    ASSERT_GT(s.boxes.size(), std::size_t(8));
+    const Image exact = render_reference(s);
+    const ShadowError e = shadow_error(ppll.render(s), exact);
+    Scene without_posts = s;
+    without_posts.boxes.resize(boxes_before);
+    const ShadowError none = shadow_error(ppll.render(without_posts), exact);
+    std::printf("  accurate shadows under %zu boxes: mean %.3g, p99.9 %.3g of the peak (posts left out: %.3g, %.3g)\n",
+                s.boxes.size(), e.mean, e.p999, none.mean, none.p999);
+    EXPECT_LT(e.mean, kAccurateMean);
+    EXPECT_LT(e.p999, kAccurateP999);
+    EXPECT_GT(none.mean, 3.0 * e.mean) << "the posts' shadows should be seen";
 }
 
 // The built-in default scene ships with shadows by the accurate technique (presets/default.toml): at

@@ -2,8 +2,8 @@
 // 0 if the ray x + s l (s > 0, l toward the sun) meets a box, else exp(-sum_k tau_k len_k(x)). The
 // spheres come from the light-space grid (SunGridHeader in shared.h): only those whose shadow disc
 // overlaps x's cell. The opaque pass evaluates it once per lit box fragment. In the media, the per-sphere
-// technique uses the values in GpuSphere.emission_sun.w, and the accurate one sun_media_transmittance
-// below (the light-space depth map).
+// technique uses the values in GpuSphere.emission_sun.w, and the accurate one the light-space depth
+// map (sun_map_depth below; exact_integrator.glsl integrates it along each segment).
 // Needs bindings.glsl and rays.glsl.
 #ifndef BRUME_SUN_TRANSMITTANCE_GLSL
 #define BRUME_SUN_TRANSMITTANCE_GLSL
@@ -137,7 +137,7 @@ vec2 sun_box_shadow_span(vec3 o, vec3 d, vec3 bmin, vec3 bmax) {
 
 // The accurate technique's box shadows along one view ray, found once per ray: the merged intervals
 // of t in some box's shadow, in order. With more boxes than fit, sun_box_span_count is
-// SUN_BOX_SPANS_NONE and each sample tests the boxes itself (sun_media_transmittance).
+// SUN_BOX_SPANS_NONE and each sample tests the boxes itself (exact_integrator.glsl sun_node_transmittance).
 const uint SUN_BOX_SPANS = 8u;
 const uint SUN_BOX_SPANS_NONE = 0xffffffffu;
 vec2 sun_box_spans[SUN_BOX_SPANS];
@@ -175,14 +175,6 @@ void find_sun_box_spans(vec3 o, vec3 d) {
 float sun_media_map_transmittance(vec3 rel) {
     if (sun_grid.map_size.x == 0u) return 1.0;  // no sphere casts a shadow
     return exp(-sun_map_depth(rel));
-}
-
-// T_sun in the media by the accurate technique: 0 in a box's shadow (exact), else exp(-map depth).
-// x = eye + rel.
-float sun_media_transmittance(vec3 x, vec3 rel) {
-    if (frame.params.z == 0.0) return 1.0;
-    if (sun_box_blocked(x, 0xffffffffu)) return 0.0;
-    return sun_media_map_transmittance(rel);
 }
 
 #endif

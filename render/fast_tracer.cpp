@@ -33,22 +33,24 @@ using glm::dvec3;
 // tile lists, so a small tile wastes fewer tests; the bins cost little at this size.
 constexpr std::uint32_t kTile = 8;
 
-// A sphere as the tracer needs it, in float, its centre relative to the eye (so that float keeps
-// the precision where the rays are). 64 bytes: one cache line.
-struct alignas(64) Medium {
-    float cx, cy, cz;
-    float r2;
-    float c_minus_r2;  // |c|^2 - r^2, from double: the near root without cancellation
-    float tau;
-    float scatter[3];      // tau * albedo
-    float sun_scatter[3];  // tau * albedo * T_sun(centre) (the per-sphere technique), else = scatter
-    float emission[3];     // tau * emission
-    float pad;
-};
-static_assert(sizeof(Medium) == 64);
+// Four floats in one SSE register (a GCC and Clang vector extension): the running sums an event
+// changes, and the radiance they add, step together, one lane per sum, each lane rounding as the
+// scalar code it replaces did. Lane 0 holds sigma_t where a sum has it, and 0 elsewhere.
+using Float4 = float __attribute__((vector_size(16)));
 
-// A sphere as one tile lists it: what the chord test needs, copied beside the tile's other spheres so
-// that a pixel reads its candidates from one short array instead of the whole scene's.
+// What a sphere's events add and remove beyond {tau, tau * albedo} (sigma_t and sigma_s, kept apart:
+// all a scene without shadows or emission reads, 16 bytes a sphere, so that a large scene's random
+// reads by sphere index stay in cache): the scattering the sun lights under the per-sphere technique,
+// {0, tau * albedo * T_sun(centre)} (else the same as sigma_s), and the emission, {0, tau * emission}.
+struct alignas(32) LitMedium {
+    Float4 sun_scatter;
+    Float4 emission;
+};
+static_assert(sizeof(LitMedium) == 32);
+
+// A sphere as one tile lists it: what the chord test needs, its centre relative to the eye (so that
+// float keeps the precision where the rays are), copied beside the tile's other spheres so that a pixel
+// reads its candidates from one short array instead of the whole scene's.
 struct TileSphere {
     float cx, cy, cz, r2;
     float c_minus_r2;
@@ -159,23 +161,24 @@ public:
                 if (shadow_reaches(box, sun_.toward_sun(), lo, hi))
                     shadow_volumes_.emplace_back(box, sun_.toward_sun(), eye_);
         }
-        media_.resize(scene.spheres.size());
+        extinction_scatter_.resize(scene.spheres.size());
+        lit_media_.resize(scene.spheres.size());
+        geometry_.resize(scene.spheres.size());
         for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
             const Sphere& s = scene.spheres[k];
             const dvec3 c = s.center - eye_;
-            Medium& m = media_[k];
-            m.cx = float(c.x);
-            m.cy = float(c.y);
-            m.cz = float(c.z);
-            m.r2 = float(s.radius * s.radius);
-            m.c_minus_r2 = float(glm::dot(c, c) - s.radius * s.radius);
-            m.tau = float(s.extinction);
+            geometry_[k] = TileSphere{float(c.x), float(c.y), float(c.z), float(s.radius * s.radius),
+                                      float(glm::dot(c, c) - s.radius * s.radius), 0u, std::uint32_t(k), 0u};
+            Float4& sigma = extinction_scatter_[k];
+            LitMedium& m = lit_media_[k];
+            sigma[0] = float(s.extinction);
+            m.sun_scatter[0] = 0.0f;
+            m.emission[0] = 0.0f;
             for (int a = 0; a < 3; ++a) {
-                m.scatter[a] = float(s.extinction * s.albedo[a]);
-                m.sun_scatter[a] = float(s.extinction * s.albedo[a] * centre_sun[k]);
-                m.emission[a] = float(s.extinction * s.emission[a]);
+                sigma[a + 1] = float(s.extinction * s.albedo[a]);
+                m.sun_scatter[a + 1] = float(s.extinction * s.albedo[a] * centre_sun[k]);
+                m.emission[a + 1] = float(s.extinction * s.emission[a]);
             }
-            m.pad = 0.0f;
             if (s.emission != dvec3(0.0)) plain_ = false;
         }
         const Lighting& l = scene.lighting;
@@ -198,8 +201,8 @@ public:
         };
         for (std::size_t n = 0; n < count; ++n) {
             const std::uint32_t k = entries[2 * n];
-            const Medium& m = media_[k];
-            out.spheres[n] = TileSphere{m.cx, m.cy, m.cz, m.r2, m.c_minus_r2, entries[2 * n + 1], k, 0u};
+            out.spheres[n] = geometry_[k];
+            out.spheres[n].bound_bits = entries[2 * n + 1];
             covered(rects[k], [&](int p) { ++counts[p]; });
         }
         out.first[0] = 0;
@@ -226,10 +229,11 @@ public:
         const double cos_theta = glm::dot(sun_unit_, d);
         const dvec3 sun_phase_d = lighting_sun_ * (3.0 / (16.0 * 3.14159265358979323846) * (1.0 + cos_theta * cos_theta));
         Ray ray;
+        ray.sun_phase[0] = ray.source[0] = ray.ambient[0] = 0.0f;  // lane 0 (sigma_t's) adds no light
         for (int a = 0; a < 3; ++a) {
-            ray.sun_phase[a] = float(sun_phase_d[a]);
-            ray.source[a] = float(ambient_[a] + sun_phase_d[a]);
-            ray.ambient[a] = float(ambient_[a]);
+            ray.sun_phase[a + 1] = float(sun_phase_d[a]);
+            ray.source[a + 1] = float(ambient_[a] + sun_phase_d[a]);
+            ray.ambient[a + 1] = float(ambient_[a]);
         }
         ray.d = d;
         if (!kPlain && accurate_shadows_) {
@@ -275,7 +279,6 @@ public:
         return st.color() + double(st.transmittance) * behind;
     }
 
-    const std::vector<Medium>& media() const { return media_; }
     bool plain() const { return plain_; }
 
 private:
@@ -346,9 +349,11 @@ private:
 
     struct Ray {
         dvec3 d;
-        float source[3];     // L_ambient + L_sun P(theta): the unshadowed L_s of this ray
-        float sun_phase[3];  // L_sun P(theta)
-        float ambient[3];
+        // In lanes 1-3 (Float4): L_ambient + L_sun P(theta), the unshadowed L_s of this ray; L_sun P(theta);
+        // L_ambient. Lane 0 is 0.
+        Float4 source;
+        Float4 sun_phase;
+        Float4 ambient;
         // The accurate technique: the ray in the optical-depth map, and where its box shadows go once
         // it meets media (box_shadows, up to the opaque surface at t_opaque).
         SunDepthMap::Ray map{};
@@ -357,12 +362,11 @@ private:
     };
     // Front-to-back state of one ray: running sums of the media it is in (shaders/exact_integrator.glsl).
     struct State {
-        float radiance[3] = {0, 0, 0};
+        Float4 radiance{};  // lanes 1-3
         float transmittance = 1.0f;
-        float sigma_t = 0.0f;
-        float sigma_s[3] = {0, 0, 0};
-        float sigma_sun[3] = {0, 0, 0};
-        float sigma_e[3] = {0, 0, 0};
+        Float4 sigma{};      // {sigma_t, sigma_s}
+        Float4 sigma_sun{};  // {0, the sun-lit part of sigma_s} (the per-sphere technique)
+        Float4 sigma_e{};    // {0, sum tau_k e_k}
         int inside = 0;
         float t_prev = 0.0f;
         // The accurate technique: the optical depth toward the sun at t_prev, when od_valid (kept from the
@@ -375,7 +379,8 @@ private:
         const float* shadows = nullptr;
         std::size_t shadow_count = 0;
         std::size_t shadow_next = 0;
-        dvec3 color() const { return dvec3(radiance[0], radiance[1], radiance[2]); }
+        float sigma_t() const { return sigma[0]; }
+        dvec3 color() const { return dvec3(radiance[1], radiance[2], radiance[3]); }
     };
 
     // integral over [a, b] of exp(-sigma_t (t - a)) T_sun(eye + t d) dt, the accurate technique: T_sun is
@@ -456,22 +461,19 @@ private:
         const float t = key_distance(key);
         const float len = t - st.t_prev;
         if (len > 0.0f && st.inside > 0) {  // outside every medium a segment adds nothing
-            const float x = st.sigma_t * len;
+            const float x = st.sigma_t() * len;
             const float segment_transmittance = exp_nonpositive(-x);
             const float w = len * phi(x, segment_transmittance);
             const float tw = st.transmittance * w;
             if (kPlain) {
-                for (int a = 0; a < 3; ++a) st.radiance[a] += st.sigma_s[a] * ray.source[a] * tw;
+                st.radiance += st.sigma * ray.source * tw;
             } else if (accurate_shadows_) {
-                const float sun = st.transmittance * sun_segment_integral(st, ray, st.t_prev, t, st.sigma_t, segment_transmittance);
-                for (int a = 0; a < 3; ++a)
-                    st.radiance[a] += (st.sigma_s[a] * ray.ambient[a] + st.sigma_e[a]) * tw +
-                                      st.sigma_s[a] * ray.sun_phase[a] * sun;
+                const float sun =
+                    st.transmittance * sun_segment_integral(st, ray, st.t_prev, t, st.sigma_t(), segment_transmittance);
+                st.radiance += (st.sigma * ray.ambient + st.sigma_e) * tw + st.sigma * ray.sun_phase * sun;
             } else {
                 // sigma_s L_s less the sun light the per-sphere shadows take away, plus emission.
-                for (int a = 0; a < 3; ++a)
-                    st.radiance[a] += (st.sigma_s[a] * ray.source[a] -
-                                       (st.sigma_s[a] - st.sigma_sun[a]) * ray.sun_phase[a] + st.sigma_e[a]) * tw;
+                st.radiance += (st.sigma * ray.source - (st.sigma - st.sigma_sun) * ray.sun_phase + st.sigma_e) * tw;
             }
             st.transmittance *= segment_transmittance;
             if (st.transmittance < min_transmittance_) return false;
@@ -483,23 +485,23 @@ private:
         // v + (-1 * d) rounds as v - d. Leaving clamps at 0 against rounding, entering does not (a scene
         // built in code may hold a negative albedo, as the layers benchmark's far spheres do). Back in
         // free space the sums become exactly 0, dropping the rounding left by add and subtract.
-        const Medium& m = media_[std::uint32_t(key) >> 1];
+        const std::uint32_t k = std::uint32_t(key) >> 1;
         const bool exit = (key & 1u) != 0u;
         const float sign = exit ? -1.0f : 1.0f;
         st.inside += exit ? -1 : 1;
         const bool free_space = st.inside == 0;
-        const auto step = [sign, exit, free_space](float v, float d) {
-            const float r = v + sign * d;
-            const float clamped = exit ? std::max(r, 0.0f) : r;
-            return free_space ? 0.0f : clamped;
+        const auto step = [sign, exit, free_space](Float4 v, Float4 d) {
+            const Float4 zero{};
+            const Float4 r = v + sign * d;
+            // max(r, 0) lane by lane, as std::max(r, 0.0f): r unless r < 0.
+            const Float4 clamped = exit ? (r < zero ? zero : r) : r;
+            return free_space ? zero : clamped;
         };
-        st.sigma_t = step(st.sigma_t, m.tau);
-        for (int a = 0; a < 3; ++a) {
-            st.sigma_s[a] = step(st.sigma_s[a], m.scatter[a]);
-            if (!kPlain) {
-                st.sigma_sun[a] = step(st.sigma_sun[a], m.sun_scatter[a]);
-                st.sigma_e[a] = step(st.sigma_e[a], m.emission[a]);
-            }
+        st.sigma = step(st.sigma, extinction_scatter_[k]);
+        if (!kPlain) {
+            const LitMedium& m = lit_media_[k];
+            st.sigma_sun = step(st.sigma_sun, m.sun_scatter);
+            st.sigma_e = step(st.sigma_e, m.emission);
         }
         return true;
     }
@@ -512,7 +514,9 @@ private:
     float min_transmittance_;
     bool accurate_shadows_;
     bool plain_ = true;
-    std::vector<Medium> media_;
+    std::vector<Float4> extinction_scatter_;  // per sphere, {tau, tau * albedo}
+    std::vector<LitMedium> lit_media_;        // per sphere, the rest its events add and remove
+    std::vector<TileSphere> geometry_;        // per sphere, what list_tile copies (bound_bits 0)
     dvec3 sun_unit_{0.0};
     dvec3 ambient_{0.0};
     dvec3 lighting_sun_{0.0};

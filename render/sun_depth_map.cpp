@@ -86,7 +86,11 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
     u_lo_ = u_lo - cell;
     v_lo_ = v_lo - cell;
     s_lo_ = s_lo;
-    depth_.assign(std::size_t(nu) * std::size_t(nv) * std::size_t(ns), 0.0f);
+    const std::size_t vertex_count = std::size_t(nu) * std::size_t(nv) * std::size_t(ns);
+    // Left unwritten here: each band writes every vertex of its rows exactly once (below), so a frame
+    // pays one streaming pass over the map, in parallel, not a zeroing pass before it.
+    depth_.reset(new float[vertex_count]);
+    size_ = vertex_count;
 
     // Each band of rows lists the spheres whose disc reaches it, in scene order (two counting passes),
     // so that bands are splatted in parallel without sharing a vertex, and the sums' order is fixed:
@@ -117,10 +121,14 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
     }
 
     const std::size_t column = std::size_t(ns);
-    const std::size_t band_vertices = std::size_t(kBandRows) * std::size_t(nu) * column;
+    const std::size_t band_columns = std::size_t(kBandRows) * std::size_t(nu);
+    // A worker's scratch for the band it splats: each cell's share of the chords that end in it
+    // (`ends`) and the whole-cell runs as differences (`runs`), per column of the band; and for each
+    // column the highest cell a chord reached (-1: none). Zeroed once per worker, and put back to zero
+    // as the sums read it, so a band costs what its spheres touch, not the band's size.
     struct Scratch {
-        std::vector<float> runs;           // the band's whole-cell runs, as differences
-        std::vector<std::uint8_t> touched;  // the band's columns some sphere reached
+        std::vector<float> ends, runs;
+        std::vector<int> top;
     };
     std::vector<Scratch> scratch(std::size_t(worker_count(threads, std::size_t(bands))));
     parallel_for(std::size_t(bands), threads, [&](std::size_t band, int worker) {
@@ -128,12 +136,14 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
         // depth(k) = sum over cells c >= k of inc(c), cell c = [s_c, s_c+1], inc(c) = sum tau |cell ∩ chord|.
         // A chord adds tau * cell to every cell it covers whole, and a fraction to the one or two cells
         // its ends lie in: the whole cells go in as a difference (`runs`: +tau cell at the run's top cell,
-        // -tau cell below its bottom cell), the end cells straight into the map, so each column a sphere
-        // crosses costs O(1), not O(chord). Two suffix sums per column, in double, then give the depths.
-        std::vector<float>& runs = scratch[std::size_t(worker)].runs;
-        std::vector<std::uint8_t>& touched = scratch[std::size_t(worker)].touched;
-        runs.assign(band_vertices, 0.0f);
-        touched.assign(std::size_t(kBandRows) * std::size_t(nu), 0);
+        // -tau cell below its bottom cell), the end cells into `ends`, so each column a sphere crosses
+        // costs O(1), not O(chord). Two suffix sums per column, in double, then give the depths.
+        Scratch& w = scratch[std::size_t(worker)];
+        if (w.top.empty()) {
+            w.ends.assign(band_columns * column, 0.0f);
+            w.runs.assign(band_columns * column, 0.0f);
+            w.top.assign(band_columns, -1);
+        }
         const int row0 = int(band) * kBandRows, row1 = std::min(row0 + kBandRows, nv);
         const int top_cell = ns - 2;  // cells 0 .. ns - 2 lie between the ns vertices
         // The cell an end lies in; by the inverse spacing (a product, not a quotient: two per column). An
@@ -160,10 +170,11 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                     if (!(h2 > 0.0)) continue;
                     const double half = std::sqrt(h2);
                     const double top = p.s + half, bottom = p.s - half;
-                    touched[std::size_t(j - row0) * std::size_t(nu) + std::size_t(i)] = 1;
-                    const std::size_t local = (std::size_t(j - row0) * std::size_t(nu) + std::size_t(i)) * column;
-                    float* inc = depth_.data() + (std::size_t(j) * std::size_t(nu) + std::size_t(i)) * column;
+                    const std::size_t local_column = std::size_t(j - row0) * std::size_t(nu) + std::size_t(i);
+                    const std::size_t local = local_column * column;
+                    float* inc = w.ends.data() + local;
                     const int cb = cell_of(bottom), ct = cell_of(top);
+                    w.top[local_column] = std::max(w.top[local_column], ct);
                     if (cb == ct) {
                         inc[cb] += float(p.tau * (top - bottom));
                         continue;
@@ -171,38 +182,56 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                     inc[cb] += float(p.tau * (s_lo_ + double(cb + 1) * cell - bottom));
                     inc[ct] += float(p.tau * (top - (s_lo_ + double(ct) * cell)));
                     if (ct - 1 > cb) {  // whole cells cb + 1 .. ct - 1
-                        runs[local + std::size_t(ct - 1)] += whole_cell;
-                        runs[local + std::size_t(cb)] -= whole_cell;
+                        w.runs[local + std::size_t(ct - 1)] += whole_cell;
+                        w.runs[local + std::size_t(cb)] -= whole_cell;
                     }
                 }
             }
         }
-        // The suffix sums, kColumnsAtOnce columns side by side: each column's sum is one chain of
-        // dependent additions, so taking several at each step keeps the adder busy (the same sums in the
-        // same order: the values do not change). A column no sphere reached holds 0 and is skipped.
+        // Every vertex of the band's rows, written once: 0 above a column's highest chord (and in a
+        // column no chord reached), then the suffix sums from there down, kColumnsAtOnce columns side by
+        // side: each column's sum is one chain of dependent additions, so taking several at each step
+        // keeps the adder busy (the same sums in the same order: the values do not depend on how the
+        // columns are grouped).
         for (int j = row0; j < row1; ++j)
             for (int i = 0; i < nu; i += kColumnsAtOnce) {
                 int ids[kColumnsAtOnce];
-                int n = 0;
-                for (int c = i; c < std::min(i + kColumnsAtOnce, nu); ++c)
-                    if (touched[std::size_t(j - row0) * std::size_t(nu) + std::size_t(c)]) ids[n++] = c;
+                int n = 0, highest = -1;
+                for (int c = i; c < std::min(i + kColumnsAtOnce, nu); ++c) {
+                    const std::size_t local_column = std::size_t(j - row0) * std::size_t(nu) + std::size_t(c);
+                    float* out = depth_.get() + (std::size_t(j) * std::size_t(nu) + std::size_t(c)) * column;
+                    const int top = w.top[local_column];
+                    std::fill(out + (top + 1), out + ns, 0.0f);  // vertices above the highest chord's cell
+                    if (top < 0) continue;
+                    ids[n++] = c;
+                    highest = std::max(highest, top);
+                }
                 if (n == 0) continue;
-                const float* run[kColumnsAtOnce];
+                float* end[kColumnsAtOnce];
+                float* run[kColumnsAtOnce];
                 float* out[kColumnsAtOnce];
+                int top[kColumnsAtOnce];
                 double whole[kColumnsAtOnce], depth[kColumnsAtOnce];
                 for (int c = 0; c < n; ++c) {
-                    run[c] = runs.data() + (std::size_t(j - row0) * std::size_t(nu) + std::size_t(ids[c])) * column;
-                    out[c] = depth_.data() + (std::size_t(j) * std::size_t(nu) + std::size_t(ids[c])) * column;
-                    // Vertex ns - 1 lies at or above every top: 0. Then down, cell k's increment each step.
-                    out[c][ns - 1] = 0.0f;
+                    const std::size_t local_column = std::size_t(j - row0) * std::size_t(nu) + std::size_t(ids[c]);
+                    end[c] = w.ends.data() + local_column * column;
+                    run[c] = w.runs.data() + local_column * column;
+                    out[c] = depth_.get() + (std::size_t(j) * std::size_t(nu) + std::size_t(ids[c])) * column;
+                    top[c] = w.top[local_column];
+                    w.top[local_column] = -1;
                     whole[c] = 0.0;
                     depth[c] = 0.0;
                 }
-                for (int k = top_cell; k >= 0; --k)
+                // Down from the highest top of the group; a column joins at its own top (above it, its
+                // vertices are 0 and its sums would add zeros).
+                for (int k = highest; k >= 0; --k)
                     for (int c = 0; c < n; ++c) {
+                        if (k > top[c]) continue;
                         whole[c] += double(run[c][k]);
-                        depth[c] += double(out[c][k]) + whole[c];
+                        depth[c] += double(end[c][k]) + whole[c];
                         out[c][k] = float(depth[c]);
+                        run[c][k] = 0.0f;
+                        end[c][k] = 0.0f;
                     }
             }
     });

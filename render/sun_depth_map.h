@@ -21,6 +21,8 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <memory>
+#include <span>
 #include <vector>
 
 namespace brume {
@@ -38,7 +40,7 @@ public:
     // The most any budget allows: a vertex's index stays an int.
     static constexpr std::size_t kMaxVertices = std::size_t(1) << 30;
 
-    bool empty() const { return depth_.empty(); }
+    bool empty() const { return size_ == 0; }
     float cell() const { return cell_; }
     int size_u() const { return nu_; }
     int size_v() const { return nv_; }
@@ -47,7 +49,7 @@ public:
     // For the GPU's copy (shaders/shared.h SunGridHeader): the vertices, (j * nu + i) * ns + k; the
     // origin's lattice coordinates; the inverse spacing. The axes are the SunLight's grid_u, grid_v and
     // toward_sun.
-    const std::vector<float>& values() const { return depth_; }
+    std::span<const float> values() const { return {depth_.get(), size_}; }
     glm::dvec3 origin_coordinates() const { return glm::dvec3(-u_lo_, -v_lo_, -s_lo_) / cell_d_; }
     double inverse_cell() const { return 1.0 / cell_d_; }
 
@@ -66,7 +68,7 @@ public:
         // 32-bit indices: the lattice holds at most kMaxVertices (a constructor's bound).
         const int i = int(gu), j = int(gv), k = std::min(int(gs), ns_ - 2);
         const float fu = gu - float(i), fv = gv - float(j), fs = gs - float(k);
-        const float* p = depth_.data() + ((j * nu_ + i) * ns_ + k);
+        const float* p = depth_.get() + ((j * nu_ + i) * ns_ + k);
         const auto along_s = [fs](const float* q) { return q[0] + fs * (q[1] - q[0]); };
         const float a = along_s(p), b = along_s(p + ns_), c = along_s(p + stride_v_), e = along_s(p + stride_v_ + ns_);
         const float ab = a + fu * (b - a), ce = c + fu * (e - c);
@@ -81,7 +83,10 @@ private:
     int nu_ = 0, nv_ = 0, ns_ = 0;
     int stride_v_ = 0;                             // nu_ * ns_: from one row of columns to the next
     float last_u_ = 0.0f, last_v_ = 0.0f, last_s_ = 0.0f;  // nu_ - 1, nv_ - 1, ns_ - 1
-    std::vector<float> depth_;  // (j * nu + i) * ns + k: vertex (u_lo + i cell, v_lo + j cell, s_lo + k cell)
+    // (j * nu + i) * ns + k: vertex (u_lo + i cell, v_lo + j cell, s_lo + k cell). Not a std::vector,
+    // whose resize would zero the whole map before the build writes every vertex anyway.
+    std::unique_ptr<float[]> depth_;
+    std::size_t size_ = 0;
 };
 
 }  // namespace brume

@@ -18,19 +18,6 @@ constexpr int kMaxGridSide = 2048;
 
 dvec3 perpendicular(const dvec3& v, const dvec3& l) { return v - glm::dot(v, l) * l; }
 
-// Length of the ray x + s l (s > 0, l unit) inside the sphere (c, r^2). Through the whole sphere the length
-// is the chord 2 sqrt(disc) itself, not the difference of its far and near roots (which cancels far away).
-double ray_length_inside(const dvec3& x, const dvec3& l, const dvec3& c, double r2) {
-    const dvec3 oc = x - c;
-    const double b = glm::dot(oc, l);
-    const dvec3 perp = oc - b * l;
-    const double disc = r2 - glm::dot(perp, perp);
-    if (!(disc > 0.0)) return 0.0;
-    const double s = std::sqrt(disc);
-    if (-b - s >= 0.0) return 2.0 * s;  // the sphere lies wholly ahead
-    return std::max(s - b, 0.0);         // x inside (or the sphere behind: s - b <= 0)
-}
-
 void add_if_inside(double t, double t0, double t1, std::vector<double>& out) {
     if (t > t0 && t < t1) out.push_back(t);
 }
@@ -112,22 +99,39 @@ SunLight::SunLight(const Scene& scene) : shadows_(scene.lighting.shadows), boxes
                       const double ka = sun_end(scene.spheres[a]), kb = sun_end(scene.spheres[b]);
                       return ka != kb ? ka > kb : a < b;
                   });
+    // The same lists as light-space discs side by side, for optical_depth's walk.
+    cell_discs_.resize(cell_items_.size());
+    for (std::size_t n = 0; n < cell_items_.size(); ++n) {
+        const Disc& d = discs_[cell_items_[n]];
+        cell_discs_[n] = LightDisc{glm::dot(d.center, u_), glm::dot(d.center, v_), glm::dot(d.center, l_), d.radius2,
+                                   d.tau, d.sun_end};
+    }
 }
 
 double SunLight::sun_end(const Sphere& s) const { return glm::dot(s.center, l_) + s.radius; }
 
 double SunLight::optical_depth(const dvec3& x) const {
     if (!shadows_ || grid_n_ == 0) return 0.0;
-    const int i = int(std::floor((glm::dot(x, u_) - grid_u0_) / cell_));
-    const int j = int(std::floor((glm::dot(x, v_) - grid_v0_) / cell_));
+    const double xu = glm::dot(x, u_), xv = glm::dot(x, v_), xs = glm::dot(x, l_);
+    const int i = int(std::floor((xu - grid_u0_) / cell_));
+    const int j = int(std::floor((xv - grid_v0_) / cell_));
     if (i < 0 || j < 0 || i >= grid_n_ || j >= grid_n_) return 0.0;  // outside every shadow cylinder
     const std::size_t c = std::size_t(j) * grid_n_ + i;
     double depth = 0.0;
-    const double x_end = glm::dot(x, l_);
+    // The length of the ray x + s l (s > 0) inside each sphere, in light space: the ray is the line
+    // (xu, xv) along s, so its distance from the sphere's axis is in u and v alone, and b = dot(x - c, l)
+    // is xs - cs. Through the whole sphere the length is the chord 2 sqrt(disc) itself, not the
+    // difference of its far and near roots (which cancels far away). The lit ground asks this once per
+    // pixel of trace's frame, over every sphere above it.
     for (std::uint32_t n = cell_start_[c]; n < cell_start_[c + 1]; ++n) {
-        const Disc& d = discs_[cell_items_[n]];
-        if (d.sun_end <= x_end) break;  // this sphere and the rest lie behind x (the lists' order)
-        if (d.tau > 0.0) depth += d.tau * ray_length_inside(x, l_, d.center, d.radius2);
+        const LightDisc& d = cell_discs_[n];
+        if (d.sun_end <= xs) break;  // this sphere and the rest lie behind x (the lists' order)
+        const double du = xu - d.u, dv = xv - d.v;
+        const double disc = d.radius2 - (du * du + dv * dv);
+        if (!(disc > 0.0) || !(d.tau > 0.0)) continue;
+        const double half = std::sqrt(disc);
+        const double b = xs - d.s;
+        depth += d.tau * (-b - half >= 0.0 ? 2.0 * half : std::max(half - b, 0.0));
     }
     return depth;
 }

@@ -59,6 +59,14 @@ private:
         double tau;
         double sun_end;  // dot(center, l) + radius: how far toward the sun the sphere reaches
     };
+    // A sphere in light space (u, v across the sun's rays, s = dot(centre, l) along them), as each
+    // grid cell lists it (cell_discs_ parallels cell_items_).
+    struct LightDisc {
+        double u, v, s;
+        double radius2;
+        double tau;
+        double sun_end;
+    };
     double sun_end(const Sphere& s) const;
 
     bool shadows_;
@@ -72,6 +80,7 @@ private:
     int grid_n_ = 0;
     std::vector<std::uint32_t> cell_start_;  // grid_n_^2 + 1 offsets into cell_items_
     std::vector<std::uint32_t> cell_items_;
+    std::vector<LightDisc> cell_discs_;  // cell_items_'s spheres, side by side: a lookup reads one run
 };
 
 // T_sun at each sphere's centre (the sphere's own medium included), in the order of scene.spheres; all 1

@@ -106,7 +106,7 @@ void FrameResources::upload(const Scene& scene) {
         sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_start().begin(), sun_light.cell_start().end());
         sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_items().begin(), sun_light.cell_items().end());
     }
-    write_sun_buffer(nullptr);
+    write_sun_buffer({});
     if (resize || new_spheres || new_boxes || new_grid) write_frame_bindings(descriptors_);
     auto* boxes = box_buffer_.as<gpu::GpuBox>();
     for (std::size_t i = 0; i < scene.boxes.size(); ++i) boxes[i] = gpu::to_gpu(scene.boxes[i]);
@@ -117,8 +117,8 @@ void FrameResources::upload(const Scene& scene) {
     background_ = glm::vec3(scene.lighting.background);
 }
 
-void FrameResources::write_sun_buffer(const std::vector<float>* map) {
-    const std::size_t words = sun_grid_words_.size() + (map ? map->size() : 0);
+void FrameResources::write_sun_buffer(std::span<const float> map) {
+    const std::size_t words = sun_grid_words_.size() + map.size();
     const VkDeviceSize bytes_needed = sizeof(gpu::SunGridHeader) + std::max<std::size_t>(words, 1) * sizeof(std::uint32_t);
     if (sun_grid_buffer_.size() < bytes_needed) {
         device_.wait_idle();  // a presenter's pass of the last frame may still hold the set
@@ -130,7 +130,7 @@ void FrameResources::write_sun_buffer(const std::vector<float>* map) {
     auto* bytes = sun_grid_buffer_.as<std::uint8_t>();
     auto* out = reinterpret_cast<std::uint32_t*>(bytes + sizeof(gpu::SunGridHeader));
     std::memcpy(out, sun_grid_words_.data(), sun_grid_words_.size() * sizeof(std::uint32_t));
-    if (map) std::memcpy(out + sun_grid_words_.size(), map->data(), map->size() * sizeof(float));
+    if (!map.empty()) std::memcpy(out + sun_grid_words_.size(), map.data(), map.size() * sizeof(float));
     std::memcpy(bytes, &sun_header_, sizeof sun_header_);
 }
 
@@ -147,7 +147,7 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     sun_header_.map_origin = gpu::vec4(float(o.x), float(o.y), float(o.z), float(map.inverse_cell()));
     sun_header_.map_size = gpu::uvec4(gpu::uint(map.size_u()), gpu::uint(map.size_v()), gpu::uint(map.size_s()),
                                       gpu::uint(sun_grid_words_.size()));
-    write_sun_buffer(&map.values());
+    write_sun_buffer(map.values());
 }
 
 void FrameResources::record_opaque_pass(VkCommandBuffer cmd) const {

@@ -14,6 +14,7 @@
 #include "sim/scene.h"
 
 #include <cstdint>
+#include <span>
 
 namespace brume {
 
@@ -76,9 +77,9 @@ private:
     gpu::SunGridHeader sun_header_{};
     std::vector<std::uint32_t> sun_grid_words_;
     bool sun_depth_map_done_ = false;
-    // Writes the header and the grid words, then `map` (may be null) after them, growing the buffer
+    // Writes the header and the grid words, then `map` (may be empty) after them, growing the buffer
     // when it must (after waiting for the device) and rewriting the opaque pass's set then.
-    void write_sun_buffer(const std::vector<float>* map);
+    void write_sun_buffer(std::span<const float> map);
     vk::DeviceImage opaque_image_;
     vk::DeviceImage depth_image_;
     vk::DeviceImage hdr_image_;

@@ -5,10 +5,11 @@
 //
 // How: the spheres are sorted near to far by a lower bound of their event distances
 // (render/nearest_bounds.h) and binned into 8x8-pixel tiles (render/tile_bins.h). Each pixel takes its
-// tile's spheres in that order and keeps its pending events in a short sorted run; when a sphere
-// arrives, every pending event before its bound is final (no later sphere has an event before it) and
-// is integrated at once. So the events are integrated in exact order, and once transmittance falls
-// below the scene's min_transmittance the ray stops: the spheres behind are never intersected.
+// tile's spheres in that order and keeps its pending events in two sorted runs, entries and exits;
+// when a sphere arrives, every pending event before its bound is final (no later sphere has an event
+// before it), and every eighth sphere the final events are merged from the two runs and integrated. So
+// the events are integrated in exact order, and once transmittance falls below the scene's
+// min_transmittance the ray stops: the spheres behind are never intersected (at most eight too many are).
 //
 // What differs from the reference is float arithmetic only (the same as the GPU methods' exact
 // integrator, shaders/exact_integrator.glsl): the opaque surfaces are the reference's own

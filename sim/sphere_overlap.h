@@ -12,9 +12,9 @@
 
 namespace brume {
 
-// The first pair (by sweep order) of spheres with |c_a - c_b| < r_a + r_b, ignoring spheres with
-// no extinction; nullopt when every pair is disjoint or merely touching. O(n log n) plus the pairs
-// whose x-extents overlap.
+// A pair (lower index first) of spheres with |c_a - c_b| < r_a + r_b, ignoring spheres with no
+// extinction; nullopt when every pair is disjoint or merely touching. Neighbours in scene order are
+// tried first (O(n)); then a sweep along x, O(n log n) plus the pairs whose x-extents overlap.
 std::optional<std::pair<std::size_t, std::size_t>> find_intersecting_spheres(const std::vector<Sphere>& spheres);
 
 // Indices of `spheres` ordered front to back by power distance from `eye` (ties by index).

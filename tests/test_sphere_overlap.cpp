@@ -35,7 +35,7 @@ TEST(SphereOverlap, FindsAnOverlapAndIgnoresEmptyMedia) {
 TEST(SphereOverlap, AgreesWithBruteForceOnRandomScenes) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u(0.0, 1.0);
-    int with = 0, without = 0;
+    int with = 0, without = 0, by_neighbours = 0, by_sweep = 0;
     for (int trial = 0; trial < 200; ++trial) {
         std::vector<Sphere> s;
         const int n = 2 + int(u(rng) * 40);
@@ -46,11 +46,23 @@ TEST(SphereOverlap, AgreesWithBruteForceOnRandomScenes) {
                 const glm::dvec3 d = s[a].center - s[b].center;
                 brute = glm::dot(d, d) < (s[a].radius + s[b].radius) * (s[a].radius + s[b].radius);
             }
-        EXPECT_EQ(find_intersecting_spheres(s).has_value(), brute) << "trial " << trial;
+        const auto pair = find_intersecting_spheres(s);
+        EXPECT_EQ(pair.has_value(), brute) << "trial " << trial;
+        if (pair) {  // the pair named really intersects, whichever path found it
+            ASSERT_LT(pair->first, pair->second);
+            ASSERT_LT(pair->second, s.size());
+            const glm::dvec3 d = s[pair->first].center - s[pair->second].center;
+            const double reach = s[pair->first].radius + s[pair->second].radius;
+            EXPECT_LT(glm::dot(d, d), reach * reach) << "trial " << trial;
+            const bool neighbours = pair->second == pair->first + 1;
+            (neighbours ? by_neighbours : by_sweep)++;
+        }
         (brute ? with : without)++;
     }
     EXPECT_GT(with, 20);  // both outcomes were exercised
     EXPECT_GT(without, 20);
+    EXPECT_GT(by_neighbours, 2);  // and both ways of finding a pair (these scenes are sparse: few neighbours meet)
+    EXPECT_GT(by_sweep, 5);
 }
 
 TEST(SphereOverlap, PowerDistanceOrdersDisjointSpheresAlongEveryRay) {

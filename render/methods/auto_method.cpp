@@ -84,7 +84,9 @@ void AutoMethod::prepare(FrameContext& ctx) {
         last_fingerprint_ = print;
         path_ = choose(changed);
         chosen_ = path_ == kTrace ? static_cast<GpuMethod*>(&trace_) : &ppll_;
-        fragments_estimate_ = double(std::max<std::uint64_t>(estimate_fragments(scene), 1));
+        // The measured cost is per fragment; a frame not measured (a CPU device) skips the estimate,
+        // a pass over every sphere (30 ms at 1,000,000).
+        if (measuring_) fragments_estimate_ = double(std::max<std::uint64_t>(estimate_fragments(scene), 1));
     }
     decide_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start_).count();
     chosen_->prepare(ctx);

@@ -60,15 +60,27 @@ struct TileSphere {
     std::uint32_t pad;
 };
 
-// A tile's spheres, and for each of its pixels the ones whose padded pixel rectangle
-// (render/tile_bins.h) holds it, in the tile's order (near to far by bound): pixel p of the tile
-// (p = y * kTile + x) takes spheres[items[first[p]] ...  items[first[p + 1] - 1]]. A pixel so walks
-// only the spheres that may reach it, without a test (and a mispredicted branch) for the others.
+// A tile's spheres, and for each of its pixels the ones its ray meets (or, with supersampling, whose
+// padded pixel rectangle, render/tile_bins.h, holds it), in the tile's order (near to far by bound):
+// pixel p of the tile (p = y * kTile + x) takes spheres[items[first[p]] ...  items[first[p] +
+// count[p] - 1]]. A pixel so walks only the spheres that reach it, without a test (and a mispredicted
+// branch) for the others. Each pixel's run has one slot to spare (list_tile writes there).
 struct TileLists {
     std::vector<TileSphere> spheres;
     std::uint32_t first[kTile * kTile + 1];
+    std::uint32_t count[kTile * kTile];
     std::vector<std::uint32_t> items;
+    std::vector<std::uint64_t> hits;  // per tile sphere, a bit per pixel its ray meets (list_tile's)
 };
+
+// The squared distance by which the ray t (dx, dy, dz) passes inside the sphere: r^2 less the squared
+// distance of closest approach; the ray meets the sphere's volume where it is positive. One function for
+// list_tile and the tracer, so both decide alike, bit for bit.
+inline float chord_discriminant(const TileSphere& m, float dx, float dy, float dz, float& b) {
+    b = m.cx * dx + m.cy * dy + m.cz * dz;  // distance of closest approach
+    const float px = m.cx - b * dx, py = m.cy - b * dy, pz = m.cz - b * dz;
+    return m.r2 - (px * px + py * py + pz * pz);
+}
 
 // (1 - exp(-x)) / x for x >= 0 given exp(-x): the GPU's one_minus_exp_over_x (shaders/medium.glsl).
 float phi(float x, float exp_minus_x) {
@@ -216,10 +228,15 @@ public:
 
     // The tile's lists (TileLists) from its bin entries (pairs of sphere and float bound bits,
     // render/tile_bins.h), near to far by bound; `rects` are the spheres' pixel rectangles, (x0, y0)
-    // the tile's corner. Two counting passes, so each pixel's list keeps the tile's order.
+    // the tile's corner; `directions`, the float ray direction of each of its pixels (3 floats each, the
+    // tracer's own), or null with supersampling (then every pixel of a rectangle lists its sphere). Two
+    // counting passes, so each pixel's list keeps the tile's order. Whether a ray meets a sphere was the
+    // tracer's most mispredicted branch after the event order's; here it is arithmetic: every pixel of
+    // the rectangle writes the sphere into its next slot and moves on only where its ray meets it.
     void list_tile(const std::uint32_t* entries, std::size_t count, const std::vector<PixelRect>& rects, int x0,
-                   int y0, TileLists& out) const {
+                   int y0, const float* directions, TileLists& out) const {
         out.spheres.resize(count);
+        out.hits.resize(count);
         std::uint32_t counts[kTile * kTile] = {};
         const auto covered = [&](const PixelRect& r, auto&& visit) {
             for (int y = std::max(r.y0 - y0, 0); y < std::min(r.y1 - y0, int(kTile)); ++y)
@@ -227,17 +244,37 @@ public:
         };
         for (std::size_t n = 0; n < count; ++n) {
             const std::uint32_t k = entries[2 * n];
-            out.spheres[n] = geometry_[k];
-            out.spheres[n].bound_bits = entries[2 * n + 1];
-            covered(rects[k], [&](int p) { ++counts[p]; });
+            TileSphere& m = out.spheres[n];
+            m = geometry_[k];
+            m.bound_bits = entries[2 * n + 1];
+            std::uint64_t hits = 0;
+            covered(rects[k], [&](int p) {
+                std::uint32_t hit = 1;
+                if (directions) {
+                    float b;
+                    const float* d = directions + 3 * p;
+                    hit = chord_discriminant(m, d[0], d[1], d[2], b) > 0.0f ? 1u : 0u;
+                }
+                hits |= std::uint64_t(hit) << p;
+                counts[p] += hit;
+            });
+            out.hits[n] = hits;
         }
         out.first[0] = 0;
-        for (std::uint32_t p = 0; p < kTile * kTile; ++p) out.first[p + 1] = out.first[p] + counts[p];
+        for (std::uint32_t p = 0; p < kTile * kTile; ++p) {
+            out.count[p] = counts[p];
+            out.first[p + 1] = out.first[p] + counts[p] + 1;
+        }
         out.items.resize(out.first[kTile * kTile]);
         std::uint32_t next[kTile * kTile];
         std::copy(out.first, out.first + kTile * kTile, next);
-        for (std::size_t n = 0; n < count; ++n)
-            covered(rects[entries[2 * n]], [&](int p) { out.items[next[p]++] = std::uint32_t(n); });
+        for (std::size_t n = 0; n < count; ++n) {
+            const std::uint64_t hits = out.hits[n];
+            covered(rects[entries[2 * n]], [&](int p) {
+                out.items[next[p]] = std::uint32_t(n);  // a miss is overwritten, or lands in the spare slot
+                next[p] += std::uint32_t(hits >> p) & 1u;
+            });
+        }
     }
 
     // Radiance toward the eye along unit direction d, from the tile's spheres items[0, count) names,
@@ -302,10 +339,10 @@ public:
                 const std::uint64_t mark = std::uint64_t(bound > 0.0f ? bound_bits : 0u) << 32;
                 if (!flush(mark, st)) return st.color();
             }
-            // Chord of the ray t d through the sphere (the reference's sphere_chord, in float).
-            const float b = m.cx * dx + m.cy * dy + m.cz * dz;  // distance of closest approach
-            const float px = m.cx - b * dx, py = m.cy - b * dy, pz = m.cz - b * dz;
-            const float disc = m.r2 - (px * px + py * py + pz * pz);
+            // Chord of the ray t d through the sphere (the reference's sphere_chord, in float). Without
+            // supersampling list_tile listed only the spheres this ray meets, by the same test.
+            float b;
+            const float disc = chord_discriminant(m, dx, dy, dz, b);
             if (!(disc > 0.0f)) continue;
             const float s = std::sqrt(disc);
             const float q = b > 0.0f ? b + s : b - s;  // |q| >= s > 0
@@ -601,8 +638,19 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     parallel_for(tiles, options.threads, [&](std::size_t t, int worker) {
         Scratch& w = scratch[std::size_t(worker)];
         const int i0 = int(t % bins.tiles_x * kTile), j0 = int(t / bins.tiles_x * kTile);
+        // The tile's pixel rays in float, as the tracer takes them (one ray a pixel: no supersampling).
+        float directions[3 * kTile * kTile];
+        if (k == 1)
+            for (int y = 0; y < int(kTile); ++y)
+                for (int x = 0; x < int(kTile); ++x) {
+                    const dvec3 d = rays.pixel_direction(i0 + x, j0 + y);
+                    float* out = directions + 3 * (y * int(kTile) + x);
+                    out[0] = float(d.x);
+                    out[1] = float(d.y);
+                    out[2] = float(d.z);
+                }
         tracer.list_tile(bins.entries.data() + 2 * std::size_t(bins.first[t]), bins.first[t + 1] - bins.first[t], rects,
-                         i0, j0, w.lists);
+                         i0, j0, k == 1 ? directions : nullptr, w.lists);
         for (int j = j0; j < std::min(j0 + int(kTile), height); ++j) {
             for (int i = i0; i < std::min(i0 + int(kTile), width); ++i) {
                 dvec3 sum(0.0);
@@ -612,7 +660,7 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
                                                : rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
                         const std::uint32_t p = std::uint32_t((j - j0) * int(kTile) + (i - i0));
                         const std::uint32_t* items = w.lists.items.data() + w.lists.first[p];
-                        const std::size_t count = w.lists.first[p + 1] - w.lists.first[p];
+                        const std::size_t count = w.lists.count[p];
                         sum += plain ? tracer.radiance<true>(d, w.lists.spheres.data(), items, count, w.ray)
                                      : tracer.radiance<false>(d, w.lists.spheres.data(), items, count, w.ray);
                     }

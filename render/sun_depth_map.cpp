@@ -199,10 +199,12 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                 int n = 0, highest = -1;
                 for (int c = i; c < std::min(i + kColumnsAtOnce, nu); ++c) {
                     const std::size_t local_column = std::size_t(j - row0) * std::size_t(nu) + std::size_t(c);
-                    float* out = depth_.get() + (std::size_t(j) * std::size_t(nu) + std::size_t(c)) * column;
                     const int top = w.top[local_column];
-                    std::fill(out + (top + 1), out + ns, 0.0f);  // vertices above the highest chord's cell
-                    if (top < 0) continue;
+                    if (top < 0) {  // no chord: every vertex 0
+                        float* out = depth_.get() + (std::size_t(j) * std::size_t(nu) + std::size_t(c)) * column;
+                        std::fill(out, out + ns, 0.0f);
+                        continue;
+                    }
                     ids[n++] = c;
                     highest = std::max(highest, top);
                 }
@@ -210,23 +212,21 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                 float* end[kColumnsAtOnce];
                 float* run[kColumnsAtOnce];
                 float* out[kColumnsAtOnce];
-                int top[kColumnsAtOnce];
                 double whole[kColumnsAtOnce], depth[kColumnsAtOnce];
                 for (int c = 0; c < n; ++c) {
                     const std::size_t local_column = std::size_t(j - row0) * std::size_t(nu) + std::size_t(ids[c]);
                     end[c] = w.ends.data() + local_column * column;
                     run[c] = w.runs.data() + local_column * column;
                     out[c] = depth_.get() + (std::size_t(j) * std::size_t(nu) + std::size_t(ids[c])) * column;
-                    top[c] = w.top[local_column];
+                    std::fill(out[c] + (highest + 1), out[c] + ns, 0.0f);  // above the group's highest chord
                     w.top[local_column] = -1;
                     whole[c] = 0.0;
                     depth[c] = 0.0;
                 }
-                // Down from the highest top of the group; a column joins at its own top (above it, its
-                // vertices are 0 and its sums would add zeros).
+                // Down from the group's highest chord: a column whose own chords end lower adds zeros
+                // (its scratch is 0 there) and writes the 0 its vertices hold, without a branch.
                 for (int k = highest; k >= 0; --k)
                     for (int c = 0; c < n; ++c) {
-                        if (k > top[c]) continue;
                         whole[c] += double(run[c][k]);
                         depth[c] += double(end[c][k]) + whole[c];
                         out[c][k] = float(depth[c]);

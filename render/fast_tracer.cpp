@@ -19,9 +19,9 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace brume {
@@ -199,10 +199,12 @@ public:
                 if (shadow_reaches(box, sun_.toward_sun(), lo, hi))
                     shadow_volumes_.emplace_back(box, sun_.toward_sun(), eye_);
         }
-        extinction_scatter_.resize(scene.spheres.size());
-        lit_media_.resize(scene.spheres.size());
-        geometry_.resize(scene.spheres.size());
-        for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+        const std::size_t n = scene.spheres.size();
+        extinction_scatter_.resize(n);
+        lit_media_.resize(n);
+        geometry_.resize(n);
+        // What the tracer keeps of sphere k; true when it emits.
+        const auto take = [&](std::size_t k) {
             const Sphere& s = scene.spheres[k];
             const dvec3 c = s.center - eye_;
             geometry_[k] = TileSphere{float(c.x), float(c.y), float(c.z), float(s.radius * s.radius),
@@ -217,8 +219,17 @@ public:
                 m.sun_scatter[a + 1] = float(s.extinction * s.albedo[a] * centre_sun[k]);
                 m.emission[a + 1] = float(s.extinction * s.emission[a]);
             }
-            if (s.emission != dvec3(0.0)) plain_ = false;
-        }
+            return s.emission != dvec3(0.0);
+        };
+        // In chunks over the threads (a million spheres took 50 ms on one).
+        constexpr std::size_t kChunk = 4096;
+        const std::size_t chunks = (n + kChunk - 1) / kChunk;
+        std::vector<std::uint8_t> emits(chunks, 0);
+        parallel_for(chunks, threads, [&](std::size_t chunk, int) {
+            for (std::size_t k = chunk * kChunk; k < std::min(n, (chunk + 1) * kChunk); ++k)
+                if (take(k)) emits[chunk] = 1;
+        });
+        if (std::find(emits.begin(), emits.end(), 1) != emits.end()) plain_ = false;
         const Lighting& l = scene.lighting;
         const double sun_len = glm::length(l.sun_direction);
         sun_unit_ = sun_len > 0.0 ? l.sun_direction / sun_len : dvec3(0.0);
@@ -597,6 +608,26 @@ private:
 
 namespace {
 
+// The spheres' indices ordered by bound, ties by index: sorted as (bound, index) pairs, by value (an
+// index sort read the bounds at random), in a chunk per worker, then merged pairwise.
+std::vector<std::uint32_t> near_to_far(const std::vector<double>& bound, int threads) {
+    using Key = std::pair<double, std::uint32_t>;
+    const std::size_t n = bound.size();
+    std::vector<Key> keys(n);
+    for (std::size_t k = 0; k < n; ++k) keys[k] = {bound[k], std::uint32_t(k)};
+    const std::size_t chunks = std::size_t(worker_count(threads, n / 65536 + 1));
+    const auto edge = [&](std::size_t c) { return keys.begin() + std::ptrdiff_t(std::min(n, c * ((n + chunks - 1) / chunks))); };
+    parallel_for(chunks, threads, [&](std::size_t c, int) { std::sort(edge(c), edge(c + 1)); });
+    for (std::size_t width = 1; width < chunks; width *= 2)
+        parallel_for((chunks + 2 * width - 1) / (2 * width), threads, [&](std::size_t m, int) {
+            const std::size_t lo = 2 * width * m;
+            if (lo + width < chunks) std::inplace_merge(edge(lo), edge(lo + width), edge(std::min(chunks, lo + 2 * width)));
+        });
+    std::vector<std::uint32_t> order(n);
+    for (std::size_t k = 0; k < n; ++k) order[k] = keys[k].second;
+    return order;
+}
+
 // The frame, each pixel handed to store(i, j, value) once (from the worker that traced it).
 template <class Store>
 void trace_frame(const Scene& scene, const FastTraceOptions& options, const Store& store) {
@@ -612,20 +643,16 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
         throw std::invalid_argument("fast tracer: supersample " + std::to_string(k) + " (must be 1 to " +
                                     std::to_string(kMaxSupersample) + ")");
 
+    // The frame's serial part, spread over the threads where it can be: at 1,000,000 spheres it took
+    // 570 ms of a 1,970 ms frame (the rectangles twice, 165 ms, and the sort by bound, 138 ms).
     const FastTracer tracer(scene, options.threads);
     std::vector<double> bound;
     nearest_event_bounds(scene, bound);
-    std::vector<std::uint32_t> order(scene.spheres.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return bound[a] < bound[b] || (bound[a] == bound[b] && a < b); });
+    const std::vector<std::uint32_t> order = near_to_far(bound, options.threads);
+    // Each sphere's pixel rectangle, for the binning and for the tiles' pixel lists.
+    const std::vector<PixelRect> rects = sphere_pixel_rects(scene, width, height, options.threads);
     TileBins bins;
-    bin_spheres(scene, width, height, kTile, order, bound, bins);
-
-    // The rectangles bin_spheres found, again, for the tiles' pixel masks (one per sphere: cheap).
-    std::vector<PixelRect> rects(scene.spheres.size(), PixelRect{0, 0, 0, 0});
-    for (std::size_t s = 0; s < scene.spheres.size(); ++s)
-        if (!sphere_pixel_rect(scene.spheres[s], scene.camera, width, height, rects[s])) rects[s] = PixelRect{0, 0, 0, 0};
+    bin_spheres(rects, width, height, kTile, order, bound, bins);
 
     const CameraRays rays = make_camera_rays(scene.camera);
     const bool plain = tracer.plain();

@@ -1,6 +1,7 @@
 #include "render/tile_bins.h"
 
 #include "sim/camera_rays.h"
+#include "sim/parallel_for.h"
 
 #include <glm/geometric.hpp>
 
@@ -28,11 +29,9 @@ int clamp_to(double v, int lo, int hi) {
     return int(v);
 }
 
-}  // namespace
-
-bool sphere_pixel_rect(const Sphere& s, const Camera& camera, int width, int height, PixelRect& rect) {
-    const CameraRays rays = make_camera_rays(camera);
-    const double sx = glm::length(rays.right), sy = glm::length(rays.up);
+// sphere_pixel_rect with the camera's rays made once: sx and sy are the lengths of rays.right and
+// rays.up.
+bool pixel_rect(const Sphere& s, const CameraRays& rays, double sx, double sy, int width, int height, PixelRect& rect) {
     const glm::dvec3 v = s.center - rays.eye;
     const double depth = glm::dot(v, rays.forward);
     if (depth < -s.radius) return false;  // wholly behind the eye: every pixel ray looks forward
@@ -54,7 +53,35 @@ bool sphere_pixel_rect(const Sphere& s, const Camera& camera, int width, int hei
     return rect.x0 < rect.x1 && rect.y0 < rect.y1;
 }
 
+}  // namespace
+
+bool sphere_pixel_rect(const Sphere& s, const Camera& camera, int width, int height, PixelRect& rect) {
+    const CameraRays rays = make_camera_rays(camera);
+    return pixel_rect(s, rays, glm::length(rays.right), glm::length(rays.up), width, height, rect);
+}
+
+std::vector<PixelRect> sphere_pixel_rects(const Scene& scene, int width, int height, int threads) {
+    const CameraRays rays = make_camera_rays(scene.camera);
+    const double sx = glm::length(rays.right), sy = glm::length(rays.up);
+    const std::size_t n = scene.spheres.size();
+    std::vector<PixelRect> rects(n);
+    constexpr std::size_t kChunk = 4096;  // spheres per work item: a million spheres take 80 ms on one core
+    parallel_for((n + kChunk - 1) / kChunk, threads, [&](std::size_t chunk, int) {
+        for (std::size_t k = chunk * kChunk; k < std::min(n, (chunk + 1) * kChunk); ++k) {
+            const Sphere& s = scene.spheres[k];
+            if (!(s.extinction > 0.0) || !pixel_rect(s, rays, sx, sy, width, height, rects[k])) rects[k] = PixelRect{0, 0, 0, 0};
+        }
+    });
+    return rects;
+}
+
 void bin_spheres(const Scene& scene, int width, int height, std::uint32_t tile_size,
+                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins) {
+    if (tile_size == 0 || width <= 0 || height <= 0) throw std::invalid_argument("bin_spheres: empty image or tile");
+    bin_spheres(sphere_pixel_rects(scene, width, height, 1), width, height, tile_size, order, bound, bins);
+}
+
+void bin_spheres(const std::vector<PixelRect>& pixel_rects, int width, int height, std::uint32_t tile_size,
                  const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins) {
     if (tile_size == 0 || width <= 0 || height <= 0) throw std::invalid_argument("bin_spheres: empty image or tile");
     bins.tile_size = tile_size;
@@ -69,9 +96,8 @@ void bin_spheres(const Scene& scene, int width, int height, std::uint32_t tile_s
     rects.reserve(order.size());
     std::vector<std::uint64_t> count(tiles + 1, 0);
     for (std::uint32_t k : order) {
-        const Sphere& s = scene.spheres[k];
-        PixelRect r;
-        if (!(s.extinction > 0.0) || !sphere_pixel_rect(s, scene.camera, width, height, r)) continue;
+        const PixelRect& r = pixel_rects[k];
+        if (!(r.x0 < r.x1 && r.y0 < r.y1)) continue;  // no extinction, or no pixel
         const TileRect t{k, std::uint32_t(r.x0) / tile_size, std::uint32_t(r.y0) / tile_size,
                          (std::uint32_t(r.x1) + tile_size - 1) / tile_size, (std::uint32_t(r.y1) + tile_size - 1) / tile_size};
         rects.push_back(t);

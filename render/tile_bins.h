@@ -33,11 +33,17 @@ struct PixelRect {
     int x0, y0, x1, y1;
 };
 bool sphere_pixel_rect(const Sphere& sphere, const Camera& camera, int width, int height, PixelRect& rect);
+// Every sphere's rectangle, in scene order, over `threads` (0: every hardware thread); an empty one
+// ({0, 0, 0, 0}) where the sphere has no extinction or covers no pixel.
+std::vector<PixelRect> sphere_pixel_rects(const Scene& scene, int width, int height, int threads);
 
 // Bins the spheres `order` names (spheres without extinction are left out) into tiles of
 // tile_size pixels over a width x height image; bound[k] is sphere k's nearest bound
 // (render/nearest_bounds.h).
 void bin_spheres(const Scene& scene, int width, int height, std::uint32_t tile_size,
+                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins);
+// The same from rectangles sphere_pixel_rects made (empty ones are left out).
+void bin_spheres(const std::vector<PixelRect>& rects, int width, int height, std::uint32_t tile_size,
                  const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins);
 
 }  // namespace brume

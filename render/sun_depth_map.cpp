@@ -128,7 +128,7 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
     // as the sums read it, so a band costs what its spheres touch, not the band's size.
     struct Scratch {
         std::vector<float> ends, runs;
-        std::vector<int> top;
+        std::vector<int> top, bottom;
     };
     std::vector<Scratch> scratch(std::size_t(worker_count(threads, std::size_t(bands))));
     parallel_for(std::size_t(bands), threads, [&](std::size_t band, int worker) {
@@ -143,6 +143,7 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
             w.ends.assign(band_columns * column, 0.0f);
             w.runs.assign(band_columns * column, 0.0f);
             w.top.assign(band_columns, -1);
+            w.bottom.assign(band_columns, ns);
         }
         const int row0 = int(band) * kBandRows, row1 = std::min(row0 + kBandRows, nv);
         const int top_cell = ns - 2;  // cells 0 .. ns - 2 lie between the ns vertices
@@ -175,6 +176,7 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                     float* inc = w.ends.data() + local;
                     const int cb = cell_of(bottom), ct = cell_of(top);
                     w.top[local_column] = std::max(w.top[local_column], ct);
+                    w.bottom[local_column] = std::min(w.bottom[local_column], cb);
                     if (cb == ct) {
                         inc[cb] += float(p.tau * (top - bottom));
                         continue;
@@ -196,7 +198,7 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
         for (int j = row0; j < row1; ++j)
             for (int i = 0; i < nu; i += kColumnsAtOnce) {
                 int ids[kColumnsAtOnce];
-                int n = 0, highest = -1;
+                int n = 0, highest = -1, lowest = ns;
                 for (int c = i; c < std::min(i + kColumnsAtOnce, nu); ++c) {
                     const std::size_t local_column = std::size_t(j - row0) * std::size_t(nu) + std::size_t(c);
                     const int top = w.top[local_column];
@@ -207,6 +209,7 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                     }
                     ids[n++] = c;
                     highest = std::max(highest, top);
+                    lowest = std::min(lowest, w.bottom[local_column]);
                 }
                 if (n == 0) continue;
                 float* end[kColumnsAtOnce];
@@ -220,12 +223,16 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                     out[c] = depth_.get() + (std::size_t(j) * std::size_t(nu) + std::size_t(ids[c])) * column;
                     std::fill(out[c] + (highest + 1), out[c] + ns, 0.0f);  // above the group's highest chord
                     w.top[local_column] = -1;
+                    w.bottom[local_column] = ns;
                     whole[c] = 0.0;
                     depth[c] = 0.0;
                 }
-                // Down from the group's highest chord: a column whose own chords end lower adds zeros
-                // (its scratch is 0 there) and writes the 0 its vertices hold, without a branch.
-                for (int k = highest; k >= 0; --k)
+                // Down from the group's highest chord to its lowest: a column whose own chords end
+                // lower adds zeros (its scratch is 0 there) and writes the 0 its vertices hold, without
+                // a branch. Below every chord's bottom cell the runs have cancelled (whole is 0: float
+                // differences summed in double) and nothing ends, so a column's depth is its whole
+                // column's: stored, not summed.
+                for (int k = highest; k >= lowest; --k)
                     for (int c = 0; c < n; ++c) {
                         whole[c] += double(run[c][k]);
                         depth[c] += double(end[c][k]) + whole[c];
@@ -233,6 +240,7 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                         run[c][k] = 0.0f;
                         end[c][k] = 0.0f;
                     }
+                for (int c = 0; c < n; ++c) std::fill(out[c], out[c] + lowest, float(depth[c]));
             }
     });
 }

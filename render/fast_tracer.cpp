@@ -667,16 +667,17 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     parallel_for(tiles, options.threads, [&](std::size_t t, int worker) {
         Scratch& w = scratch[std::size_t(worker)];
         const int i0 = int(t % bins.tiles_x * kTile), j0 = int(t / bins.tiles_x * kTile);
-        // The tile's pixel rays in float, as the tracer takes them (one ray a pixel: no supersampling).
+        // The tile's pixel rays, and in float as the tracer takes them (one ray a pixel: no supersampling).
+        dvec3 pixel_rays[kTile * kTile];
         float directions[3 * kTile * kTile];
         if (k == 1)
             for (int y = 0; y < int(kTile); ++y)
                 for (int x = 0; x < int(kTile); ++x) {
-                    const dvec3 d = rays.pixel_direction(i0 + x, j0 + y);
-                    float* out = directions + 3 * (y * int(kTile) + x);
-                    out[0] = float(d.x);
-                    out[1] = float(d.y);
-                    out[2] = float(d.z);
+                    const int p = y * int(kTile) + x;
+                    const dvec3 d = pixel_rays[p] = rays.pixel_direction(i0 + x, j0 + y);
+                    directions[3 * p] = float(d.x);
+                    directions[3 * p + 1] = float(d.y);
+                    directions[3 * p + 2] = float(d.z);
                 }
         tracer.list_tile(bins.entries.data() + 2 * std::size_t(bins.first[t]), bins.first[t + 1] - bins.first[t], rects,
                          i0, j0, k == 1 ? directions : nullptr, w.lists);
@@ -685,9 +686,8 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
                 dvec3 sum(0.0);
                 for (int b = 0; b < k; ++b)
                     for (int a = 0; a < k; ++a) {
-                        const dvec3 d = k == 1 ? rays.pixel_direction(i, j)
-                                               : rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
                         const std::uint32_t p = std::uint32_t((j - j0) * int(kTile) + (i - i0));
+                        const dvec3 d = k == 1 ? pixel_rays[p] : rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
                         const std::uint32_t* items = w.lists.items.data() + w.lists.first[p];
                         const std::size_t count = w.lists.count[p];
                         sum += plain ? tracer.radiance<true>(d, w.lists.spheres.data(), items, count, w.ray)

@@ -1,6 +1,7 @@
-// `auto`: power-distance sorting where no spheres intersect (exact there); where they do, the faster
-// of ppll and trace (the float CPU tracer) as measured on this device. lavapipe is a CPU device, so
-// auto measures trace first here.
+// `auto`: power-distance sorting where no spheres intersect (exact there); where they do, the fastest
+// of tiles, ppll and trace (the float CPU tracer) as measured on this device, and the next one when a
+// path refuses a frame. lavapipe is a CPU device, so auto takes trace here unless a test asks it to
+// measure (then trace first, ppll, tiles).
 #include "gpu_test_env.h"
 #include "shadow_error.h"
 #include "test_scenes.h"
@@ -107,16 +108,17 @@ AutoOptions measuring() {
 }
 
 // Intersecting spheres over several frames of a moving camera: auto measures trace (after a warm-up
-// frame) and ppll, then takes the one it measured faster; every frame is exact.
-TEST_F(Auto, AnAnimationTakesTheFasterExactPathItMeasured) {
+// frame), ppll and tiles, then takes the one it measured fastest; every frame is exact.
+TEST_F(Auto, AnAnimationTakesTheFastestExactPathItMeasured) {
     Scene s = testing::random_scene(64, 48, 60, 3, false);
     AutoMethod method(device(), measuring());
     std::vector<std::string> taken;
-    double ppll = -1.0, trace = -1.0;  // as measured before frame 4 decides
-    for (int frame = 0; frame < 6; ++frame) {
-        if (frame == 4) {
+    double ppll = -1.0, trace = -1.0, tiles = -1.0;  // as measured before frame 6 decides
+    for (int frame = 0; frame < 8; ++frame) {
+        if (frame == 6) {
             ppll = method.measured_cost("ppll");
             trace = method.measured_cost("trace");
+            tiles = method.measured_cost("tiles");
         }
         s.camera.position.x = 0.3 + 0.05 * frame;  // a changed scene every frame
         FrameStats stats;
@@ -128,14 +130,54 @@ TEST_F(Auto, AnAnimationTakesTheFasterExactPathItMeasured) {
         EXPECT_EQ(stats.passes.front().name, "decide (cpu): " + taken.back());
     }
     // Frame 0 is trace's warm-up (not a measurement), frame 1 measures it, frames 2 and 3 ppll (its
-    // first frame compiles its pipelines); then the faster one.
-    EXPECT_EQ(taken[0], "trace");
-    EXPECT_EQ(taken[1], "trace");
-    EXPECT_EQ(taken[2], "ppll");
-    EXPECT_EQ(taken[3], "ppll");
+    // first frame compiles its pipelines), 4 and 5 tiles; then the fastest.
+    const std::vector<std::string> order = {"trace", "trace", "ppll", "ppll", "tiles", "tiles"};
+    for (std::size_t f = 0; f < order.size(); ++f) EXPECT_EQ(taken[f], order[f]) << "frame " << f;
     ASSERT_GT(ppll, 0.0);
     ASSERT_GT(trace, 0.0);
-    EXPECT_EQ(taken[4], trace <= ppll ? "trace" : "ppll");
+    ASSERT_GT(tiles, 0.0);
+    const double fastest = std::min({ppll, trace, tiles});
+    EXPECT_EQ(taken[6], fastest == trace ? "trace" : fastest == ppll ? "ppll" : "tiles");
+    EXPECT_EQ(taken[7], taken[6]);
+}
+
+// A path that refuses a frame (here a memory budget far below what the scene needs) is not an error
+// when another path can render it: the same frame is rendered by the next one, exactly, and the path
+// that refused counts as the slowest (it is measured again later, in turn).
+TEST_F(Auto, APathThatRefusesAFrameHandsItToTheNext) {
+    Scene s = testing::random_scene(64, 48, 60, 3, false);
+    AutoOptions o = measuring();
+    o.allow_cpu = false;  // ppll first, then tiles
+    o.ppll.max_pool_bytes = 4096;  // a few hundred nodes: every frame overflows ppll's budget
+    AutoMethod method(device(), o);
+    for (int frame = 0; frame < 4; ++frame) {
+        s.camera.position.x = 0.3 + 0.05 * frame;
+        const Image img = method.render(s, nullptr);
+        EXPECT_EQ(method.last_choice(), "tiles") << "frame " << frame;
+        const ImageDiff d = compare_with_reference(img, s);
+        EXPECT_EQ(d.pixels_over, 0u) << "frame " << frame << ": " << describe(d);
+    }
+    EXPECT_TRUE(std::isinf(method.measured_cost("ppll")));
+    EXPECT_GT(method.measured_cost("tiles"), 0.0);
+
+    // The other way round: tiles refuses, ppll (measured on the frames before) renders the frame.
+    AutoOptions t = measuring();
+    t.allow_cpu = false;
+    t.tiles.max_bytes = 4096;
+    AutoMethod lists(device(), t);
+    for (int frame = 0; frame < 4; ++frame) {
+        s.camera.position.x = 0.3 + 0.05 * frame;
+        const Image img = lists.render(s, nullptr);
+        EXPECT_EQ(lists.last_choice(), "ppll") << "frame " << frame;
+        EXPECT_EQ(compare_with_reference(img, s).pixels_over, 0u) << "frame " << frame;
+    }
+    EXPECT_TRUE(std::isinf(lists.measured_cost("tiles")));
+
+    // With every path refusing, the frame is refused: the last path's own error, never an image.
+    AutoOptions none = t;
+    none.ppll.max_pool_bytes = 4096;
+    AutoMethod neither(device(), none);
+    EXPECT_THROW(neither.render(s, nullptr), std::runtime_error);
 }
 
 // The same scene twice takes the same path (so repeated renders stay identical), and with shadows
@@ -206,6 +248,32 @@ TEST_P(AutoLongLists, AreExactOrRefusedNeverWrong) {
     } catch (const ListResolveError& e) {
         EXPECT_TRUE(p.coincident && p.nodes > 400) << e.what();
         EXPECT_NE(device().properties().deviceType, VK_PHYSICAL_DEVICE_TYPE_CPU) << "on a CPU device auto takes trace, which must not refuse: " << e.what();
+    }
+}
+
+// The GPU paths alone, as on a GPU without trace: ppll refuses the coincident lists past 400 nodes
+// on lavapipe (its loop limit), and auto hands those frames to tiles within the same frame; what
+// tiles cannot resolve either is refused. Exact or refused, never wrong.
+TEST_P(AutoLongLists, OnTheGpuPathsAloneAreExactOrRefusedNeverWrong) {
+    const LongList p = GetParam();
+    const Scene s = testing::long_list_scene(p);
+    AutoOptions o;
+    o.allow_cpu = false;
+    o.measure_on_cpu = true;
+    AutoMethod method(device(), o);
+    try {
+        const Image img = method.render(s, nullptr);
+        const ImageDiff d = compare_with_reference(img, s);
+        if (p.coincident && p.nodes >= 20000)
+            EXPECT_LE(d.max_excess, 1e-3) << describe(d);  // float sums of 20,000 extinctions (above)
+        else
+            EXPECT_EQ(d.pixels_over, 0u) << method.last_choice() << ": " << describe(d);
+        EXPECT_NE(img.pixel(7, 7)[0], img.pixel(0, 0)[0]) << "the list's medium is missing from the image";
+    } catch (const ListResolveError& e) {
+        EXPECT_TRUE(p.coincident && p.nodes > 400) << e.what();
+        // Refused only once both paths refused it within the frame.
+        EXPECT_TRUE(std::isinf(method.measured_cost("ppll"))) << e.what();
+        EXPECT_TRUE(std::isinf(method.measured_cost("tiles"))) << e.what();
     }
 }
 

@@ -87,6 +87,9 @@ void FramePath::run(GpuMethod& method, const Scene& scene, FrameStats* stats, bo
         }
         if (after == GpuMethod::After::Again) {
             ++regrows;
+            // The method may have replaced what its set points at (ppll's grown pool), or be another
+            // set altogether (auto moving to another path after one refused the frame).
+            resources_.write_frame_bindings(method.descriptors());
             continue;
         }
         if (!complete) throw std::logic_error(method.name() + ": finished a frame without completing the HDR target");

@@ -11,7 +11,9 @@
 //                                         the HDR target holds the frame
 //     after_step(ctx, step)           Done, NextStep (record step + 1 in a new submission: peel checks
 //                                         its early stop between steps), or Again (the whole frame
-//                                         again: ppll after its pool grew)
+//                                         again: ppll after its pool grew, auto after its path
+//                                         refused the frame; the frame's bindings are written
+//                                         into descriptors() again first)
 //   report(stats, ctx)                 the method's own figures and pass names
 #pragma once
 

@@ -3,6 +3,8 @@
 #include "sim/sphere_overlap.h"
 
 #include <algorithm>
+#include <limits>
+#include <optional>
 #include <bit>
 #include <cstring>
 
@@ -12,22 +14,41 @@ AutoMethod::AutoMethod(vk::Device& device, AutoOptions options)
     : GpuMethod(device),
       options_(options),
       ppll_(device, options.ppll),
+      tiles_(device, options.tiles),
       trace_(device, CpuTracer::Fast, options.threads),
       power_sorted_(device, SortedCompositor::Billboard::Spherical, SortedCompositor::SortKey::PowerDistance),
       chosen_(&ppll_) {
     // A CPU device runs the GPU methods on the same cores as trace, with rasterisation and SIMD lanes
-    // that wait for each other on top: there trace is expected to win, elsewhere ppll.
+    // that wait for each other on top: there trace is expected to win, and of the GPU paths ppll
+    // (tiles was the slower on lavapipe). On a GPU, tiles, then ppll: docs/performance.md.
     VkPhysicalDeviceProperties properties{};
     vkGetPhysicalDeviceProperties(device.physical(), &properties);
     cpu_device_ = properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-    if (options_.allow_cpu && cpu_device_) first_ = kTrace;
-    path_ = first_;
+    if (cpu_device_) {
+        if (options_.allow_cpu) candidates_.push_back(kTrace);
+        candidates_.push_back(kPpll);
+        if (options_.measure_on_cpu) candidates_.push_back(kTiles);
+        else candidates_.resize(1);  // unmeasured: the first is the only one taken
+    } else {
+        candidates_ = {kTiles, kPpll};
+        if (options_.allow_cpu) candidates_.push_back(kTrace);
+    }
+    path_ = candidates_.front();
 }
 
 double AutoMethod::measured_cost(const std::string& path) const {
+    if (path == "tiles") return cost_[kTiles];
     if (path == "ppll") return cost_[kPpll];
     if (path == "trace") return cost_[kTrace];
     return -1.0;
+}
+
+GpuMethod& AutoMethod::method_of(Path path) {
+    switch (path) {
+    case kTiles: return tiles_;
+    case kPpll: return ppll_;
+    default: return trace_;
+    }
 }
 
 // Whether two frames show the same scene, cheaply: the camera, the counts and up to 64 spheres
@@ -52,23 +73,65 @@ std::uint64_t AutoMethod::fingerprint(const Scene& scene) const {
 
 AutoMethod::Path AutoMethod::choose(bool scene_changed) {
     measuring_ = false;
-    if (!options_.allow_cpu) return kPpll;
-    if (cpu_device_ && !options_.measure_on_cpu) return kTrace;
-    const Path second = first_ == kPpll ? kTrace : kPpll;
-    if (cost_[first_] < 0.0) {  // the first intersecting frames: warm-up, then the first measurement
+    if (candidates_.size() == 1) return candidates_.front();
+    const Path first = candidates_.front();
+    if (cost_[first] < 0.0) {  // the first intersecting frames: warm-up, then the first measurement
         measuring_ = true;
-        return first_;
+        return first;
     }
     if (!scene_changed) return path_;
     ++changed_frames_;
-    if (cost_[second] < 0.0) {
-        measuring_ = true;
-        return second;
+    measuring_ = true;  // from here on the path taken keeps its figure up to date
+    for (Path p : candidates_)
+        if (cost_[p] < 0.0) return p;  // not yet measured (its first frame is its warm-up)
+    Path best = first;
+    for (Path p : candidates_)
+        if (cost_[p] < cost_[best]) best = p;
+    if (changed_frames_ % kRemeasureEvery == 0) {
+        // Another path's turn to be measured again: the scene may have moved in its favour (or a
+        // path that refused may take this scene now).
+        std::vector<Path> others;
+        for (Path p : candidates_)
+            if (p != best) others.push_back(p);
+        return others[std::size_t(remeasured_++) % others.size()];
     }
-    const Path best = cost_[kTrace] < cost_[kPpll] ? kTrace : kPpll;
-    measuring_ = true;  // the path taken keeps its figure up to date
-    if (changed_frames_ % kRemeasureEvery == 0) return best == kPpll ? kTrace : kPpll;
     return best;
+}
+
+bool AutoMethod::fall_back() {
+    cost_[path_] = std::numeric_limits<double>::infinity();  // the slowest until measured again
+    measuring_ = false;  // this frame's time holds the refused attempt
+    // The fastest path measured that this frame has not tried, else the next unmeasured one in order.
+    std::optional<Path> next;
+    for (Path p : candidates_)
+        if (!tried_[p] && cost_[p] >= 0.0 && cost_[p] < std::numeric_limits<double>::infinity() &&
+            (!next || cost_[p] < cost_[*next]))
+            next = p;
+    if (!next)
+        for (Path p : candidates_)
+            if (!tried_[p] && cost_[p] < 0.0) {
+                next = p;
+                break;
+            }
+    if (!next) return false;
+    path_ = *next;
+    tried_[path_] = true;
+    chosen_ = &method_of(path_);
+    return true;
+}
+
+void AutoMethod::prepare_chosen(FrameContext& ctx) {
+    // A path whose budget the scene exceeds says so here (tiles' lists, ppll's first pool).
+    for (;;) {
+        try {
+            chosen_->prepare(ctx);
+            return;
+        } catch (const TileBudgetError&) {
+            if (!fall_back()) throw;
+        } catch (const PoolBudgetError&) {
+            if (!fall_back()) throw;
+        }
+    }
 }
 
 void AutoMethod::prepare(FrameContext& ctx) {
@@ -78,22 +141,39 @@ void AutoMethod::prepare(FrameContext& ctx) {
     if (!intersecting) {
         chosen_ = &power_sorted_;
         measuring_ = false;
-    } else {
-        const std::uint64_t print = fingerprint(scene);
-        const bool changed = print != last_fingerprint_;
-        last_fingerprint_ = print;
-        path_ = choose(changed);
-        chosen_ = path_ == kTrace ? static_cast<GpuMethod*>(&trace_) : &ppll_;
-        // The measured cost is per fragment; a frame not measured (a CPU device) skips the estimate,
-        // a pass over every sphere (30 ms at 1,000,000).
-        if (measuring_) fragments_estimate_ = double(std::max<std::uint64_t>(estimate_fragments(scene), 1));
+        decide_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start_).count();
+        chosen_->prepare(ctx);
+        return;
     }
+    const std::uint64_t print = fingerprint(scene);
+    const bool changed = print != last_fingerprint_;
+    last_fingerprint_ = print;
+    path_ = choose(changed);
+    chosen_ = &method_of(path_);
+    tried_ = {};
+    tried_[path_] = true;
+    // The measured cost is per fragment; a frame not measured (a CPU device) skips the estimate,
+    // a pass over every sphere (30 ms at 1,000,000).
+    if (measuring_) fragments_estimate_ = double(std::max<std::uint64_t>(estimate_fragments(scene), 1));
     decide_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start_).count();
-    chosen_->prepare(ctx);
+    prepare_chosen(ctx);
 }
 
 GpuMethod::After AutoMethod::after_step(FrameContext& ctx, int step) {
-    const After after = chosen_->after_step(ctx, step);
+    After after = After::Done;
+    try {
+        after = chosen_->after_step(ctx, step);
+    } catch (const ListResolveError&) {
+        // The frame was refused, never written wrong: another path renders it from the start (the
+        // frame path writes its bindings into the new path's set before it records again).
+        if (chosen_ == &power_sorted_ || !fall_back()) throw;
+        prepare_chosen(ctx);
+        return After::Again;
+    } catch (const PoolBudgetError&) {
+        if (chosen_ == &power_sorted_ || !fall_back()) throw;
+        prepare_chosen(ctx);
+        return After::Again;
+    }
     if (after == After::Done && measuring_) {
         // The whole frame on the wall clock: CPU work and the GPU's, as the user waits for it.
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start_).count();

@@ -5,18 +5,22 @@
 // the opaque surface, and needs no per-pixel lists. The choice is made per frame on the CPU
 // (sim/sphere_overlap.h, O(n log n); why: docs/decisions.md, "`auto` decides per frame on the CPU").
 //
-// Frames with intersecting spheres take the fastest exact path measured on this device: ppll, or
-// `trace`, the float CPU tracer (render/fast_tracer.h; on a CPU device such as lavapipe it is the
-// faster by far: docs/performance.md, "trace"). On a CPU device trace is taken without measuring
-// (it was the faster at every size and scene measured there, and an image should not depend on the
-// machine's load); elsewhere the paths are measured. The first measured frame takes the path expected
-// to be faster, trace on a CPU device and ppll on a GPU; a path's first frame is a warm-up (pipelines,
-// caches) and is not counted as a measurement. Each later frame whose scene differs from the last
-// one's may try a path not yet measured; after that the frame takes the path with the lowest
-// measured cost per estimated fragment, and every kRemeasureEvery changed frames the other path is
-// measured again, so the choice follows a scene that changes. A frame of the same scene as the last
-// one takes the same path, so repeated renders stay identical. The stats say which path was taken
-// (the "decide (cpu): ..." pass), and last_choice() names it.
+// Frames with intersecting spheres take the fastest exact path measured on this device: `tiles`
+// (compute, render/methods/tiles.h), ppll, or `trace`, the float CPU tracer (render/fast_tracer.h).
+// On a CPU device such as lavapipe trace is the faster by far (docs/performance.md, "trace") and is
+// taken without measuring: an image should not depend on the machine's load. On a GPU the paths are
+// measured, tiles first: on an NVIDIA H200 it was 5-16x faster than ppll and 9-49x faster than the
+// CPU reference on bench scale's clouds, where ppll was slower than that reference from 10,000
+// spheres up (docs/performance.md, "On an NVIDIA H200"). A path's first frame is a warm-up
+// (pipelines, caches) and is not counted as a measurement; the first path is measured on the frames
+// after it, and each later frame whose scene differs from the last one's measures a path not yet
+// measured, in order. After that the frame takes the path with the lowest measured cost per
+// estimated fragment, and every kRemeasureEvery changed frames another path is measured again (in
+// turn), so the choice follows a scene that changes. A frame of the same scene as the last one takes
+// the same path, so repeated renders stay identical. A path that refuses a frame (tiles' or ppll's
+// budget, a device's loop limit: never a wrong image) is redone at once by the next path, within the
+// same frame, and counts as the slowest until it is measured again. The stats say which path was
+// taken (the "decide (cpu): ..." pass), and last_choice() names it.
 //
 // One difference remains for the sorted path: the compositor integrates every sphere, while ppll
 // and the reference stop once transmittance falls below the scene's min_transmittance. What lies
@@ -28,18 +32,21 @@
 #include "render/methods/ppll.h"
 #include "render/methods/cpu_trace_pass.h"
 #include "render/methods/sorted.h"
+#include "render/methods/tiles.h"
 
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <vector>
 
 namespace brume {
 
 struct AutoOptions {
     PpllOptions ppll;            // the lists for the frames that take ppll (--max-memory reaches them here)
+    TilesOptions tiles;          // the tile lists for the frames that take tiles (--max-memory too)
     int threads = 0;             // trace's threads (--threads); 0: all
-    bool allow_cpu = true;       // false: intersecting frames always take ppll
-    bool measure_on_cpu = false; // true: measure the two paths on a CPU device too (tests, experiments)
+    bool allow_cpu = true;       // false: intersecting frames never take trace (ppll on a CPU device)
+    bool measure_on_cpu = false; // true: measure the paths on a CPU device too (tests, experiments)
 };
 
 class AutoMethod : public GpuMethod {
@@ -50,10 +57,11 @@ public:
     explicit AutoMethod(vk::Device& device, AutoOptions options = {});
     std::string name() const override { return "auto"; }
     bool exact() const override { return true; }
-    // Which path rendered the last frame: "power-sorted", "ppll" or "trace".
+    // Which path rendered the last frame: "power-sorted", "tiles", "ppll" or "trace".
     std::string last_choice() const { return chosen_->name() == "sorted" ? "power-sorted" : chosen_->name(); }
     const PpllMethod& ppll() const { return ppll_; }
-    // The measured cost of a path in ms per estimated fragment; negative until measured.
+    // The measured cost of a path ("tiles", "ppll", "trace") in ms per estimated fragment; negative
+    // until measured, infinite after it refused a frame.
     double measured_cost(const std::string& path) const;
 
     // The frame path's side: prepare() decides, then every call goes to the method chosen.
@@ -66,24 +74,33 @@ public:
     void report(FrameStats& stats, const FrameContext& ctx) override;
 
 private:
-    enum Path { kPpll = 0, kTrace = 1, kPaths = 2 };
+    enum Path { kTiles = 0, kPpll = 1, kTrace = 2, kPaths = 3 };
     Path choose(bool scene_changed);
+    GpuMethod& method_of(Path path);
+    // After `path_` refused this frame: makes the next path to try the chosen one, or returns false
+    // when none is left.
+    bool fall_back();
+    // chosen_->prepare(), moving on to the next path while one refuses the scene's budget.
+    void prepare_chosen(FrameContext& ctx);
     std::uint64_t fingerprint(const Scene& scene) const;
 
     AutoOptions options_;
     PpllMethod ppll_;
+    TilesMethod tiles_;
     CpuTracePass trace_;
     SortedCompositor power_sorted_;
     GpuMethod* chosen_;
     double decide_ms_ = 0.0;
     // What the measurements know.
-    std::array<double, kPaths> cost_{-1.0, -1.0};  // ms per estimated fragment
-    std::array<bool, kPaths> warm_{false, false};  // a path's first frame (pipelines compiled) is not a measurement
+    std::array<double, kPaths> cost_{-1.0, -1.0, -1.0};   // ms per estimated fragment; infinite: refused
+    std::array<bool, kPaths> warm_{false, false, false};  // a path's first frame (pipelines compiled) is not a measurement
+    std::vector<Path> candidates_;                 // the paths this device may take, the one expected fastest first
     bool cpu_device_ = false;
-    Path first_ = kPpll;                           // the path measured first: the one expected to be faster
     Path path_ = kPpll;                            // the last intersecting frame's path
     bool measuring_ = false;                       // this frame's time goes into cost_[path_]
+    std::array<bool, kPaths> tried_{};             // the paths this frame tried (a refusal moves on to another)
     int changed_frames_ = 0;                       // intersecting frames whose scene changed
+    int remeasured_ = 0;                           // how many re-measurements were made (whose turn is next)
     std::uint64_t last_fingerprint_ = 0;
     double fragments_estimate_ = 0.0;
     std::chrono::steady_clock::time_point frame_start_;

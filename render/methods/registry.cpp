@@ -52,6 +52,7 @@ std::unique_ptr<Method> make_tiles(vk::Device* device, const std::string&, const
 std::unique_ptr<Method> make_auto(vk::Device* device, const std::string&, const MethodOptions& options) {
     AutoOptions a;
     a.ppll = ppll_options(options);
+    a.tiles.max_bytes = options.max_pool_bytes;
     a.threads = options.threads;
     return std::make_unique<AutoMethod>(*device, a);
 }
@@ -92,8 +93,8 @@ const std::vector<MethodEntry>& method_catalogue() {
         {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)", false, true, false,
          kHonoursThreads, {}, &make_reference},
         {"auto", "", "",
-         "per frame the cheapest exact path: power-distance sorted spheres when none intersect, else the faster of "
-         "ppll and trace as measured on this device (trace first on a CPU device)",
+         "per frame the cheapest exact path: power-distance sorted spheres when none intersect, else the fastest of "
+         "tiles, ppll and trace as measured on this device (trace, unmeasured, on a CPU device)",
          true, true, false, kHonoursMaxMemory | kHonoursThreads, {}, &make_auto},
         {"sorted", "", "",
          "painter's algorithm: planar billboards sorted back to front by centre (insertion sort reusing last "

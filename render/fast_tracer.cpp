@@ -654,7 +654,7 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     // Each sphere's pixel rectangle, for the binning and for the tiles' pixel lists.
     const std::vector<PixelRect> rects = sphere_pixel_rects(scene, width, height, options.threads);
     TileBins bins;
-    bin_spheres(rects, width, height, kTile, order, bound, bins);
+    bin_spheres(rects, width, height, kTile, order, bound, bins, options.threads);
 
     const CameraRays rays = make_camera_rays(scene.camera);
     const bool plain = tracer.plain();

@@ -76,58 +76,85 @@ std::vector<PixelRect> sphere_pixel_rects(const Scene& scene, int width, int hei
 }
 
 void bin_spheres(const Scene& scene, int width, int height, std::uint32_t tile_size,
-                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins) {
+                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins,
+                 int threads) {
     if (tile_size == 0 || width <= 0 || height <= 0) throw std::invalid_argument("bin_spheres: empty image or tile");
-    bin_spheres(sphere_pixel_rects(scene, width, height, 1), width, height, tile_size, order, bound, bins);
+    bin_spheres(sphere_pixel_rects(scene, width, height, threads), width, height, tile_size, order, bound, bins, threads);
 }
 
 void bin_spheres(const std::vector<PixelRect>& pixel_rects, int width, int height, std::uint32_t tile_size,
-                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins) {
+                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins,
+                 int threads) {
     if (tile_size == 0 || width <= 0 || height <= 0) throw std::invalid_argument("bin_spheres: empty image or tile");
     bins.tile_size = tile_size;
     bins.tiles_x = (std::uint32_t(width) + tile_size - 1) / tile_size;
     bins.tiles_y = (std::uint32_t(height) + tile_size - 1) / tile_size;
     const std::uint32_t tiles = bins.tiles_x * bins.tiles_y;
-    // Pass 1: each sphere's tile rectangle, and the count per tile.
+    // A stable counting sort over chunks of `order`, each chunk on a thread: each counts its spheres
+    // per tile, the prefix sums (tile after tile, chunk after chunk within a tile) give every chunk
+    // its own place in each tile's list, and each fills its places in its own order. So each tile
+    // lists its spheres in the given order, as one thread would, and no two threads write one place.
+    // A million spheres: 60 ms on one core, most of it cache misses of the counts and the entries.
+    const std::size_t n = order.size();
+    constexpr std::size_t kMinChunk = 16384;  // below this a chunk's counts cost more than its spheres
+    std::size_t chunks = std::max<std::size_t>(1, std::min<std::size_t>(n / kMinChunk, 4 * std::size_t(worker_count(threads, n))));
+    chunks = std::min<std::size_t>(chunks, std::max<std::size_t>(1, (std::size_t(1) << 22) / tiles));  // counts: 16 MiB at most
+    const std::size_t per_chunk = (n + chunks - 1) / std::max<std::size_t>(chunks, 1);
     struct TileRect {
-        std::uint32_t sphere, x0, y0, x1, y1;  // tiles [x0, x1) x [y0, y1)
+        std::uint32_t x0, y0, x1, y1;  // tiles [x0, x1) x [y0, y1); x0 == x1: none (no extinction, no pixel)
     };
-    std::vector<TileRect> rects;
-    rects.reserve(order.size());
-    std::vector<std::uint64_t> count(tiles + 1, 0);
-    for (std::uint32_t k : order) {
-        const PixelRect& r = pixel_rects[k];
-        if (!(r.x0 < r.x1 && r.y0 < r.y1)) continue;  // no extinction, or no pixel
-        const TileRect t{k, std::uint32_t(r.x0) / tile_size, std::uint32_t(r.y0) / tile_size,
-                         (std::uint32_t(r.x1) + tile_size - 1) / tile_size, (std::uint32_t(r.y1) + tile_size - 1) / tile_size};
-        rects.push_back(t);
-        for (std::uint32_t y = t.y0; y < t.y1; ++y)
-            for (std::uint32_t x = t.x0; x < t.x1; ++x) ++count[y * bins.tiles_x + x];
-    }
+    std::vector<TileRect> rects(n);
+    std::vector<std::uint32_t> place(chunks * tiles, 0);  // counts, then each chunk's next place per tile
+    // Pass 1: each sphere's tile rectangle, and each chunk's count per tile.
+    parallel_for(chunks, threads, [&](std::size_t c, int) {
+        std::uint32_t* count = place.data() + c * tiles;
+        for (std::size_t i = c * per_chunk; i < std::min(n, (c + 1) * per_chunk); ++i) {
+            const PixelRect& r = pixel_rects[order[i]];
+            if (!(r.x0 < r.x1 && r.y0 < r.y1)) {
+                rects[i] = TileRect{0, 0, 0, 0};
+                continue;
+            }
+            const TileRect t{std::uint32_t(r.x0) / tile_size, std::uint32_t(r.y0) / tile_size,
+                             (std::uint32_t(r.x1) + tile_size - 1) / tile_size, (std::uint32_t(r.y1) + tile_size - 1) / tile_size};
+            rects[i] = t;
+            for (std::uint32_t y = t.y0; y < t.y1; ++y)
+                for (std::uint32_t x = t.x0; x < t.x1; ++x) ++count[y * bins.tiles_x + x];
+        }
+    });
     // Prefix sums; entries are addressed by 32-bit offsets on the device.
     bins.first.assign(tiles + 1, 0);
     std::uint64_t total = 0;
     bins.longest = 0;
     for (std::uint32_t t = 0; t < tiles; ++t) {
         bins.first[t] = std::uint32_t(total);
-        bins.longest = std::max<std::uint32_t>(bins.longest, std::uint32_t(count[t]));
-        total += count[t];
+        const std::uint64_t tile_start = total;
+        for (std::size_t c = 0; c < chunks; ++c) {
+            const std::uint32_t count = place[c * tiles + t];
+            place[c * tiles + t] = std::uint32_t(total);
+            total += count;
+        }
+        bins.longest = std::max<std::uint32_t>(bins.longest, std::uint32_t(total - tile_start));
         if (total >= std::numeric_limits<std::uint32_t>::max())
             throw std::length_error("the tile lists need more than 2^32 entries; lower the resolution or the particle count");
     }
     bins.first[tiles] = std::uint32_t(total);
-    // Pass 2: fill, in the given order, so each tile's list keeps it.
+    // Pass 2: each chunk fills its places, in the given order.
     bins.entries.resize(2 * (total + 1));
-    std::vector<std::uint32_t> next(bins.first.begin(), bins.first.end() - 1);
-    for (const TileRect& t : rects) {
-        const std::uint32_t bits = std::bit_cast<std::uint32_t>(float(bound[t.sphere]));
-        for (std::uint32_t y = t.y0; y < t.y1; ++y)
-            for (std::uint32_t x = t.x0; x < t.x1; ++x) {
-                const std::uint32_t at = next[y * bins.tiles_x + x]++;
-                bins.entries[2 * at] = t.sphere;
-                bins.entries[2 * at + 1] = bits;
-            }
-    }
+    parallel_for(chunks, threads, [&](std::size_t c, int) {
+        std::uint32_t* next = place.data() + c * tiles;
+        for (std::size_t i = c * per_chunk; i < std::min(n, (c + 1) * per_chunk); ++i) {
+            const TileRect& t = rects[i];
+            if (t.x0 == t.x1) continue;
+            const std::uint32_t sphere = order[i];
+            const std::uint32_t bits = std::bit_cast<std::uint32_t>(float(bound[sphere]));
+            for (std::uint32_t y = t.y0; y < t.y1; ++y)
+                for (std::uint32_t x = t.x0; x < t.x1; ++x) {
+                    const std::uint32_t at = next[y * bins.tiles_x + x]++;
+                    bins.entries[2 * at] = sphere;
+                    bins.entries[2 * at + 1] = bits;
+                }
+        }
+    });
     bins.entries[2 * total] = 0;
     // 3e38: past every distance a scene holds, and below the shader's empty slot (NO_T, 3.4e38).
     bins.entries[2 * total + 1] = std::bit_cast<std::uint32_t>(3.0e38f);

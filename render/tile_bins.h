@@ -39,11 +39,14 @@ std::vector<PixelRect> sphere_pixel_rects(const Scene& scene, int width, int hei
 
 // Bins the spheres `order` names (spheres without extinction are left out) into tiles of
 // tile_size pixels over a width x height image; bound[k] is sphere k's nearest bound
-// (render/nearest_bounds.h).
+// (render/nearest_bounds.h); over `threads` (0: every hardware thread), with the same bins on any
+// number.
 void bin_spheres(const Scene& scene, int width, int height, std::uint32_t tile_size,
-                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins);
+                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins,
+                 int threads = 0);
 // The same from rectangles sphere_pixel_rects made (empty ones are left out).
 void bin_spheres(const std::vector<PixelRect>& rects, int width, int height, std::uint32_t tile_size,
-                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins);
+                 const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins,
+                 int threads = 0);
 
 }  // namespace brume

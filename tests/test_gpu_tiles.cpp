@@ -107,7 +107,9 @@ TEST_P(TilesLongLists, AreExactOrRefusedNeverWrong) {
     FrameStats stats;
     try {
         const Image img = tiles.render(s, &stats);
-        if (!p.thick) EXPECT_EQ(stats.max_list_length, std::uint32_t(p.nodes));
+        if (!p.thick) {
+            EXPECT_EQ(stats.max_list_length, std::uint32_t(p.nodes));
+        }
         const ImageDiff d = compare_with_reference(img, s);
         EXPECT_EQ(d.pixels_over, 0u) << describe(d);
         EXPECT_NE(img.pixel(7, 7)[0], img.pixel(0, 0)[0]) << "the list's medium is missing from the image";

@@ -77,28 +77,61 @@ TEST(TileBins, ImagesThatAreNotWholeTilesAndOtherTileSizes) {
     expect_conservative(s, 77, 53, 1);
 }
 
-TEST(TileBins, EachTileKeepsTheOrderGivenWithItsBounds) {
-    const Scene s = make_smoke_cloud_scene(3000, 64, 48);
-    std::vector<double> bound;
-    nearest_event_bounds(s, bound);
-    std::vector<std::uint32_t> order = identity_order(s.spheres.size());
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return bound[a] < bound[b]; });
-    TileBins bins;
-    bin_spheres(s, 64, 48, 8, order, bound, bins);
-    std::vector<std::uint32_t> rank(order.size());
+// Each tile lists its spheres in the order given, each with its bound, and `longest` is the longest list.
+void expect_ordered(const TileBins& bins, const std::vector<std::uint32_t>& order, const std::vector<double>& bound) {
+    std::vector<std::uint32_t> rank(bound.size());
     for (std::uint32_t i = 0; i < order.size(); ++i) rank[order[i]] = i;
     std::uint32_t longest = 0;
+    std::uint64_t misplaced = 0, wrong_bound = 0;
     for (std::uint32_t t = 0; t < bins.tile_count(); ++t) {
         longest = std::max(longest, bins.first[t + 1] - bins.first[t]);
         for (std::uint32_t e = bins.first[t]; e < bins.first[t + 1]; ++e) {
             const std::uint32_t k = bins.entries[2 * e];
-            EXPECT_EQ(bins.entries[2 * e + 1], std::bit_cast<std::uint32_t>(float(bound[k])));
-            if (e > bins.first[t]) EXPECT_LT(rank[bins.entries[2 * e - 2]], rank[k]);
+            if (bins.entries[2 * e + 1] != std::bit_cast<std::uint32_t>(float(bound[k]))) ++wrong_bound;
+            if (e > bins.first[t] && !(rank[bins.entries[2 * e - 2]] < rank[k])) ++misplaced;
         }
     }
+    EXPECT_EQ(misplaced, 0u);
+    EXPECT_EQ(wrong_bound, 0u);
     EXPECT_EQ(bins.longest, longest);
     // The sentinel after the last tile lies past every distance.
     EXPECT_GT(std::bit_cast<float>(bins.entries.back()), 1e38f);
+}
+
+std::vector<std::uint32_t> near_to_far(const std::vector<double>& bound) {
+    std::vector<std::uint32_t> order = identity_order(bound.size());
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return bound[a] < bound[b]; });
+    return order;
+}
+
+TEST(TileBins, EachTileKeepsTheOrderGivenWithItsBounds) {
+    const Scene s = make_smoke_cloud_scene(3000, 64, 48);
+    std::vector<double> bound;
+    nearest_event_bounds(s, bound);
+    const std::vector<std::uint32_t> order = near_to_far(bound);
+    TileBins bins;
+    bin_spheres(s, 64, 48, 8, order, bound, bins);
+    expect_ordered(bins, order, bound);
+}
+
+// The binning runs in chunks of the order over threads (a stable counting sort): enough spheres for
+// several chunks give the same bins, in order, on one thread and on several.
+TEST(TileBins, ManyChunksOnAnyNumberOfThreadsGiveTheSameOrderedBins) {
+    const Scene s = make_smoke_cloud_scene(150000, 96, 54);
+    std::vector<double> bound;
+    nearest_event_bounds(s, bound);
+    const std::vector<std::uint32_t> order = near_to_far(bound);
+    TileBins one;
+    bin_spheres(s, 96, 54, 8, order, bound, one, 1);
+    expect_ordered(one, order, bound);
+    EXPECT_GT(one.entry_count(), order.size());  // spheres over tile borders are listed more than once
+    for (int threads : {2, 3, 8}) {
+        TileBins many;
+        bin_spheres(s, 96, 54, 8, order, bound, many, threads);
+        EXPECT_EQ(many.first, one.first) << threads << " threads";
+        EXPECT_EQ(many.entries, one.entries) << threads << " threads";
+        EXPECT_EQ(many.longest, one.longest) << threads << " threads";
+    }
 }
 
 TEST(TileBins, ASmallSphereIsListedOnlyNearItsImage) {

@@ -150,9 +150,11 @@ int run_bench(const BenchArgs& args) {
     vk::Device device(device_options);
     PpllMethod ppll(device);
     FillCeiling ceiling(device);
+    const double warm_ms = warm_up_ms(device.properties().deviceType);
     const char* threads = std::getenv("LP_NUM_THREADS");
-    std::printf("# brume bench layers: ppll on %s (LP_NUM_THREADS=%s), median of %d frames after 1 warm-up;\n",
-                device.name().c_str(), threads ? threads : "default", args.frames);
+    std::printf("# brume bench layers: ppll on %s (LP_NUM_THREADS=%s), median of %d frames after a warm-up of 1 frame "
+                "and %.0f ms;\n",
+                device.name().c_str(), threads ? threads : "default", args.frames, warm_ms);
     std::printf("# reference = CPU double-precision renderer, all cores, median of %d; paper = Barta & Kovács, Tables 1-2\n",
                 args.reference_frames);
     std::printf("# fill_ms = the fill ceiling: the same impostors with a shader that does nothing but cannot be skipped "
@@ -166,7 +168,8 @@ int run_bench(const BenchArgs& args) {
         for (int n : layer_counts) {
             const Scene scene = make_layers_scene(n, w, h);
             FrameStats stats;
-            Image image = ppll.render(scene, &stats);  // warm-up, and sizes the pool
+            Image image;
+            warm_up([&] { image = ppll.render(scene, &stats); }, warm_ms);  // and sizes the pool
             std::vector<double> opaque, particles, resolve, total;
             for (int f = 0; f < args.frames; ++f) {
                 image = ppll.render(scene, &stats, false);
@@ -176,7 +179,7 @@ int run_bench(const BenchArgs& args) {
                 total.push_back(stats.total_ms);
             }
             const double ms = median(total);
-            ceiling.render(scene);  // warm-up
+            warm_up([&] { ceiling.render(scene); }, warm_ms);
             std::vector<double> fill;
             for (int f = 0; f < args.frames; ++f) {
                 FrameStats fill_stats;

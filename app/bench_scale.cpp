@@ -61,9 +61,9 @@ Scene preset_frame(const std::string& name, int w, int h) {
 }
 
 // Median frame time of `method` on `scene` (GPU time for GPU methods, wall time otherwise), after
-// one warm-up frame; the last frame's image and passes.
-double time_method(Method& method, const Scene& scene, int frames, Image& image, std::string& passes) {
-    image = method.render(scene);
+// a warm-up of at least one frame and `warm_ms` (cli_util.h); the last frame's image and passes.
+double time_method(Method& method, const Scene& scene, int frames, double warm_ms, Image& image, std::string& passes) {
+    warm_up([&] { image = method.render(scene); }, warm_ms);
     std::vector<double> times, walls;
     for (int f = 0; f < frames; ++f) {
         FrameStats stats;
@@ -119,10 +119,11 @@ int run_bench_scale(const BenchArgs& args) {
     device_options.device_name = args.device;
     device_options.validate = args.validate;
     vk::Device device(device_options);
+    const double warm_ms = warm_up_ms(device.properties().deviceType);
     const char* threads = std::getenv("LP_NUM_THREADS");
     std::printf("# brume bench scale: smoke clouds at %dx%d (radius ~ N^-1/3, fixed seed), device %s "
-                "(LP_NUM_THREADS=%s), median of %d frames after 1 warm-up\n",
-                w, h, device.name().c_str(), threads ? threads : "default", args.frames);
+                "(LP_NUM_THREADS=%s), median of %d frames after a warm-up of 1 frame and %.0f ms\n",
+                w, h, device.name().c_str(), threads ? threads : "default", args.frames, warm_ms);
     std::printf("# fragments (ppll's list nodes), mean and longest list from the list-length pass; ns/frag = ms per "
                 "fragment; vs_ref = reference ms / method ms (above 1: faster than the CPU reference); a method that "
                 "refuses a frame says why in its row\n");
@@ -145,7 +146,7 @@ int run_bench_scale(const BenchArgs& args) {
             std::unique_ptr<Method> method = make_method(&device, spec);
             Image image;
             try {
-                ms_of[spec] = time_method(*method, scene, args.frames, image, passes_of[spec]);
+                ms_of[spec] = time_method(*method, scene, args.frames, warm_ms, image, passes_of[spec]);
             } catch (const ListResolveError& e) {
                 // ppll refusing a frame it cannot resolve on this device: a finding of the bench, not
                 // a failure of it (anything else still ends the run).
@@ -201,6 +202,7 @@ int run_bench_scale(const BenchArgs& args) {
         std::printf("%-12s %9s %9s", "preset", "spheres", "fragments");
         for (const std::string& spec : specs) std::printf(" %16s", spec.c_str());
         std::printf("\n");
+        std::string auto_paths;  // which path auto took on each preset, said under the table
         for (const std::string& name : builtin_preset_names()) {
             const Scene scene = preset_frame(name, w, h);
             std::printf("%-12s %9zu %9llu", name.c_str(), scene.spheres.size(),
@@ -217,13 +219,17 @@ int run_bench_scale(const BenchArgs& args) {
                 std::string passes;
                 double ms = 0.0;
                 try {
-                    ms = time_method(*method, scene, args.frames, image, passes);
+                    ms = time_method(*method, scene, args.frames, warm_ms, image, passes);
                 } catch (const ListResolveError&) {
                     // As in the clouds' table: the device's loop budget refused this frame (tiles on
                     // vdb-cloud, lavapipe), which is a finding; the cell says so and the table goes on.
                     std::printf(" %16s", "refused");
                     continue;
                 }
+                const std::string decided = " decide (cpu): ";
+                if (const std::size_t at = passes.find(decided); at != std::string::npos)
+                    auto_paths += (auto_paths.empty() ? "" : ", ") + name + " " +
+                                  passes.substr(at + decided.size(), passes.find('=', at) - at - decided.size());
                 char cell[48];
                 std::snprintf(cell, sizeof cell, "%.1f (%.1f)", ms, 1000.0 / ms);
                 std::printf(" %16s", cell);
@@ -231,6 +237,7 @@ int run_bench_scale(const BenchArgs& args) {
             std::printf("\n");
             std::fflush(stdout);
         }
+        if (!auto_paths.empty()) std::printf("# auto's path: %s\n", auto_paths.c_str());
     }
 
     return report_validation_messages(device) ? 3 : 0;

@@ -126,11 +126,12 @@ int run_bench_shadows(const BenchArgs& args) {
     vk::Device device(device_options);
     PpllMethod ppll(device);
     FillCeiling fill(device);
+    const double warm_ms = warm_up_ms(device.properties().deviceType);  // for the GPU's rows
     const char* threads = std::getenv("LP_NUM_THREADS");
     std::printf("# brume bench shadows: the shadow techniques of ppll (GPU ms on %s, LP_NUM_THREADS=%s) and of trace "
                 "(CPU wall-clock ms, every core) at %dx%d; the mean over a scene's frames of the median of %d renders "
-                "after 1 warm-up\n",
-                device.name().c_str(), threads ? threads : "default", w, h, args.frames);
+                "after a warm-up of 1 render (and %.0f ms on the GPU)\n",
+                device.name().c_str(), threads ? threads : "default", w, h, args.frames, warm_ms);
     std::printf("# error against the exact CPU reference (double, adaptive quadrature between the shadow edges), over "
                 "its peak: mean and p99.9 of |image - ref| (worst frame), temporal = the largest popping metric over "
                 "frame steps\n");
@@ -151,7 +152,7 @@ int run_bench_shadows(const BenchArgs& args) {
         }
         const double reference_ms = median(ref_ms);
         std::vector<double> fill_ms;
-        fill.render(scene.frames[0], nullptr);
+        warm_up([&] { fill.render(scene.frames[0], nullptr); }, warm_ms);
         for (int r = 0; r < args.frames; ++r) {
             FrameStats stats;
             fill.render(scene.frames[0], &stats);
@@ -175,7 +176,8 @@ int run_bench_shadows(const BenchArgs& args) {
                         s.lighting.shadows = t.shadows;
                         s.render.shadow_technique = t.technique;
                         // Warm-up: the first frame of a pipeline compiles it (and trace's touches its memory).
-                        Image img = on_cpu ? render_fast_trace(s) : ppll.render(s);
+                        Image img;
+                        warm_up([&] { img = on_cpu ? render_fast_trace(s) : ppll.render(s); }, on_cpu ? 0.0 : warm_ms);
                         std::vector<double> ms;
                         FrameStats stats;
                         for (int r = 0; r < args.frames; ++r) {

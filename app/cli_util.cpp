@@ -1,12 +1,17 @@
 #include "app/cli_util.h"
 
+#include <chrono>
+
 #include "render/image.h"
 #include "render/methods/registry.h"
 #include "sim/vdb/volume_loader.h"
 
+#include <vulkan/vulkan.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -160,6 +165,16 @@ double median(std::vector<double> values) {
     const std::size_t n = values.size();
     return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
+
+void warm_up(const std::function<void()>& frame, double min_ms, int max_frames) {
+    const auto start = std::chrono::steady_clock::now();
+    for (int n = 0; n < max_frames; ++n) {
+        frame();
+        if (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() >= min_ms) break;
+    }
+}
+
+double warm_up_ms(int device_type) { return device_type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0.0 : 300.0; }
 
 std::string json_string(const std::string& text) {
     std::string out = "\"";

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -58,6 +59,16 @@ std::vector<int> parse_int_list(const std::string& text);
 std::vector<std::string> split_commas(const std::string& text);
 
 double median(std::vector<double> values);
+
+// A bench's warm-up: calls `frame` once (pipelines compile, caches fill), then again until `min_ms`
+// of wall clock have passed, at most `max_frames` calls in all. A GPU left idle while the CPU
+// reference ran lowers its clocks, and one short frame does not raise them again: on an H200 the
+// tiles resolve read 18 ms after the reference's seconds and 3 ms after other GPU work
+// (docs/performance.md, "On an NVIDIA H200"). min_ms = 0: the one call.
+void warm_up(const std::function<void()>& frame, double min_ms, int max_frames = 50);
+// The warm-up time a bench gives a method on `device_type` (VkPhysicalDeviceType): none on a CPU device
+// (lavapipe has no clocks to raise, and the benches there are long already), 300 ms on any other.
+double warm_up_ms(int device_type);
 
 // "1 sphere", "2 spheres", "0 spheres": a count with its noun in the right number.
 std::string count_of(std::size_t n, const char* singular, const char* plural);

@@ -6,6 +6,7 @@
 #include "render/image_compare.h"
 #include "render/methods/fill_ceiling.h"
 #include "render/methods/ppll.h"
+#include "render/methods/tiles.h"
 #include "render/reference.h"
 #include "render/vk/device.h"
 #include "sim/builtin_presets.h"
@@ -92,9 +93,10 @@ constexpr Technique kTechniques[] = {
     {"accurate", true, ShadowTechnique::Accurate},
 };
 
-// The shadowed frame's two exact paths: ppll on the device, and trace on the CPU (what auto takes on a
-// CPU device). Each has its own accurate technique (docs/accuracy.md).
-constexpr const char* kMethods[] = {"ppll", "trace"};
+// The shadowed frame's exact paths: ppll and tiles on the device (tiles is what auto takes on a GPU),
+// and trace on the CPU (what auto takes on a CPU device). tiles shares ppll's integrator and its
+// accurate technique; trace has its own (docs/accuracy.md).
+constexpr const char* kMethods[] = {"ppll", "tiles", "trace"};
 
 struct Result {
     std::string scene, method, technique;
@@ -125,10 +127,11 @@ int run_bench_shadows(const BenchArgs& args) {
     device_options.validate = args.validate;
     vk::Device device(device_options);
     PpllMethod ppll(device);
+    TilesMethod tiles(device);
     FillCeiling fill(device);
     const double warm_ms = warm_up_ms(device.properties().deviceType);  // for the GPU's rows
     const char* threads = std::getenv("LP_NUM_THREADS");
-    std::printf("# brume bench shadows: the shadow techniques of ppll (GPU ms on %s, LP_NUM_THREADS=%s) and of trace "
+    std::printf("# brume bench shadows: the shadow techniques of ppll and tiles (GPU ms on %s, LP_NUM_THREADS=%s) and of trace "
                 "(CPU wall-clock ms, every core) at %dx%d; the mean over a scene's frames of the median of %d renders "
                 "after a warm-up of 1 render (and %.0f ms on the GPU)\n",
                 device.name().c_str(), threads ? threads : "default", w, h, args.frames, warm_ms);
@@ -162,6 +165,7 @@ int run_bench_shadows(const BenchArgs& args) {
 
         for (const char* method : kMethods) {
             const bool on_cpu = std::string(method) == "trace";
+            GpuMethod& gpu = std::string(method) == "tiles" ? static_cast<GpuMethod&>(tiles) : ppll;
             double none_ms = 0.0;
             for (const Technique& t : kTechniques) {
                 Result res{scene.name, method, t.name};
@@ -177,7 +181,7 @@ int run_bench_shadows(const BenchArgs& args) {
                         s.render.shadow_technique = t.technique;
                         // Warm-up: the first frame of a pipeline compiles it (and trace's touches its memory).
                         Image img;
-                        warm_up([&] { img = on_cpu ? render_fast_trace(s) : ppll.render(s); }, on_cpu ? 0.0 : warm_ms);
+                        warm_up([&] { img = on_cpu ? render_fast_trace(s) : gpu.render(s); }, on_cpu ? 0.0 : warm_ms);
                         std::vector<double> ms;
                         FrameStats stats;
                         for (int r = 0; r < args.frames; ++r) {
@@ -186,7 +190,7 @@ int run_bench_shadows(const BenchArgs& args) {
                                 img = render_fast_trace(s);
                                 ms.push_back(wall_ms_since(t0));
                             } else {
-                                img = ppll.render(s, &stats);
+                                img = gpu.render(s, &stats);
                                 ms.push_back(stats.total_ms);
                             }
                         }
@@ -238,7 +242,7 @@ int run_bench_shadows(const BenchArgs& args) {
         data << "# series scene ms mean_error_over_peak p999_error_over_peak temporal\n";
         std::ostringstream plot;
         plot << "set terminal svg size 720,440\nset output 'shadows.svg'\nset logscale xy\nset key right top\n"
-             << "set xlabel 'ms per frame (ppll: GPU; trace: CPU wall clock)'\nset ylabel 'mean |error| / peak against the exact reference'\n"
+             << "set xlabel 'ms per frame (ppll, tiles: GPU; trace: CPU wall clock)'\nset ylabel 'mean |error| / peak against the exact reference'\n"
              << "set title 'brume bench shadows: " << w << "x" << h << ", " << device.name() << "'\nplot ";
         int index = 0;
         for (const char* method : kMethods)

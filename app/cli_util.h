@@ -65,7 +65,7 @@ double median(std::vector<double> values);
 // reference ran lowers its clocks, and one short frame does not raise them again: on an H200 the
 // tiles resolve read 18 ms after the reference's seconds and 3 ms after other GPU work
 // (docs/performance.md, "On an NVIDIA H200"). min_ms = 0: the one call.
-void warm_up(const std::function<void()>& frame, double min_ms, int max_frames = 50);
+void warm_up(const std::function<void()>& frame, double min_ms, int max_frames = 1000);
 // The warm-up time a bench gives a method on `device_type` (VkPhysicalDeviceType): none on a CPU device
 // (lavapipe has no clocks to raise, and the benches there are long already), 300 ms on any other.
 double warm_up_ms(int device_type);

@@ -9,8 +9,8 @@
 // (compute, render/methods/tiles.h), ppll, or `trace`, the float CPU tracer (render/fast_tracer.h).
 // On a CPU device such as lavapipe trace is the faster by far (docs/performance.md, "trace") and is
 // taken without measuring: an image should not depend on the machine's load. On a GPU the paths are
-// measured, tiles first: on an NVIDIA H200 it was 5-16x faster than ppll and 9-49x faster than the
-// CPU reference on bench scale's clouds, where ppll was slower than that reference from 10,000
+// measured, tiles first: on an NVIDIA H200 it was 25-38x faster than ppll and 24-50x faster than the
+// CPU reference on bench scale's clouds, where ppll was slower than that reference from 100,000
 // spheres up (docs/performance.md, "On an NVIDIA H200"). A path's first frame is a warm-up
 // (pipelines, caches) and is not counted as a measurement; the first path is measured on the frames
 // after it, and each later frame whose scene differs from the last one's measures a path not yet

@@ -91,11 +91,11 @@ void restrict_bench_help(CLI::App& bench, const std::string& which) {
     static const std::vector<std::pair<std::string, std::vector<std::string>>> kReads = {
         {"methods", {"--output", "--methods", "--scenes", "--size", "--anim-frames", "--device", "--validate"}},
         {"layers", {"--sizes", "--layers", "--frames", "--reference-frames", "--no-reference", "--device", "--validate"}},
-        {"scale", {"--spheres", "--no-presets", "--frames", "--output", "--device", "--validate"}},
+        {"scale", {"--spheres", "--methods", "--size", "--no-presets", "--frames", "--output", "--device", "--validate"}},
         {"sim", {"--particles", "--steps"}},
         {"vdb", {"--vdb-sample", "--vdb-sizes", "--tolerances", "--output"}},
         {"preview", {"--preview-frames", "--presets", "--size", "--frames", "--device", "--validate"}},
-        {"shadows", {"--shadow-scenes", "--shadow-frames", "--size", "--frames", "--output", "--device", "--validate"}},
+        {"shadows", {"--shadow-scenes", "--shadow-frames", "--methods", "--size", "--frames", "--output", "--device", "--validate"}},
     };
     for (const auto& [name, reads] : kReads) {
         if (name != which) continue;

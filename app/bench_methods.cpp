@@ -161,7 +161,7 @@ std::string number(double v) {
 
 void add_bench_methods_options(CLI::App& cmd, BenchArgs& args) {
     cmd.add_option("-o,--output", args.output_dir, "bench methods and vdb: directory for results and charts");
-    cmd.add_option("--methods", args.methods, "bench methods: comma-separated specs (default: all, with settings sweeps)");
+    cmd.add_option("--methods", args.methods, "bench methods and scale: comma-separated specs (default: all, with settings sweeps); bench shadows: some of ppll, tiles, trace");
     cmd.add_option("--scenes", args.scenes, "bench methods: comma-separated scenes/presets");
     cmd.add_option("--size", args.size, "bench methods: resolution WxH (default 160x120); bench preview: the window (default 640x360)");
     cmd.add_option("--anim-frames", args.anim_frames, "bench methods: consecutive frames per animated preset")

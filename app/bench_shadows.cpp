@@ -96,7 +96,7 @@ constexpr Technique kTechniques[] = {
 // The shadowed frame's exact paths: ppll and tiles on the device (tiles is what auto takes on a GPU),
 // and trace on the CPU (what auto takes on a CPU device). tiles shares ppll's integrator and its
 // accurate technique; trace has its own (docs/accuracy.md).
-constexpr const char* kMethods[] = {"ppll", "tiles", "trace"};
+constexpr const char* kMethods[] = {"ppll", "tiles", "trace"};  // the default of --methods, and what it may name
 
 struct Result {
     std::string scene, method, technique;
@@ -119,6 +119,11 @@ int run_bench_shadows(const BenchArgs& args) {
             if (!item.empty()) names.push_back(item);
     }
     if (names.empty()) throw std::invalid_argument("--shadow-scenes: no scene named");
+    std::vector<std::string> methods(std::begin(kMethods), std::end(kMethods));
+    if (!args.methods.empty()) methods = split_commas(args.methods);
+    for (const std::string& m : methods)
+        if (std::find(std::begin(kMethods), std::end(kMethods), m) == std::end(kMethods))
+            throw UsageError("--methods: bench shadows compares ppll, tiles and trace (got '" + m + "')");
     std::vector<ShadowScene> scenes;
     for (const std::string& name : names) scenes.push_back(make_shadow_scene(name, args.shadow_frames, w, h));
 
@@ -163,7 +168,8 @@ int run_bench_shadows(const BenchArgs& args) {
         }
         const double fill_median = median(fill_ms);
 
-        for (const char* method : kMethods) {
+        for (const std::string& name : methods) {
+            const char* method = name.c_str();
             const bool on_cpu = std::string(method) == "trace";
             GpuMethod& gpu = std::string(method) == "tiles" ? static_cast<GpuMethod&>(tiles) : ppll;
             double none_ms = 0.0;
@@ -245,7 +251,7 @@ int run_bench_shadows(const BenchArgs& args) {
              << "set xlabel 'ms per frame (ppll, tiles: GPU; trace: CPU wall clock)'\nset ylabel 'mean |error| / peak against the exact reference'\n"
              << "set title 'brume bench shadows: " << w << "x" << h << ", " << device.name() << "'\nplot ";
         int index = 0;
-        for (const char* method : kMethods)
+        for (const std::string& method : methods)
             for (const Technique& t : kTechniques) {
                 const std::string series = std::string(method) + "-" + t.name;
                 data << "\n\n# " << series << "\n";

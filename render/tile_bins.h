@@ -11,6 +11,13 @@
 
 namespace brume {
 
+// One listed sphere's tile rectangle [x0, x1) x [y0, y1) (x0 == x1: none) and the bits of its float
+// bound, in the order the spheres are binned: the binning's scratch.
+struct BinnedRect {
+    std::uint16_t x0, y0, x1, y1;
+    std::uint32_t bound_bits;
+};
+
 struct TileBins {
     std::uint32_t tile_size = 0;
     std::uint32_t tiles_x = 0, tiles_y = 0;
@@ -20,6 +27,9 @@ struct TileBins {
     // past every distance (the shader may read the entry at a tile's end).
     std::vector<std::uint32_t> entries;
     std::uint32_t longest = 0;  // the most spheres listed in one tile
+    // The binning's scratch, kept so that a frame reuses the last one's memory (a million spheres: 12 MB
+    // that would otherwise be allocated and zeroed every frame).
+    std::vector<BinnedRect> scratch;
 
     std::uint64_t entry_count() const { return first.empty() ? 0 : first.back(); }
     std::uint32_t tile_count() const { return tiles_x * tiles_y; }

@@ -937,6 +937,9 @@ expect_line bench.range_too_long 2 "'2-1000000:2' has more than 10000 values" &&
 run bench scale --spheres 2147483000
 expect_line bench.spheres_too_many 2 "--spheres: counts must be from 1 to 50000000, as in a scene file (got 2147483000)" &&
     ok bench.spheres_too_many
+run bench shadows --methods ppll,bogus
+expect_line bench.shadow_methods 2 "--methods: bench shadows compares ppll, tiles and trace (got 'bogus')" &&
+    ok bench.shadow_methods
 # bench scale's list figures come from the list-length pass, not from a ppll frame: every method's row of
 # a scene carries the same fragment count, and it is not zero.
 run bench scale --spheres 300 --size 64x36 --methods trace,ppll --no-presets --frames 1

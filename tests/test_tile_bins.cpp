@@ -98,29 +98,32 @@ void expect_ordered(const TileBins& bins, const std::vector<std::uint32_t>& orde
     EXPECT_GT(std::bit_cast<float>(bins.entries.back()), 1e38f);
 }
 
-std::vector<std::uint32_t> near_to_far(const std::vector<double>& bound) {
-    std::vector<std::uint32_t> order = identity_order(bound.size());
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return bound[a] < bound[b]; });
-    return order;
+// A smoke cloud of n spheres, its bounds, and its spheres near to far by them.
+struct SortedCloud {
+    Scene scene;
+    std::vector<double> bound;
+    std::vector<std::uint32_t> order;
+};
+SortedCloud sorted_cloud(std::size_t n, int w, int h) {
+    SortedCloud c{make_smoke_cloud_scene(n, w, h), {}, {}};
+    nearest_event_bounds(c.scene, c.bound);
+    c.order = identity_order(c.bound.size());
+    std::sort(c.order.begin(), c.order.end(), [&](std::uint32_t a, std::uint32_t b) { return c.bound[a] < c.bound[b]; });
+    return c;
 }
 
 TEST(TileBins, EachTileKeepsTheOrderGivenWithItsBounds) {
-    const Scene s = make_smoke_cloud_scene(3000, 64, 48);
-    std::vector<double> bound;
-    nearest_event_bounds(s, bound);
-    const std::vector<std::uint32_t> order = near_to_far(bound);
+    const SortedCloud c = sorted_cloud(3000, 64, 48);
     TileBins bins;
-    bin_spheres(s, 64, 48, 8, order, bound, bins);
-    expect_ordered(bins, order, bound);
+    bin_spheres(c.scene, 64, 48, 8, c.order, c.bound, bins);
+    expect_ordered(bins, c.order, c.bound);
 }
 
 // The binning runs in chunks of the order over threads (a stable counting sort): enough spheres for
 // several chunks give the same bins, in order, on one thread and on several.
 TEST(TileBins, ManyChunksOnAnyNumberOfThreadsGiveTheSameOrderedBins) {
-    const Scene s = make_smoke_cloud_scene(150000, 96, 54);
-    std::vector<double> bound;
-    nearest_event_bounds(s, bound);
-    const std::vector<std::uint32_t> order = near_to_far(bound);
+    const SortedCloud c = sorted_cloud(150000, 96, 54);
+    const auto& [s, bound, order] = c;
     TileBins one;
     bin_spheres(s, 96, 54, 8, order, bound, one, 1);
     expect_ordered(one, order, bound);

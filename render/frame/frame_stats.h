@@ -19,7 +19,7 @@ struct FrameStats {
     std::uint64_t fragments = 0;   // list nodes written: one per (sphere, pixel) whose ray meets the medium
     std::uint64_t pool_capacity = 0;  // nodes the pool holds
     std::uint64_t pool_bytes = 0;
-    int regrows = 0;  // times this frame was rendered again after the pool overflowed
+    int regrows = 0;  // times this frame was rendered again: after ppll's pool overflowed, or by auto's next path after one refused it
     bool list_stats = false;            // whether the four list figures below were gathered
     std::uint32_t max_list_length = 0;  // nodes in the longest list
     double mean_list_length = 0.0;      // nodes per pixel with a non-empty list

@@ -20,7 +20,9 @@ TEST(MethodRegistry, NamesAreUniqueAndFindable) {
         EXPECT_FALSE(m.summary.empty()) << m.name;
         // A method with a setting says what an empty one means; one without takes none.
         EXPECT_EQ(m.setting.empty(), m.default_setting.empty()) << m.name;
-        if (m.setting.empty()) EXPECT_TRUE(m.bench_settings.empty()) << m.name;
+        if (m.setting.empty()) {
+            EXPECT_TRUE(m.bench_settings.empty()) << m.name;
+        }
     }
     EXPECT_EQ(&find_method("kbuf:16"), &find_method("kbuf"));
     try {

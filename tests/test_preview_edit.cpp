@@ -63,7 +63,9 @@ TEST(PreviewEdit, RefusalsNameTheKeyAndAreNotKept) {
     EXPECT_NE(message_of(editor, "emitter[x].rate", "1.0").find("is not NAME or NAME[INDEX]"), std::string::npos);
     EXPECT_NE(message_of(editor, "lighting.bogus", "1.0").find("lighting.bogus: unknown key"), std::string::npos);
     for (const EditableValue& v : editor.values())
-        if (v.path == "emitter[0].rate") EXPECT_EQ(v.numbers.at(0), 220.0);
+        if (v.path == "emitter[0].rate") {
+            EXPECT_EQ(v.numbers.at(0), 220.0);
+        }
 }
 
 TEST(PreviewEdit, SavedTextChangesOnlyTheEditedValues) {

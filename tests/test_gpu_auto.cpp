@@ -12,6 +12,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <random>
 
 namespace brume {
@@ -138,6 +140,45 @@ TEST_F(Auto, AnAnimationTakesTheFastestExactPathItMeasured) {
     const std::vector<std::string> order = {"trace", "trace", "ppll", "ppll", "tiles", "tiles"};
     for (std::size_t f = 0; f < order.size(); ++f) EXPECT_EQ(taken[f], order[f]) << "frame " << f;
     for (std::size_t f = 6; f < taken.size(); ++f) EXPECT_EQ(taken[f], fastest_before[f]) << "frame " << f;
+}
+
+// A path not taken is measured again after kRemeasureEvery changed frames per time it was slower, so
+// re-measuring costs about the same share of the time however slow the path is (a 20x slower trace on
+// a GPU would otherwise stall a preview every 60 frames); a refused path waits the longest.
+TEST(AutoRemeasure, TheSlowerAPathTheLaterItIsMeasuredAgain) {
+    const int every = AutoMethod::kRemeasureEvery, most = every * AutoMethod::kMaxRemeasureFactor;
+    EXPECT_EQ(AutoMethod::remeasure_interval(1.0, 1.0), every);
+    EXPECT_EQ(AutoMethod::remeasure_interval(0.5, 1.0), every);  // faster: it was the best when measured
+    EXPECT_EQ(AutoMethod::remeasure_interval(2.5, 1.0), 3 * every);
+    EXPECT_EQ(AutoMethod::remeasure_interval(20.0, 1.0), 20 * every);
+    EXPECT_EQ(AutoMethod::remeasure_interval(1e9, 1.0), most);
+    EXPECT_EQ(AutoMethod::remeasure_interval(std::numeric_limits<double>::infinity(), 1.0), most);
+    EXPECT_EQ(AutoMethod::remeasure_interval(1.0, std::numeric_limits<double>::infinity()), every);  // nothing to compare
+}
+
+// Over a long animation a frame takes the fastest path measured before it, except when another path's
+// turn to be measured again has come: after the first six frames (each path's warm-up and
+// measurement), at most one frame in kRemeasureEvery per other path. (On lavapipe trace and ppll are
+// near each other on so small a scene, so the fastest may change from frame to frame.)
+TEST_F(Auto, ALongAnimationMeasuresTheOtherPathsOnlyNowAndThen) {
+    Scene s = testing::random_scene(48, 36, 40, 3, false);
+    AutoMethod method(device(), measuring());
+    constexpr int kChanged = 2 * AutoMethod::kRemeasureEvery;
+    int remeasured = 0;
+    std::string taken_by;
+    for (int frame = 0; frame < 6 + kChanged; ++frame) {
+        const double ppll = method.measured_cost("ppll"), trace = method.measured_cost("trace"),
+                     tiles = method.measured_cost("tiles");
+        const double fastest = std::min({ppll, trace, tiles});
+        const std::string fastest_before = fastest == trace ? "trace" : fastest == ppll ? "ppll" : "tiles";
+        s.camera.position.x = 0.3 + 0.002 * frame;
+        method.render(s, nullptr);
+        if (frame >= 6 && method.last_choice() != fastest_before) {
+            ++remeasured;
+            taken_by.append(" ").append(std::to_string(frame)).append(":").append(method.last_choice());
+        }
+    }
+    EXPECT_LE(remeasured, 2 * (kChanged / AutoMethod::kRemeasureEvery)) << "frames on another path:" << taken_by;
 }
 
 // A path that refuses a frame (here a memory budget far below what the scene needs) is not an error

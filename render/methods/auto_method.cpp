@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <bit>
+#include <cmath>
 #include <cstring>
 
 namespace brume {
@@ -87,19 +88,23 @@ AutoMethod::Path AutoMethod::choose(bool scene_changed) {
     Path best = first;
     for (Path p : candidates_)
         if (cost_[p] < cost_[best]) best = p;
-    if (changed_frames_ % kRemeasureEvery == 0) {
-        // Another path's turn to be measured again: the scene may have moved in its favour (or a
-        // path that refused may take this scene now).
-        std::vector<Path> others;
-        for (Path p : candidates_)
-            if (p != best) others.push_back(p);
-        return others[std::size_t(remeasured_++) % others.size()];
-    }
-    return best;
+    // Another path whose turn has come is measured again: the scene may have moved in its favour (or a
+    // path that refused may take this scene now). The earliest due first.
+    std::optional<Path> due;
+    for (Path p : candidates_)
+        if (p != best && due_[p] <= changed_frames_ && (!due || due_[p] < due_[*due])) due = p;
+    return due ? *due : best;
+}
+
+int AutoMethod::remeasure_interval(double cost, double best) {
+    double factor = kMaxRemeasureFactor;
+    if (cost < std::numeric_limits<double>::infinity() && best > 0.0) factor = std::ceil(cost / best);
+    return kRemeasureEvery * int(std::clamp(factor, 1.0, double(kMaxRemeasureFactor)));
 }
 
 bool AutoMethod::fall_back() {
     cost_[path_] = std::numeric_limits<double>::infinity();  // the slowest until measured again
+    due_[path_] = changed_frames_ + remeasure_interval(cost_[path_], 0.0);
     measuring_ = false;  // this frame's time holds the refused attempt
     // The fastest path measured that this frame has not tried, else the next unmeasured one in order.
     std::optional<Path> next;
@@ -177,7 +182,14 @@ GpuMethod::After AutoMethod::after_step(FrameContext& ctx, int step) {
     if (after == After::Done && measuring_) {
         // The whole frame on the wall clock: CPU work and the GPU's, as the user waits for it.
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start_).count();
-        if (warm_[path_]) cost_[path_] = ms / fragments_estimate_;
+        if (warm_[path_]) {
+            cost_[path_] = ms / fragments_estimate_;
+            // Its next measurement, should it not be the fastest: later the slower it was.
+            double best_other = std::numeric_limits<double>::infinity();
+            for (Path p : candidates_)
+                if (p != path_ && cost_[p] >= 0.0) best_other = std::min(best_other, cost_[p]);
+            due_[path_] = changed_frames_ + remeasure_interval(cost_[path_], best_other);
+        }
         warm_[path_] = true;
     }
     return after;

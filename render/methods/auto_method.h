@@ -15,8 +15,10 @@
 // (pipelines, caches) and is not counted as a measurement; the first path is measured on the frames
 // after it, and each later frame whose scene differs from the last one's measures a path not yet
 // measured, in order. After that the frame takes the path with the lowest measured cost per
-// estimated fragment, and every kRemeasureEvery changed frames another path is measured again (in
-// turn), so the choice follows a scene that changes. A frame of the same scene as the last one takes
+// estimated fragment, and each other path is measured again once every kRemeasureEvery changed
+// frames times how many times slower it was (remeasure_interval), so the choice follows a scene that
+// changes while the frames spent on slower paths stay about 1/kRemeasureEvery of the time: on a GPU,
+// trace can be 10-20x slower than tiles, and a preview would stutter if it took trace every 60 frames. A frame of the same scene as the last one takes
 // the same path, so repeated renders stay identical. A path that refuses a frame (tiles' or ppll's
 // budget, a device's loop limit: never a wrong image) is redone at once by the next path, within the
 // same frame, and counts as the slowest until it is measured again. The stats say which path was
@@ -51,8 +53,13 @@ struct AutoOptions {
 
 class AutoMethod : public GpuMethod {
 public:
-    // Changed frames between two measurements of the path not taken.
+    // Changed frames between two measurements of a path not taken, per time it was slower than the
+    // path taken; at most kMaxRemeasureFactor times that (and so for a path that refused).
     static constexpr int kRemeasureEvery = 60;
+    static constexpr int kMaxRemeasureFactor = 64;
+    // How many changed frames after its measurement a path of cost `cost` is measured again, when the
+    // fastest other path costs `best` (ms per fragment; infinite: refused).
+    static int remeasure_interval(double cost, double best);
 
     explicit AutoMethod(vk::Device& device, AutoOptions options = {});
     std::string name() const override { return "auto"; }
@@ -100,7 +107,7 @@ private:
     bool measuring_ = false;                       // this frame's time goes into cost_[path_]
     std::array<bool, kPaths> tried_{};             // the paths this frame tried (a refusal moves on to another)
     int changed_frames_ = 0;                       // intersecting frames whose scene changed
-    int remeasured_ = 0;                           // how many re-measurements were made (whose turn is next)
+    std::array<int, kPaths> due_{};                // the changed frame from which a path may be measured again
     std::uint64_t last_fingerprint_ = 0;
     double fragments_estimate_ = 0.0;
     std::chrono::steady_clock::time_point frame_start_;

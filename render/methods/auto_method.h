@@ -17,9 +17,10 @@
 // measured, in order. After that the frame takes the path with the lowest measured cost per
 // estimated fragment, and each other path is measured again once every kRemeasureEvery changed
 // frames times how many times slower it was (remeasure_interval), so the choice follows a scene that
-// changes while the frames spent on slower paths stay about 1/kRemeasureEvery of the time: on a GPU,
-// trace can be 10-20x slower than tiles, and a preview would stutter if it took trace every 60 frames. A frame of the same scene as the last one takes
-// the same path, so repeated renders stay identical. A path that refuses a frame (tiles' or ppll's
+// changes while the frames spent on slower paths stay about 1/kRemeasureEvery of the time: on an
+// H200 trace was 6-18x slower than tiles, and a preview would stutter if it took trace every 60
+// frames. A frame of the same scene as the last one takes the same path, so repeated renders stay
+// identical. A path that refuses a frame (tiles' or ppll's
 // budget, a device's loop limit: never a wrong image) is redone at once by the next path, within the
 // same frame, and counts as the slowest until it is measured again. The stats say which path was
 // taken (the "decide (cpu): ..." pass), and last_choice() names it.

@@ -1,7 +1,5 @@
 #include "app/cli_util.h"
 
-#include <chrono>
-
 #include "render/image.h"
 #include "render/methods/registry.h"
 #include "sim/vdb/volume_loader.h"

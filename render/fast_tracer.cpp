@@ -649,7 +649,7 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     // 570 ms of a 1,970 ms frame (the rectangles twice, 165 ms, and the sort by bound, 138 ms).
     const FastTracer tracer(scene, options.threads);
     std::vector<double> bound;
-    nearest_event_bounds(scene, bound);
+    nearest_event_bounds(scene, bound, options.threads);
     const std::vector<std::uint32_t> order = near_to_far(bound, options.threads);
     // Each sphere's pixel rectangle, for the binning and for the tiles' pixel lists.
     const std::vector<PixelRect> rects = sphere_pixel_rects(scene, width, height, options.threads);

@@ -3,11 +3,11 @@
 #include "sim/sphere_overlap.h"
 
 #include <algorithm>
-#include <limits>
-#include <optional>
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <optional>
 
 namespace brume {
 

@@ -99,11 +99,9 @@ void TilesMethod::prepare(FrameContext& ctx) {
     sort_ms_ = ms_since(start);
     start = std::chrono::steady_clock::now();
     const VkExtent2D extent = ctx.extent();
-    // The frame path may render larger than the camera says (supersampling): bin for the target. The
-    // rectangles on every core: at 1,000,000 spheres on an H200's host they were 82 of 113 ms a frame
-    // on one, the GPU's resolve 12.
-    const int w = int(extent.width), h = int(extent.height);
-    bin_spheres(sphere_pixel_rects(scene, w, h, 0), w, h, gpu::TILE_SIZE, near_to_far_, bound_, bins_);
+    // The frame path may render larger than the camera says (supersampling): bin for the target, on
+    // every core (at 1,000,000 spheres on an H200's host one core took 82 ms, the GPU's resolve 12).
+    bin_spheres(scene, int(extent.width), int(extent.height), gpu::TILE_SIZE, near_to_far_, bound_, bins_);
     bin_ms_ = ms_since(start);
     upload_bins(extent);
     const std::uint32_t flags = ctx.list_stats_wanted() ? gpu::FRAME_COLLECT_LIST_STATS : 0u;

@@ -105,7 +105,9 @@ bool sphere_chord(const Medium& m, const dvec3& o, const dvec3& d, double& t0, d
     return true;
 }
 
-struct Scratch {
+// A cache line or more each (alignas): the vectors' ends move at every push_back, and two workers'
+// scratch on one line would send it back and forth between their cores.
+struct alignas(64) Scratch {
     std::vector<std::uint32_t> candidates;
     std::vector<Event> events;
     std::vector<double> kinks;  // where T_sun along the current ray is not smooth, sorted

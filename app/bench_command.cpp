@@ -159,8 +159,9 @@ int run_bench(const BenchArgs& args) {
                 args.reference_frames);
     std::printf("# fill_ms = the fill ceiling: the same impostors with a shader that does nothing but cannot be skipped "
                 "(a never-taken discard); x_fill = total_ms / fill_ms\n");
-    std::printf("# trace = the float CPU tracer (all cores, median of %d frames; what auto takes on a CPU device): "
-                "trace_ms, its x_fill, ref/trace\n", args.frames);
+    std::printf("# trace = the float CPU tracer (all cores, %s code, median of %d frames; what auto takes on a CPU "
+                "device): trace_ms, its x_fill, ref/trace\n",
+                fast_trace_instructions(), args.frames);
     std::printf("%-9s %6s %9s %9s %9s %9s %8s %8s %11s %9s %7s %10s %9s %9s %9s %7s %9s\n", "size", "layers", "opaque",
                 "particle", "resolve", "total_ms", "fps", "paper", "Mlayers/s", "fill_ms", "x_fill", "ref_ms", "ref/ppll",
                 "max_err", "trace_ms", "x_fill", "ref/trace");

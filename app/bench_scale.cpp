@@ -2,6 +2,7 @@
 
 #include "app/charts.h"
 #include "app/cli_util.h"
+#include "render/fast_tracer.h"
 #include "render/frame/list_heat_map.h"
 #include "render/image_compare.h"
 #include "render/methods/ppll.h"
@@ -126,7 +127,8 @@ int run_bench_scale(const BenchArgs& args) {
                 w, h, device.name().c_str(), threads ? threads : "default", args.frames, warm_ms);
     std::printf("# fragments (ppll's list nodes), mean and longest list from the list-length pass; ns/frag = ms per "
                 "fragment; vs_ref = reference ms / method ms (above 1: faster than the CPU reference); a method that "
-                "refuses a frame says why in its row\n");
+                "refuses a frame says why in its row; trace runs %s code\n",
+                fast_trace_instructions());
     std::printf("%9s %11s %7s %6s  %-12s %10s %9s %8s %9s %s\n", "spheres", "fragments", "mean", "max", "method",
                 "ms", "ns/frag", "vs_ref", "max_err", "passes (ms, last frame)");
 

@@ -26,9 +26,19 @@
 
 namespace brume {
 
+// The instructions trace's per-pixel work is compiled for: Best takes AVX2 and FMA where the CPU has
+// them (5-14% faster on the presets; the images then differ from Portable's in float rounding, within
+// the same bounds against the reference), Portable any x86-64's (tests hold the two together).
+enum class TraceInstructions { Best, Portable };
+
 struct FastTraceOptions {
     int threads = 0;  // 0: every hardware thread
+    TraceInstructions instructions = TraceInstructions::Best;
 };
+
+// The instructions `options` gives the per-pixel work on this CPU: "AVX2+FMA" or "portable", for the
+// benchmarks' headers (the same code differs 5-14% between them).
+const char* fast_trace_instructions(const FastTraceOptions& options = {});
 
 // One ray per pixel centre, or the mean of camera.supersample^2 sub-pixel rays, as the reference.
 // Throws std::invalid_argument for a camera with no pixels and std::logic_error for unconverted volumes.

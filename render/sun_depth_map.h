@@ -60,7 +60,7 @@ public:
     Ray ray(const glm::dvec3& d) const;
 
     // The interpolated optical depth at origin + t d.
-    float optical_depth(const Ray& r, float t) const {
+    [[gnu::always_inline]] float optical_depth(const Ray& r, float t) const {
         const float gu = r.u0 + t * r.du, gv = r.v0 + t * r.dv;
         // Outside the lattice's columns (or NaN): outside every shadow cylinder.
         if (!(gu >= 0.0f && gv >= 0.0f && gu < last_u_ && gv < last_v_)) return 0.0f;

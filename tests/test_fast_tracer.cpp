@@ -28,8 +28,8 @@ using testing::sphere;
 constexpr double kRelTol = 1e-4;
 constexpr double kRayRelError = 1e-6;
 
-ImageDiff against_reference(const Scene& s, const ReferenceOptions& options = {}) {
-    const Image img = render_fast_trace(s);
+ImageDiff against_reference(const Scene& s, const ReferenceOptions& options = {}, const FastTraceOptions& trace = {}) {
+    const Image img = render_fast_trace(s, trace);
     const Image tolerance = reference_tolerance(s, kRayRelError, options);
     return compare_images(img, render_reference(s, options), kRelTol, &tolerance);
 }
@@ -99,6 +99,34 @@ TEST(FastTracer, AccurateShadowsMeetTheGpuTechniquesTarget) {
         Scene off = s;
         off.lighting.shadows = false;
         EXPECT_GT(testing::shadow_error(render_fast_trace(off), exact).mean, 5.0 * e.mean);
+    }
+}
+
+TEST(FastTracer, PortableInstructionsMeetTheSameBounds) {
+    // Every other test here takes the default, AVX2 and FMA where this CPU has them; the code for any
+    // x86-64 must meet the same bounds: exact without shadows (emission, lit boxes, per-sphere shadows
+    // included), the accurate technique's target with them. The two differ by float rounding only.
+    FastTraceOptions portable;
+    portable.instructions = TraceInstructions::Portable;
+    Scene s = testing::random_scene(80, 60, 200, 9, true);
+    for (std::size_t k = 0; k < s.spheres.size(); k += 3) s.spheres[k].emission = {2.0, 0.8, 0.1};
+    for (Box& b : s.boxes) b.diffuse = {0.5, 0.45, 0.4};
+    ImageDiff d = against_reference(s, {}, portable);
+    EXPECT_EQ(d.pixels_over, 0u) << "unshadowed: " << describe(d);
+    s.lighting.shadows = true;
+    s.render.shadow_technique = ShadowTechnique::PerSphere;
+    ReferenceOptions per_sphere;
+    per_sphere.shadows = ReferenceShadows::PerSphere;
+    d = against_reference(s, per_sphere, portable);
+    EXPECT_EQ(d.pixels_over, 0u) << "per-sphere shadows: " << describe(d);
+    for (const bool inside : {false, true}) {
+        const Scene cloud = testing::shadowed_cloud(inside);
+        const Image best = render_fast_trace(cloud), port = render_fast_trace(cloud, portable);
+        const testing::ShadowError e = testing::shadow_error(port, render_reference(cloud));
+        EXPECT_LT(e.mean, 1e-3) << (inside ? "inside" : "outside");
+        EXPECT_LT(e.p999, 1e-2) << (inside ? "inside" : "outside");
+        const ImageDiff between = compare_images(best, port, 1e-4);
+        EXPECT_EQ(between.pixels_over, 0u) << (inside ? "inside: " : "outside: ") << describe(between);
     }
 }
 

@@ -22,6 +22,7 @@
 #pragma once
 
 #include "render/image.h"
+#include "render/sun_depth_map.h"
 #include "sim/scene.h"
 
 namespace brume {
@@ -31,9 +32,17 @@ namespace brume {
 // the same bounds against the reference), Portable any x86-64's (tests hold the two together).
 enum class TraceInstructions { Best, Portable };
 
+// What a caller that traces frame after frame keeps between them, so that a frame reuses the memory of
+// the one before: the accurate technique's sun map (up to 32 MiB; freed and allocated again, its pages
+// faulted in afresh every frame). One per render that may run at the same time as another.
+struct FastTraceScratch {
+    SunDepthMap sun_map;
+};
+
 struct FastTraceOptions {
     int threads = 0;  // 0: every hardware thread
     TraceInstructions instructions = TraceInstructions::Best;
+    FastTraceScratch* scratch = nullptr;  // null: the frame allocates its own
 };
 
 // The instructions `options` gives the per-pixel work on this CPU: "AVX2+FMA" or "portable", for the

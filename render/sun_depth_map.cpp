@@ -30,6 +30,16 @@ struct Projected {
 
 SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
                          std::size_t max_vertices) {
+    build(scene, sun, origin, threads, max_vertices);
+}
+
+void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
+                        std::size_t max_vertices) {
+    // Empty until the lattice is known (a lookup answers 0: no column holds it); the vertices' memory
+    // and the workers' scratch stay.
+    nu_ = nv_ = ns_ = 0;
+    last_u_ = last_v_ = last_s_ = 0.0f;
+    size_ = 0;
     if (!sun.shadows() || scene.spheres.empty()) return;
     max_vertices = std::min(max_vertices, kMaxVertices);
     u_ = sun.grid_u();
@@ -88,8 +98,15 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
     s_lo_ = s_lo;
     const std::size_t vertex_count = std::size_t(nu) * std::size_t(nv) * std::size_t(ns);
     // Left unwritten here: each band writes every vertex of its rows exactly once (below), so a frame
-    // pays one streaming pass over the map, in parallel, not a zeroing pass before it.
-    depth_.reset(new float[vertex_count]);
+    // pays one streaming pass over the map, in parallel, not a zeroing pass before it. The last build's
+    // memory is reused where it is large enough: freed and allocated again, its pages went back to the
+    // system and faulted in afresh on the next frame's first touch (plume at 640x360, one thread: 6%
+    // of the frame in page faults under the build's writes).
+    if (vertex_count > capacity_) {
+        depth_.reset();  // the old one first: both at once could exceed what the machine has
+        depth_.reset(new float[vertex_count]);
+        capacity_ = vertex_count;
+    }
     size_ = vertex_count;
 
     // Each band of rows lists the spheres whose disc reaches it, in scene order (two counting passes),
@@ -122,23 +139,24 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
 
     const std::size_t column = std::size_t(ns);
     const std::size_t band_columns = std::size_t(kBandRows) * std::size_t(nu);
-    // A worker's scratch for the band it splats: each cell's share of the chords that end in it
-    // (`ends`) and the whole-cell runs as differences (`runs`), per column of the band; and for each
-    // column the highest cell a chord reached (-1: none). Zeroed once per worker, and put back to zero
-    // as the sums read it, so a band costs what its spheres touch, not the band's size.
-    struct Scratch {
-        std::vector<float> ends, runs;
-        std::vector<int> top, bottom;
-    };
-    std::vector<Scratch> scratch(std::size_t(worker_count(threads, std::size_t(bands))));
-    parallel_for(std::size_t(bands), threads, [&](std::size_t band, int worker) {
+    // The workers' scratch (BandScratch), kept from the last build while the columns keep their shape:
+    // a build leaves it all zero, every column "none".
+    const std::size_t workers = std::size_t(worker_count(threads, std::size_t(bands)));
+    if (scratch_nu_ != nu || scratch_ns_ != ns) {
+        band_scratch_.clear();
+        scratch_nu_ = nu;
+        scratch_ns_ = ns;
+    }
+    if (band_scratch_.size() < workers) band_scratch_.resize(workers);
+    std::vector<BandScratch>& scratch = band_scratch_;
+    const auto splat_and_sum = [&](std::size_t band, int worker) {
         // A vertex's depth is the sum over the lattice cells above it of each cell's share of the chords:
         // depth(k) = sum over cells c >= k of inc(c), cell c = [s_c, s_c+1], inc(c) = sum tau |cell ∩ chord|.
         // A chord adds tau * cell to every cell it covers whole, and a fraction to the one or two cells
         // its ends lie in: the whole cells go in as a difference (`runs`: +tau cell at the run's top cell,
         // -tau cell below its bottom cell), the end cells into `ends`, so each column a sphere crosses
         // costs O(1), not O(chord). Two suffix sums per column, in double, then give the depths.
-        Scratch& w = scratch[std::size_t(worker)];
+        BandScratch& w = scratch[std::size_t(worker)];
         if (w.top.empty()) {
             w.ends.assign(band_columns * column, 0.0f);
             w.runs.assign(band_columns * column, 0.0f);
@@ -243,7 +261,16 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
                     }
                 for (int c = 0; c < n; ++c) std::fill(out[c], out[c] + lowest, float(depth[c]));
             }
-    });
+    };
+    try {
+        parallel_for(std::size_t(bands), threads, splat_and_sum);
+    } catch (...) {
+        band_scratch_.clear();  // a band cut short left its scratch unzeroed
+        size_ = 0;
+        nu_ = nv_ = ns_ = 0;
+        last_u_ = last_v_ = last_s_ = 0.0f;
+        throw;
+    }
 }
 
 SunDepthMap::Ray SunDepthMap::ray(const glm::dvec3& d) const {

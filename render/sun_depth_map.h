@@ -35,6 +35,10 @@ public:
     // allows. `threads` as parallel_for's.
     SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
                 std::size_t max_vertices = kDefaultMaxVertices);
+    // The map of this frame, built again in place: an owner that keeps its map from frame to frame
+    // (render/fast_tracer.h FastTraceScratch, the frame path's resources) reuses its memory.
+    void build(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
+               std::size_t max_vertices = kDefaultMaxVertices);
 
     static constexpr std::size_t kDefaultMaxVertices = std::size_t(8) << 20;  // 32 MiB of floats
     // The most any budget allows: a vertex's index stays an int.
@@ -87,6 +91,18 @@ private:
     // whose resize would zero the whole map before the build writes every vertex anyway.
     std::unique_ptr<float[]> depth_;
     std::size_t size_ = 0;
+    std::size_t capacity_ = 0;  // depth_'s floats, at least size_
+    // A build's worker scratch for the band of rows it splats: each cell's share of the chords that end
+    // in it (`ends`) and the whole-cell runs as differences (`runs`), per column of the band; for each
+    // column the highest and lowest cell a chord reached (-1 and ns: none). Zeroed once, and put back
+    // to zero as the sums read it, so a band costs what its spheres touch, not the band's size; kept
+    // from build to build while the columns keep their shape (scratch_nu_, scratch_ns_).
+    struct BandScratch {
+        std::vector<float> ends, runs;
+        std::vector<int> top, bottom;
+    };
+    std::vector<BandScratch> band_scratch_;
+    int scratch_nu_ = 0, scratch_ns_ = 0;
 };
 
 }  // namespace brume

@@ -1,7 +1,8 @@
 // The light-space optical-depth map of trace's accurate shadow technique (render/sun_depth_map.h):
 // exact at its vertices (against render/sun_light.h's optical_depth, the reference's own), 0 outside
 // every shadow cylinder, the whole column's depth below the lowest sphere, converging as the lattice
-// is refined, the same for any thread count, and within its memory budget. CPU only.
+// is refined, the same for any thread count, the same when built again in place, and within its memory
+// budget. CPU only.
 #include "render/sun_depth_map.h"
 #include "render/sun_light.h"
 
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <initializer_list>
 #include <random>
 
 namespace brume {
@@ -159,6 +161,37 @@ TEST(SunDepthMap, TheSameForAnyThreadCount) {
         const float a = one.optical_depth(one.ray(p.d), float(p.t)), b = four.optical_depth(four.ray(p.d), float(p.t));
         ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0);
     }
+}
+
+bool same_map(const SunDepthMap& a, const SunDepthMap& b) {
+    return a.size_u() == b.size_u() && a.size_v() == b.size_v() && a.size_s() == b.size_s() &&
+           a.values().size() == b.values().size() &&
+           std::memcmp(a.values().data(), b.values().data(), a.values().size_bytes()) == 0;
+}
+
+TEST(SunDepthMap, BuiltAgainInPlaceIsAFreshMap) {
+    // An owner keeps its map from frame to frame (its memory and its workers' scratch, which a build
+    // must leave zero): each build must equal a fresh map of the same scene, bit for bit, whether the
+    // lattice keeps its shape (the same scene again), changes it (another scene), or is empty.
+    const Scene first = random_cloud(150, 21, {0.2, -1.0, -0.4});
+    Scene second = random_cloud(300, 22, {-0.5, -1.0, 0.1});
+    const glm::dvec3 eye(0.0, 1.0, -8.0);
+    SunDepthMap kept;
+    for (int threads : {1, 3}) {
+        for (const Scene* s : std::initializer_list<const Scene*>{&first, &first, &second, &first}) {
+            kept.build(*s, SunLight(*s), eye, threads);
+            const SunDepthMap fresh(*s, SunLight(*s), eye, threads);
+            ASSERT_FALSE(fresh.empty());
+            EXPECT_TRUE(same_map(kept, fresh)) << threads << " threads";
+        }
+    }
+    Scene off = first;
+    off.lighting.shadows = false;
+    kept.build(off, SunLight(off), eye, 2);
+    EXPECT_TRUE(kept.empty());
+    for (const Probe& p : probes(200, 5)) EXPECT_EQ(kept.optical_depth(kept.ray(p.d), float(p.t)), 0.0f);
+    kept.build(second, SunLight(second), eye, 2);
+    EXPECT_TRUE(same_map(kept, SunDepthMap(second, SunLight(second), eye, 2)));
 }
 
 }  // namespace

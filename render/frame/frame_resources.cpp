@@ -141,7 +141,8 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
         sun_header_.size.x == 0)
         return;  // no map is read, or no sphere casts a shadow (size.x = 0 also tells the shader)
     const SunLight sun_light(scene);
-    const SunDepthMap map(scene, sun_light, scene.camera.position, 0);
+    SunDepthMap& map = sun_depth_map_;
+    map.build(scene, sun_light, scene.camera.position, 0);  // in the last frame's memory
     if (map.empty()) return;
     const glm::dvec3 o = map.origin_coordinates();
     sun_header_.map_origin = gpu::vec4(float(o.x), float(o.y), float(o.z), float(map.inverse_cell()));

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "render/image.h"
+#include "render/sun_depth_map.h"
 #include "render/vk/descriptors.h"
 #include "render/vk/device.h"
 #include "render/vk/gpu_types.h"
@@ -77,6 +78,7 @@ private:
     gpu::SunGridHeader sun_header_{};
     std::vector<std::uint32_t> sun_grid_words_;
     bool sun_depth_map_done_ = false;
+    SunDepthMap sun_depth_map_;  // kept from frame to frame for its memory (ensure_sun_depth_map)
     // Writes the header and the grid words, then `map` (may be empty) after them, growing the buffer
     // when it must (after waiting for the device) and rewriting the opaque pass's set then.
     void write_sun_buffer(std::span<const float> map);

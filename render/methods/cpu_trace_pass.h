@@ -5,6 +5,7 @@
 // (docs/performance.md, "trace").
 #pragma once
 
+#include "render/fast_tracer.h"
 #include "render/frame/gpu_method.h"
 #include "render/vk/resources.h"
 
@@ -31,6 +32,7 @@ private:
     CpuTracer tracer_;
     int threads_;
     vk::Buffer radiance_;
+    FastTraceScratch trace_scratch_;  // trace's memory from frame to frame
     double trace_ms_ = 0.0;
 };
 

@@ -15,9 +15,10 @@ double OpaqueSurfaces::hit(const glm::dvec3& o, const glm::dvec3& d, glm::dvec3&
     double t_opaque = std::numeric_limits<double>::infinity();
     behind = lighting_.background;
     int hit_box = -1, hit_axis = -1;
+    const glm::dvec3 inv_d = inverse_direction(d);
     for (std::size_t k = 0; k < boxes_.size(); ++k) {
         int axis = -1;
-        const double t = ray_box_distance(boxes_[k], o, d, &axis);
+        const double t = ray_box_distance(boxes_[k], o, d, inv_d, &axis);
         if (t < t_opaque) {
             t_opaque = t;
             hit_box = int(k);

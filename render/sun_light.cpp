@@ -29,6 +29,7 @@ SunLight::SunLight(const Scene& scene) : shadows_(scene.lighting.shadows), boxes
     if (!(len > 0.0)) shadows_ = false;  // no direction, no shadow (the reader refuses a zero direction)
     if (!shadows_) return;
     l_ = -scene.lighting.sun_direction / len;
+    inverse_l_ = inverse_direction(l_);
     // Any unit vector not parallel to l makes the basis.
     const dvec3 helper = std::abs(l_.x) < 0.9 ? dvec3(1.0, 0.0, 0.0) : dvec3(0.0, 1.0, 0.0);
     u_ = glm::normalize(glm::cross(l_, helper));
@@ -138,7 +139,7 @@ double SunLight::optical_depth(const dvec3& x) const {
 
 bool SunLight::box_blocks(const dvec3& x, int skip_box) const {
     for (std::size_t k = 0; k < boxes_.size(); ++k)
-        if (int(k) != skip_box && ray_box_distance(boxes_[k], x, l_) < kInf) return true;
+        if (int(k) != skip_box && ray_box_distance(boxes_[k], x, l_, inverse_l_) < kInf) return true;
     return false;
 }
 

@@ -71,6 +71,7 @@ private:
 
     bool shadows_;
     glm::dvec3 l_{0.0};
+    glm::dvec3 inverse_l_{0.0};   // inverse_direction(l_), for the boxes' shadows (render/ray_box.h)
     glm::dvec3 u_{0.0}, v_{0.0};  // a basis of the plane perpendicular to l
     std::vector<Disc> discs_;     // the spheres, as the light sees them
     std::vector<Box> boxes_;

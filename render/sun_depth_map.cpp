@@ -35,11 +35,7 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
 
 void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
                         std::size_t max_vertices) {
-    // Empty until the lattice is known (a lookup answers 0: no column holds it); the vertices' memory
-    // and the workers' scratch stay.
-    nu_ = nv_ = ns_ = 0;
-    last_u_ = last_v_ = last_s_ = 0.0f;
-    size_ = 0;
+    make_empty();  // until the lattice is known; the vertices' memory and the workers' scratch stay
     if (!sun.shadows() || scene.spheres.empty()) return;
     max_vertices = std::min(max_vertices, kMaxVertices);
     u_ = sun.grid_u();
@@ -104,7 +100,13 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
     // of the frame in page faults under the build's writes).
     if (vertex_count > capacity_) {
         depth_.reset();  // the old one first: both at once could exceed what the machine has
-        depth_.reset(new float[vertex_count]);
+        capacity_ = 0;
+        try {
+            depth_.reset(new float[vertex_count]);
+        } catch (...) {
+            make_empty();
+            throw;
+        }
         capacity_ = vertex_count;
     }
     size_ = vertex_count;
@@ -266,11 +268,15 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
         parallel_for(std::size_t(bands), threads, splat_and_sum);
     } catch (...) {
         band_scratch_.clear();  // a band cut short left its scratch unzeroed
-        size_ = 0;
-        nu_ = nv_ = ns_ = 0;
-        last_u_ = last_v_ = last_s_ = 0.0f;
+        make_empty();
         throw;
     }
+}
+
+void SunDepthMap::make_empty() {
+    nu_ = nv_ = ns_ = 0;
+    last_u_ = last_v_ = last_s_ = 0.0f;  // a lookup answers 0: no column holds it
+    size_ = 0;
 }
 
 SunDepthMap::Ray SunDepthMap::ray(const glm::dvec3& d) const {

@@ -80,6 +80,9 @@ public:
     }
 
 private:
+    // No lattice (empty(), every lookup 0), its memory kept; also what a build that throws leaves.
+    void make_empty();
+
     glm::dvec3 u_{0.0}, v_{0.0}, l_{0.0};
     double u_lo_ = 0.0, v_lo_ = 0.0, s_lo_ = 0.0;  // the lattice's first vertex on each axis
     double cell_d_ = 1.0;

@@ -708,9 +708,10 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
 }
 
 // trace_tile compiled twice, everything it calls that can be inlined inlined into it (flatten): for
-// any x86-64, and for one with AVX2 and FMA, where the same code ran 5-14% faster. Nothing but what
-// is inlined here takes the second target, so no function the rest of the program calls (a template
-// that another file also instantiates, say) is ever compiled for it.
+// any x86-64, and for one with AVX2 and FMA, where the same code ran 5-18% faster a frame
+// (docs/performance.md). Nothing but what is inlined here takes the second target, so no function
+// the rest of the program calls (a template that another file also instantiates, say) is ever
+// compiled for it.
 template <class Store>
 [[gnu::flatten]] void trace_tile_portable(const FrameTiles& f, std::size_t t, TileScratch& w, const Store& store) {
     trace_tile(f, t, w, store);

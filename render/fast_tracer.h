@@ -29,8 +29,8 @@
 namespace brume {
 
 // The instructions trace's per-pixel work is compiled for: Best takes AVX2 and FMA where the CPU has
-// them (5-14% faster on the presets; the images then differ from Portable's in float rounding, within
-// the same bounds against the reference), Portable any x86-64's (tests hold the two together).
+// them (5-18% faster a frame; the images then differ from Portable's in float rounding, within the
+// same bounds against the reference), Portable any x86-64's (tests hold the two together).
 enum class TraceInstructions { Best, Portable };
 
 // What a caller that traces frame after frame keeps between them, so that a frame reuses the memory of
@@ -47,7 +47,7 @@ struct FastTraceOptions {
 };
 
 // The instructions `options` gives the per-pixel work on this CPU: "AVX2+FMA" or "portable", for the
-// benchmarks' headers (the same code differs 5-14% between them).
+// benchmarks' headers (the same code differs 5-18% a frame between them).
 const char* fast_trace_instructions(const FastTraceOptions& options = {});
 
 // One ray per pixel centre, or the mean of camera.supersample^2 sub-pixel rays, as the reference.

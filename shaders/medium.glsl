@@ -8,7 +8,7 @@
 // 1 - exp(-x); it is 1 at x = 0, so empty space and tau -> 0 need no special case.
 float one_minus_exp_over_x(float x, float exp_minus_x) {
     if (x < 0.125)
-        return 1.0 - x / 2.0 * (1.0 - x / 3.0 * (1.0 - x / 4.0 * (1.0 - x / 5.0 * (1.0 - x / 6.0))));
+        return 1.0 - x * 0.5 * (1.0 - x * (1.0 / 3.0) * (1.0 - x * 0.25 * (1.0 - x * 0.2 * (1.0 - x * (1.0 / 6.0)))));
     return (1.0 - exp_minus_x) / x;
 }
 

@@ -17,6 +17,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <stdexcept>
@@ -129,6 +130,43 @@ float phi_signed(float x, float exp_minus_x) {
     return (1.0f - exp_minus_x) / x;
 }
 
+// Eight floats or ints (GCC and Clang vector extensions: two SSE registers, or one AVX one where the
+// code is compiled for AVX2): the accurate technique's jobs, eight at a time (resolve_sun_jobs). The
+// helpers below are always inlined, so GCC's note that such a value crosses a call differently with
+// and without AVX (-Wpsabi) concerns no call that is made.
+#pragma GCC diagnostic ignored "-Wpsabi"
+using Float8 = float __attribute__((vector_size(32)));
+using Int8 = std::int32_t __attribute__((vector_size(32)));
+
+[[gnu::always_inline]] inline Float8 load8(const float* p) {
+    Float8 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+
+// exp(-x), clamped to float's normal range, in each lane: exp_minus's arithmetic.
+[[gnu::always_inline]] inline Float8 exp_minus8(Float8 x) {
+    Float8 y = -x;
+    y = y > -87.0f ? y : Float8{} - 87.0f;  // NaN never reaches here
+    y = y < 87.0f ? y : Float8{} + 87.0f;
+    const Float8 n = (y * 1.44269504088896341f + 12582912.0f) - 12582912.0f;
+    const Float8 r = (y - n * 0.693145751953125f) - n * 1.42860682030941723e-6f;
+    const Float8 r2 = r * r, r4 = r2 * r2;
+    const Float8 p = ((1.0f + r) + r2 * (0.5f + r * (1.0f / 6.0f))) +
+                     r4 * ((1.0f / 24.0f + r * (1.0f / 120.0f)) + r2 * (1.0f / 720.0f));
+    const Int8 bits = (__builtin_convertvector(n, Int8) + 127) << 23;
+    return p * Float8(bits);  // a cast between vectors of one size keeps the bits
+}
+
+// phi_signed in each lane: both forms computed, the quotient's divisor kept away from 0, one chosen.
+[[gnu::always_inline]] inline Float8 phi_signed8(Float8 x, Float8 exp_minus_x) {
+    const Int8 small = Float8(Int8(x) & 0x7fffffff) < 0.125f;  // |x| by its bits
+    const Float8 series =
+        1.0f - x * 0.5f * (1.0f - x * (1.0f / 3.0f) * (1.0f - x * 0.25f * (1.0f - x * 0.2f * (1.0f - x * (1.0f / 6.0f)))));
+    const Float8 quotient = (1.0f - exp_minus_x) / (small ? Float8{} + 1.0f : x);
+    return small ? series : quotient;
+}
+
 // The longest piece, in map cells, over which the accurate technique takes the optical depth toward the
 // sun as linear, before lit_piece halves it where the depth changes fast. A lit piece is halved, up to
 // kSunPieceSplits times (down to a quarter cell), while the light it may carry times its change of
@@ -148,9 +186,44 @@ constexpr float kSunPieceDepthChange = 0.1f;
 // 10,000 / 100,000 spheres: 8 gave 72-77 / 183-184 / 489-494 and 16 gave 82-83 / 180-183 / 491-494 in
 // one sitting, 4 gave 75-78 / 185-187 / 500-506 in the one before.
 constexpr std::size_t kFlushEvery = 8;
-// Below this a segment's transmittance is not divided by (sun_segment_integral): the quotient would lose
-// the digits the integrand kept.
-constexpr float kDivisibleTransmittance = 1e-20f;
+
+// The accurate technique's sun integrals of a tile, taken together after its rays (SunJobs): a lit piece
+// [p, q] of a view segment that began at a, with its ray's media, is a job; its ends are points, whose
+// optical depths toward the sun are read from the map in one pass (a piece that starts where the one
+// before ended shares its point), and the integrals are then taken in a second pass. Neither pass
+// carries anything from one job to the next, so both run over SIMD lanes (AVX2: eight at a time), where
+// a ray's walk, one event after another, could not; a job whose depth changes fast is refined on its
+// own afterwards (lit_piece).
+struct SunJobs {
+    // The points: lattice coordinates (SunDepthMap::Ray at t), then the depth there.
+    std::vector<float> gu, gv, gs, depth;
+    // The jobs: the first of its two points; t at p; q - p; sigma_t; sigma_t (p - a); the view's
+    // transmittance at a; the ray (rays) and the tile's pixel; the light it carries per unit of the
+    // integral, {0, T(a) sigma_s L_sun P(theta)}.
+    std::vector<std::uint32_t> first_point;
+    std::vector<float> p, length, sigma_t, attenuation, weight;
+    std::vector<std::uint32_t> ray, pixel;
+    std::vector<Float4> light;
+    // The pass's working arrays, per job: the depths at its ends, the integral, whether to refine.
+    std::vector<float> od_p, od_q, integral;
+    std::vector<std::int32_t> refine;
+    std::vector<SunDepthMap::Ray> rays;  // the map rays of the tile's rays, by `ray`
+
+    void clear() {
+        for (std::vector<float>* v : {&gu, &gv, &gs, &p, &length, &sigma_t, &attenuation, &weight}) v->clear();
+        first_point.clear();
+        ray.clear();
+        pixel.clear();
+        light.clear();
+        rays.clear();
+    }
+    std::size_t size() const { return p.size(); }
+    void add_point(const SunDepthMap::Ray& r, float t) {
+        gu.push_back(r.u0 + t * r.du);
+        gv.push_back(r.v0 + t * r.dv);
+        gs.push_back(r.s0 + t * r.ds);
+    }
+};
 
 class FastTracer {
 public:
@@ -303,9 +376,11 @@ public:
     // listed near to far by their bounds.
     // kPlain: a scene without shadows or emission (plain_), whose integrator needs only sigma_t and
     // sigma_s: a third of the work per event.
+    // With accurate shadows the sun's light is not in the answer: the ray's lit pieces go to `jobs`, for
+    // tile pixel `pixel` (resolve_sun_jobs adds their light to the pixel's sum).
     template <bool kPlain>
     dvec3 radiance(const dvec3& d, const TileSphere* list, const std::uint32_t* items, std::size_t count,
-                   RayScratch& scratch) const {
+                   RayScratch& scratch, SunJobs& jobs, std::uint32_t pixel) const {
         dvec3 behind;
         const float t_opaque = float(opaque_.hit(eye_, d, behind));
         const float dx = float(d.x), dy = float(d.y), dz = float(d.z);
@@ -323,6 +398,10 @@ public:
             ray.map = sun_map_.ray(d);
             ray.t_opaque = t_opaque;
             ray.shadow_scratch = &scratch.shadows;  // box_shadows fills it once a segment is lit
+            ray.sun_jobs = &jobs;
+            ray.ray_id = std::uint32_t(jobs.rays.size());
+            ray.pixel = pixel;
+            jobs.rays.push_back(ray.map);
         }
 
         // The pending events, in two sorted runs merged as they leave: entries arrive in about bound order,
@@ -447,6 +526,9 @@ private:
         SunDepthMap::Ray map{};
         float t_opaque = 0.0f;
         std::vector<float>* shadow_scratch = nullptr;
+        // Where its lit pieces go (sun_jobs), as ray `ray_id` of the tile, for tile pixel `pixel`.
+        SunJobs* sun_jobs = nullptr;
+        std::uint32_t ray_id = 0, pixel = 0;
     };
     // Front-to-back state of one ray: running sums of the media it is in (shaders/exact_integrator.glsl).
     struct State {
@@ -457,13 +539,11 @@ private:
         Float4 sigma_e{};    // {0, sum tau_k e_k}
         int inside = 0;
         float t_prev = 0.0f;
-        // The accurate technique: the optical depth toward the sun at t_prev, when od_valid (kept from the
-        // segment before, so each event costs one lookup); the ray's box shadows, sorted pairs (lo, hi),
-        // once shadows_ready (its first lit segment), and the first one not yet passed.
-        float od_prev = 0.0f;
-        float sun_prev = 1.0f;  // exp(-od_prev)
-        bool od_valid = false;
+        // The accurate technique: the ray's box shadows, sorted pairs (lo, hi), once shadows_ready (its
+        // first lit segment), and the first one not yet passed; the t of the last point it gave its
+        // jobs (SunJobs), which the next piece shares if it starts there.
         bool shadows_ready = false;
+        float last_point = -1.0f;
         const float* shadows = nullptr;
         std::size_t shadow_count = 0;
         std::size_t shadow_next = 0;
@@ -471,33 +551,22 @@ private:
         dvec3 color() const { return dvec3(radiance[1], radiance[2], radiance[3]); }
     };
 
-    // integral over [a, b] of exp(-sigma_t (t - a)) T_sun(eye + t d) dt, the accurate technique: T_sun is
+    // The accurate technique's sun light over the segment [a, b]: light * integral over [a, b] of
+    // exp(-sigma_t (t - a)) T_sun(eye + t d) dt, where light = {0, T(a) sigma_s L_sun P(theta)}. T_sun is
     // 0 inside the ray's box shadows (exact intervals) and exp(-optical depth) elsewhere, the depth read
     // from the map at the ends of pieces no longer than kSunPieceCells (halved where it changes fast,
-    // lit_piece) and linear between them, where the integral has a closed form. Leaves the depth at b in
-    // the state for the next segment.
-    float sun_segment_integral(State& st, const Ray& ray, float a, float b, float sigma_t,
-                               float segment_transmittance) const {
+    // lit_piece) and linear between them, where the integral has a closed form. The lit pieces go to the
+    // tile's jobs (SunJobs), whose integrals resolve_sun_jobs takes after the tile's rays.
+    void add_sun_pieces(State& st, const Ray& ray, float a, float b, float sigma_t, const Float4& light) const {
         const float max_piece = kSunPieceCells * sun_map_.cell();
-        float p = a;
         if (!st.shadows_ready) {  // the ray's first lit segment: its box shadows (most rays meet no media)
             box_shadows(ray.d, ray.t_opaque, *ray.shadow_scratch);
             st.shadows = ray.shadow_scratch->data();
             st.shadow_count = ray.shadow_scratch->size() / 2;
             st.shadows_ready = true;
         }
-        // The integrand at p, exp(-sigma_t (p - a) - depth(p)), carried from piece to piece: each piece's
-        // exp(-x) takes it to the next, so a piece costs one exponential; at a it is the sun's
-        // transmittance the segment before left (sun_prev), or a lookup's after free space.
-        float od_p, at_p;
-        if (st.od_valid) {
-            od_p = st.od_prev;
-            at_p = st.sun_prev;
-        } else {
-            od_p = sun_map_.optical_depth(ray.map, a);
-            at_p = exp_nonpositive(-od_p);
-        }
-        float sum = 0.0f;
+        SunJobs& jobs = *ray.sun_jobs;
+        float p = a;
         while (p < b) {
             while (st.shadow_next < st.shadow_count && st.shadows[2 * st.shadow_next + 1] <= p) ++st.shadow_next;
             const bool shadowed = st.shadow_next < st.shadow_count && st.shadows[2 * st.shadow_next] <= p;
@@ -505,33 +574,97 @@ private:
             if (st.shadow_next < st.shadow_count)
                 q = std::min(q, shadowed ? st.shadows[2 * st.shadow_next + 1] : st.shadows[2 * st.shadow_next]);
             if (!(q > p)) q = b;  // a piece shorter than float's step: end the segment (adds nothing)
-            const float od_q = sun_map_.optical_depth(ray.map, q);
-            if (shadowed) {
-                at_p *= exp_minus(sigma_t * (q - p) + (od_q - od_p));  // nothing to add, the integrand carried on
-                p = q;
-                od_p = od_q;
-            } else {
-                sum += lit_piece(ray, p, q, od_p, od_q, sigma_t, st.transmittance, at_p);
+            if (!shadowed) {
+                if (st.last_point != p) jobs.add_point(ray.map, p);  // else the piece before ended here
+                jobs.first_point.push_back(std::uint32_t(jobs.gu.size() - 1));
+                jobs.add_point(ray.map, q);
+                st.last_point = q;
+                jobs.p.push_back(p);
+                jobs.length.push_back(q - p);
+                jobs.sigma_t.push_back(sigma_t);
+                jobs.attenuation.push_back(sigma_t * (p - a));
+                jobs.weight.push_back(st.transmittance);
+                jobs.ray.push_back(ray.ray_id);
+                jobs.pixel.push_back(ray.pixel);
+                jobs.light.push_back(light);
             }
+            p = q;
         }
-        st.od_prev = od_p;
-        st.od_valid = true;
-        // exp(-depth(b)): the integrand at b without the segment's own attenuation, a quotient rather than
-        // an exponential; where that attenuation is too deep to divide by, the ray is about to stop.
-        st.sun_prev = segment_transmittance > kDivisibleTransmittance ? at_p / segment_transmittance
-                                                                      : exp_nonpositive(-od_p);
-        return sum;
     }
 
-    // integral over the lit piece [p, q] of the integrand at_p carries (sun_segment_integral), the depth
+public:
+    // The integrals of the tile's jobs (add_sun_pieces), each light times its integral added to its
+    // pixel's sum. In passes over the jobs that carry nothing from one to the next, so that the compiler
+    // takes them over SIMD lanes: the depths at the points; the closed form over each piece, with the
+    // depth linear along it, and whether the light it may carry times its change of depth calls for
+    // halving it (lit_piece's test); then, one job at a time, the refinement where called for and the sums.
+    void resolve_sun_jobs(SunJobs& jobs, dvec3* pixel_sums) const {
+        const std::size_t n = jobs.size();
+        if (n == 0) return;
+        const std::size_t points = jobs.gu.size();
+        const std::size_t padded_points = (points + 7) / 8 * 8;  // the padding lies outside the lattice
+        for (std::vector<float>* v : {&jobs.gu, &jobs.gv, &jobs.gs}) v->resize(padded_points, -1.0f);
+        jobs.depth.resize(padded_points);
+        sun_map_.optical_depths(jobs.gu.data(), jobs.gv.data(), jobs.gs.data(), jobs.depth.data(), points);
+        jobs.od_p.resize(n);
+        jobs.od_q.resize(n);
+        jobs.integral.resize(n);
+        jobs.refine.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            jobs.od_p[i] = jobs.depth[jobs.first_point[i]];
+            jobs.od_q[i] = jobs.depth[jobs.first_point[i] + 1];
+        }
+        // Eight jobs at a time; the arrays padded to a multiple of 8 with jobs that add nothing.
+        const std::size_t padded = (n + 7) / 8 * 8;
+        for (std::vector<float>* v : {&jobs.od_p, &jobs.od_q, &jobs.length, &jobs.sigma_t, &jobs.attenuation, &jobs.weight})
+            v->resize(padded, 0.0f);
+        jobs.integral.resize(padded);
+        jobs.refine.resize(padded);
+        const float* od_p = jobs.od_p.data();
+        const float* od_q = jobs.od_q.data();
+        const float* length = jobs.length.data();
+        const float* sigma_t = jobs.sigma_t.data();
+        const float* attenuation = jobs.attenuation.data();
+        const float* weight = jobs.weight.data();
+        for (std::size_t i = 0; i < padded; i += 8) {
+            const Float8 op = load8(od_p + i), oq = load8(od_q + i), len = load8(length + i);
+            const Float8 change = oq - op;
+            const Float8 x = load8(sigma_t + i) * len + change;
+            // The integrand at p, exp(-sigma_t (p - a) - depth(p)); exp(-x) takes it to q.
+            const Float8 at_p = exp_minus8(load8(attenuation + i) + op);
+            const Float8 integral = at_p * len * phi_signed8(x, exp_minus8(x));
+            const Float8 magnitude = Float8(Int8(change) & 0x7fffffff);
+            const Int8 refine = load8(weight + i) * at_p * magnitude > kSunPieceDepthChange;
+            std::memcpy(jobs.integral.data() + i, &integral, sizeof integral);
+            std::memcpy(jobs.refine.data() + i, &refine, sizeof refine);
+        }
+        const float* integral = jobs.integral.data();
+        const std::int32_t* refine = jobs.refine.data();
+        for (std::size_t i = 0; i < n; ++i) {
+            float sum = integral[i];
+            if (refine[i]) {
+                float p = jobs.p[i], od = od_p[i];
+                float at_p = exp_minus(attenuation[i] + od);
+                sum = lit_piece(jobs.rays[jobs.ray[i]], p, p + length[i], od, od_q[i], sigma_t[i], weight[i], at_p);
+            }
+            const Float4 light = jobs.light[i] * sum;
+            dvec3& out = pixel_sums[jobs.pixel[i]];
+            out.x += double(light[1]);
+            out.y += double(light[2]);
+            out.z += double(light[3]);
+        }
+    }
+
+private:
+    // integral over the lit piece [p, q] of the integrand at_p carries (resolve_sun_jobs), the depth
     // linear between p and q or, where the light the piece may carry (the view's transmittance to the
     // segment, `weight`, times at_p) times the depth's change is over kSunPieceDepthChange, over each half
     // with the depth read at the midpoint, up to kSunPieceSplits times. Takes p, od_p and at_p on to q.
     // A loop, not a recursion, so that it inlines into the tile's code (trace_tile_avx2): the far ends
     // of the halves still to come wait on a stack, nearest last, with their level (as the GPU's
     // sun_segment_integral, shaders/exact_integrator.glsl).
-    float lit_piece(const Ray& ray, float& p, float q, float& od_p, float od_q, float sigma_t, float weight,
-                    float& at_p) const {
+    float lit_piece(const SunDepthMap::Ray& map, float& p, float q, float& od_p, float od_q, float sigma_t,
+                    float weight, float& at_p) const {
         float wait_t[kSunPieceSplits], wait_od[kSunPieceSplits];
         int wait_level[kSunPieceSplits];
         int waiting = 0, level = 0;
@@ -545,7 +678,7 @@ private:
                 ++waiting;
                 ++level;
                 r = 0.5f * (p + r);
-                od_r = sun_map_.optical_depth(ray.map, r);
+                od_r = sun_map_.optical_depth(map, r);
                 continue;
             }
             const float len = r - p;
@@ -576,17 +709,14 @@ private:
             if (kPlain) {
                 st.radiance += st.sigma * ray.source * tw;
             } else if (accurate_shadows_) {
-                const float sun =
-                    st.transmittance * sun_segment_integral(st, ray, st.t_prev, t, st.sigma_t(), segment_transmittance);
-                st.radiance += (st.sigma * ray.ambient + st.sigma_e) * tw + st.sigma * ray.sun_phase * sun;
+                add_sun_pieces(st, ray, st.t_prev, t, st.sigma_t(), st.sigma * ray.sun_phase * st.transmittance);
+                st.radiance += (st.sigma * ray.ambient + st.sigma_e) * tw;
             } else {
                 // sigma_s L_s less the sun light the per-sphere shadows take away, plus emission.
                 st.radiance += (st.sigma * ray.source - (st.sigma - st.sigma_sun) * ray.sun_phase + st.sigma_e) * tw;
             }
             st.transmittance *= segment_transmittance;
             if (st.transmittance < min_transmittance_) return false;
-        } else if (!kPlain && st.inside == 0) {
-            st.od_valid = false;  // free space: the next segment looks its start up
         }
         st.t_prev = t;
         // Enter or leave the event's medium, without a branch (entries and exits alternate unpredictably):
@@ -673,6 +803,7 @@ struct FrameTiles {
 struct alignas(64) TileScratch {
     TileLists lists;
     FastTracer::RayScratch ray;
+    SunJobs sun_jobs;
 };
 
 // Tile t: its pixel lists, then its pixels, each handed to store(i, j, value).
@@ -694,21 +825,32 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
             }
     f.tracer.list_tile(f.bins.entries.data() + 2 * std::size_t(f.bins.first[t]), f.bins.first[t + 1] - f.bins.first[t],
                        f.rects, i0, j0, k == 1 ? directions : nullptr, w.lists);
-    for (int j = j0; j < std::min(j0 + int(kTile), f.height); ++j) {
-        for (int i = i0; i < std::min(i0 + int(kTile), f.width); ++i) {
+    // Each pixel's sum over its rays; with accurate shadows the sun's light joins it after all the
+    // tile's rays (FastTracer::resolve_sun_jobs).
+    dvec3 sums[kTile * kTile];
+    w.sun_jobs.clear();
+    const int i1 = std::min(i0 + int(kTile), f.width), j1 = std::min(j0 + int(kTile), f.height);
+    for (int j = j0; j < j1; ++j) {
+        for (int i = i0; i < i1; ++i) {
+            const std::uint32_t p = std::uint32_t((j - j0) * int(kTile) + (i - i0));
             dvec3 sum(0.0);
             for (int b = 0; b < k; ++b)
                 for (int a = 0; a < k; ++a) {
-                    const std::uint32_t p = std::uint32_t((j - j0) * int(kTile) + (i - i0));
                     const dvec3 d = k == 1 ? pixel_rays[p] : f.rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
                     const std::uint32_t* items = w.lists.items.data() + w.lists.first[p];
                     const std::size_t count = w.lists.count[p];
-                    sum += f.plain ? f.tracer.radiance<true>(d, w.lists.spheres.data(), items, count, w.ray)
-                                   : f.tracer.radiance<false>(d, w.lists.spheres.data(), items, count, w.ray);
+                    sum += f.plain ? f.tracer.radiance<true>(d, w.lists.spheres.data(), items, count, w.ray,
+                                                             w.sun_jobs, p)
+                                   : f.tracer.radiance<false>(d, w.lists.spheres.data(), items, count, w.ray,
+                                                              w.sun_jobs, p);
                 }
-            store(i, j, sum / double(k * k));
+            sums[p] = sum;
         }
     }
+    f.tracer.resolve_sun_jobs(w.sun_jobs, sums);
+    for (int j = j0; j < j1; ++j)
+        for (int i = i0; i < i1; ++i)
+            store(i, j, sums[(j - j0) * int(kTile) + (i - i0)] / double(k * k));
 }
 
 // trace_tile compiled twice, everything it calls that can be inlined inlined into it (flatten): for

@@ -130,19 +130,9 @@ float phi_signed(float x, float exp_minus_x) {
     return (1.0f - exp_minus_x) / x;
 }
 
-// Eight floats or ints (GCC and Clang vector extensions: two SSE registers, or one AVX one where the
-// code is compiled for AVX2): the accurate technique's jobs, eight at a time (resolve_sun_jobs). The
-// helpers below are always inlined, so GCC's note that such a value crosses a call differently with
-// and without AVX (-Wpsabi) concerns no call that is made.
-#pragma GCC diagnostic ignored "-Wpsabi"
-using Float8 = float __attribute__((vector_size(32)));
-using Int8 = std::int32_t __attribute__((vector_size(32)));
-
-[[gnu::always_inline]] inline Float8 load8(const float* p) {
-    Float8 v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
+using simd::Float8;
+using simd::Int8;
+using simd::load8;
 
 // exp(-x), clamped to float's normal range, in each lane: exp_minus's arithmetic.
 [[gnu::always_inline]] inline Float8 exp_minus8(Float8 x) {
@@ -598,14 +588,15 @@ public:
     // takes them over SIMD lanes: the depths at the points; the closed form over each piece, with the
     // depth linear along it, and whether the light it may carry times its change of depth calls for
     // halving it (lit_piece's test); then, one job at a time, the refinement where called for and the sums.
-    void resolve_sun_jobs(SunJobs& jobs, dvec3* pixel_sums) const {
+    template <class Gather>
+    void resolve_sun_jobs(SunJobs& jobs, dvec3* pixel_sums, const Gather& gather) const {
         const std::size_t n = jobs.size();
         if (n == 0) return;
         const std::size_t points = jobs.gu.size();
         const std::size_t padded_points = (points + 7) / 8 * 8;  // the padding lies outside the lattice
         for (std::vector<float>* v : {&jobs.gu, &jobs.gv, &jobs.gs}) v->resize(padded_points, -1.0f);
         jobs.depth.resize(padded_points);
-        sun_map_.optical_depths(jobs.gu.data(), jobs.gv.data(), jobs.gs.data(), jobs.depth.data(), points);
+        sun_map_.optical_depths(jobs.gu.data(), jobs.gv.data(), jobs.gs.data(), jobs.depth.data(), points, gather);
         jobs.od_p.resize(n);
         jobs.od_q.resize(n);
         jobs.integral.resize(n);
@@ -635,8 +626,8 @@ public:
             const Float8 integral = at_p * len * phi_signed8(x, exp_minus8(x));
             const Float8 magnitude = Float8(Int8(change) & 0x7fffffff);
             const Int8 refine = load8(weight + i) * at_p * magnitude > kSunPieceDepthChange;
-            std::memcpy(jobs.integral.data() + i, &integral, sizeof integral);
-            std::memcpy(jobs.refine.data() + i, &refine, sizeof refine);
+            simd::store8(jobs.integral.data() + i, integral);
+            simd::store8(jobs.refine.data() + i, refine);
         }
         const float* integral = jobs.integral.data();
         const std::int32_t* refine = jobs.refine.data();
@@ -806,9 +797,10 @@ struct alignas(64) TileScratch {
     SunJobs sun_jobs;
 };
 
-// Tile t: its pixel lists, then its pixels, each handed to store(i, j, value).
-template <class Store>
-inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const Store& store) {
+// Tile t: its pixel lists, then its pixels, each handed to store(i, j, value); `gather` reads the sun
+// map's vertices (render/simd8.h).
+template <class Store, class Gather>
+inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const Store& store, const Gather& gather) {
     const int k = f.supersample;
     const int i0 = int(t % f.bins.tiles_x * kTile), j0 = int(t / f.bins.tiles_x * kTile);
     // The tile's pixel rays, and in float as the tracer takes them (one ray a pixel: no supersampling).
@@ -847,7 +839,7 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
             sums[p] = sum;
         }
     }
-    f.tracer.resolve_sun_jobs(w.sun_jobs, sums);
+    f.tracer.resolve_sun_jobs(w.sun_jobs, sums, gather);
     for (int j = j0; j < j1; ++j)
         for (int i = i0; i < i1; ++i)
             store(i, j, sums[(j - j0) * int(kTile) + (i - i0)] / double(k * k));
@@ -860,13 +852,13 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
 // compiled for it.
 template <class Store>
 [[gnu::flatten]] void trace_tile_portable(const FrameTiles& f, std::size_t t, TileScratch& w, const Store& store) {
-    trace_tile(f, t, w, store);
+    trace_tile(f, t, w, store, simd::GatherByLanes{});
 }
 #if defined(__x86_64__) && defined(__GNUC__)
 template <class Store>
 [[gnu::flatten, gnu::target("avx2,fma")]] void trace_tile_avx2(const FrameTiles& f, std::size_t t, TileScratch& w,
                                                                  const Store& store) {
-    trace_tile(f, t, w, store);
+    trace_tile(f, t, w, store, simd::GatherAvx2{});
 }
 #endif
 

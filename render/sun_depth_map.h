@@ -14,6 +14,7 @@
 // Coordinates are relative to an origin (the eye), so float keeps its precision where the rays are.
 #pragma once
 
+#include "render/simd8.h"
 #include "render/sun_light.h"
 #include "sim/scene.h"
 
@@ -21,8 +22,6 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <cstdint>
-#include <cstring>
 #include <memory>
 #include <span>
 #include <vector>
@@ -82,12 +81,14 @@ public:
     }
 
     // optical_depth at n points given in lattice coordinates (a Ray's at some t), into out, eight at a
-    // time (GCC and Clang vector extensions): the same interpolation without a branch. A point outside
-    // the columns (or NaN) reads 0, as optical_depth's. The arrays hold n rounded up to a multiple of 8.
+    // time (render/simd8.h): the same interpolation without a branch, its eight vertices read by
+    // `gather` (simd::GatherByLanes, or GatherAvx2 in code compiled for AVX2). A point outside the
+    // columns (or NaN) reads 0, as optical_depth's. The arrays hold n rounded up to a multiple of 8.
+    template <class Gather>
     [[gnu::always_inline]] void optical_depths(const float* gu, const float* gv, const float* gs, float* out,
-                                               std::size_t n) const {
-        using Float8 = float __attribute__((vector_size(32)));
-        using Int8 = std::int32_t __attribute__((vector_size(32)));
+                                               std::size_t n, const Gather& gather) const {
+        using simd::Float8;
+        using simd::Int8;
         const std::size_t padded = (n + 7) / 8 * 8;
         if (empty()) {
             std::fill(out, out + padded, 0.0f);
@@ -96,10 +97,7 @@ public:
         const float* depth = depth_.get();
         const Float8 zero{};
         for (std::size_t m = 0; m < padded; m += 8) {
-            Float8 u, v, s;
-            std::memcpy(&u, gu + m, sizeof u);
-            std::memcpy(&v, gv + m, sizeof v);
-            std::memcpy(&s, gs + m, sizeof s);
+            Float8 u = simd::load8(gu + m), v = simd::load8(gv + m), s = simd::load8(gs + m);
             const Int8 inside = (u >= 0.0f) & (v >= 0.0f) & (u < last_u_) & (v < last_v_);
             // Outside, vertex (0, 0) is read (and its value dropped) in place of one that may not exist.
             u = inside ? u : zero;
@@ -112,16 +110,15 @@ public:
             const Float8 fu = u - __builtin_convertvector(i, Float8), fv = v - __builtin_convertvector(j, Float8),
                          fs = s - __builtin_convertvector(k, Float8);
             const Int8 c = (j * nu_ + i) * ns_ + k;
-            Float8 q[8];  // the eight vertices: along s (0, 1), u (0, ns) and v (0, stride_v)
-            const int offsets[8] = {0, 1, ns_, ns_ + 1, stride_v_, stride_v_ + 1, stride_v_ + ns_, stride_v_ + ns_ + 1};
-            for (int corner = 0; corner < 8; ++corner)
-                for (int lane = 0; lane < 8; ++lane) q[corner][lane] = depth[c[lane] + offsets[corner]];
-            const Float8 a = q[0] + fs * (q[1] - q[0]), b = q[2] + fs * (q[3] - q[2]);
-            const Float8 e = q[4] + fs * (q[5] - q[4]), f = q[6] + fs * (q[7] - q[6]);
+            // The eight vertices: along s (+1), u (+ns) and v (+stride_v).
+            const auto along_s = [&](int offset) {
+                const Float8 lo = gather(depth, c + offset), hi = gather(depth, c + (offset + 1));
+                return lo + fs * (hi - lo);
+            };
+            const Float8 a = along_s(0), b = along_s(ns_), e = along_s(stride_v_), f = along_s(stride_v_ + ns_);
             const Float8 ab = a + fu * (b - a), ef = e + fu * (f - e);
             const Float8 value = ab + fv * (ef - ab);
-            const Float8 result = inside ? value : zero;
-            std::memcpy(out + m, &result, sizeof result);
+            simd::store8(out + m, inside ? value : zero);
         }
     }
 

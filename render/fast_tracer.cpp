@@ -185,33 +185,50 @@ constexpr std::size_t kFlushEvery = 8;
 // a ray's walk, one event after another, could not; a job whose depth changes fast is refined on its
 // own afterwards (lit_piece).
 struct SunJobs {
-    // The points: lattice coordinates (SunDepthMap::Ray at t), then the depth there.
+    // The points: lattice coordinates (SunDepthMap::Ray at t), then the depth there; `points` of them.
     std::vector<float> gu, gv, gs, depth;
-    // The jobs: the first of its two points; t at p; q - p; sigma_t; sigma_t (p - a); the view's
-    // transmittance at a; the ray (rays) and the tile's pixel; the light it carries per unit of the
-    // integral, {0, T(a) sigma_s L_sun P(theta)}.
-    std::vector<std::uint32_t> first_point;
+    std::size_t points = 0;
+    // The jobs, `count` of them: the first of its two points; t at p; q - p; sigma_t; sigma_t (p - a);
+    // the view's transmittance at a; the ray (rays) and the tile's pixel; the light it carries per unit
+    // of the integral, {0, T(a) sigma_s L_sun P(theta)}.
+    std::vector<std::uint32_t> first_point, ray, pixel;
     std::vector<float> p, length, sigma_t, attenuation, weight;
-    std::vector<std::uint32_t> ray, pixel;
     std::vector<Float4> light;
-    // The pass's working arrays, per job: the depths at its ends, the integral, whether to refine.
+    std::size_t count = 0;
+    // The passes' working arrays: per job the depths at its ends, the integral, whether to refine it
+    // (all ones or 0); the jobs to refine.
     std::vector<float> od_p, od_q, integral;
     std::vector<std::int32_t> refine;
+    std::vector<std::uint32_t> refined;
     std::vector<SunDepthMap::Ray> rays;  // the map rays of the tile's rays, by `ray`
 
+    // The arrays are kept at their largest (a tile's jobs are written by index, not appended: one test
+    // of room per job rather than one per array), with room for the padding to a multiple of 8.
     void clear() {
-        for (std::vector<float>* v : {&gu, &gv, &gs, &p, &length, &sigma_t, &attenuation, &weight}) v->clear();
-        first_point.clear();
-        ray.clear();
-        pixel.clear();
-        light.clear();
+        points = 0;
+        count = 0;
         rays.clear();
     }
-    std::size_t size() const { return p.size(); }
+    // Room for one more job and its two points.
+    void make_room() {
+        if (count + 8 >= p.size()) {
+            const std::size_t size = std::max<std::size_t>(256, 2 * p.size());
+            for (std::vector<float>* v : {&p, &length, &sigma_t, &attenuation, &weight, &od_p, &od_q, &integral})
+                v->resize(size);
+            for (std::vector<std::uint32_t>* v : {&first_point, &ray, &pixel, &refined}) v->resize(size);
+            refine.resize(size);
+            light.resize(size);
+        }
+        if (points + 10 >= gu.size()) {
+            const std::size_t size = std::max<std::size_t>(512, 2 * gu.size());
+            for (std::vector<float>* v : {&gu, &gv, &gs, &depth}) v->resize(size);
+        }
+    }
     void add_point(const SunDepthMap::Ray& r, float t) {
-        gu.push_back(r.u0 + t * r.du);
-        gv.push_back(r.v0 + t * r.dv);
-        gs.push_back(r.s0 + t * r.ds);
+        gu[points] = r.u0 + t * r.du;
+        gv[points] = r.v0 + t * r.dv;
+        gs[points] = r.s0 + t * r.ds;
+        ++points;
     }
 };
 
@@ -565,18 +582,20 @@ private:
                 q = std::min(q, shadowed ? st.shadows[2 * st.shadow_next + 1] : st.shadows[2 * st.shadow_next]);
             if (!(q > p)) q = b;  // a piece shorter than float's step: end the segment (adds nothing)
             if (!shadowed) {
+                jobs.make_room();
                 if (st.last_point != p) jobs.add_point(ray.map, p);  // else the piece before ended here
-                jobs.first_point.push_back(std::uint32_t(jobs.gu.size() - 1));
+                const std::size_t j = jobs.count++;
+                jobs.first_point[j] = std::uint32_t(jobs.points - 1);
                 jobs.add_point(ray.map, q);
                 st.last_point = q;
-                jobs.p.push_back(p);
-                jobs.length.push_back(q - p);
-                jobs.sigma_t.push_back(sigma_t);
-                jobs.attenuation.push_back(sigma_t * (p - a));
-                jobs.weight.push_back(st.transmittance);
-                jobs.ray.push_back(ray.ray_id);
-                jobs.pixel.push_back(ray.pixel);
-                jobs.light.push_back(light);
+                jobs.p[j] = p;
+                jobs.length[j] = q - p;
+                jobs.sigma_t[j] = sigma_t;
+                jobs.attenuation[j] = sigma_t * (p - a);
+                jobs.weight[j] = st.transmittance;
+                jobs.ray[j] = ray.ray_id;
+                jobs.pixel[j] = ray.pixel;
+                jobs.light[j] = light;
             }
             p = q;
         }
@@ -590,27 +609,20 @@ public:
     // halving it (lit_piece's test); then, one job at a time, the refinement where called for and the sums.
     template <class Gather>
     void resolve_sun_jobs(SunJobs& jobs, dvec3* pixel_sums, const Gather& gather) const {
-        const std::size_t n = jobs.size();
+        const std::size_t n = jobs.count;
         if (n == 0) return;
-        const std::size_t points = jobs.gu.size();
-        const std::size_t padded_points = (points + 7) / 8 * 8;  // the padding lies outside the lattice
-        for (std::vector<float>* v : {&jobs.gu, &jobs.gv, &jobs.gs}) v->resize(padded_points, -1.0f);
-        jobs.depth.resize(padded_points);
-        sun_map_.optical_depths(jobs.gu.data(), jobs.gv.data(), jobs.gs.data(), jobs.depth.data(), points, gather);
-        jobs.od_p.resize(n);
-        jobs.od_q.resize(n);
-        jobs.integral.resize(n);
-        jobs.refine.resize(n);
+        // Padded to a multiple of 8 (make_room left the room): points outside the lattice, jobs that
+        // add nothing.
+        for (std::size_t m = jobs.points; m % 8 != 0; ++m) jobs.gu[m] = jobs.gv[m] = jobs.gs[m] = -1.0f;
+        sun_map_.optical_depths(jobs.gu.data(), jobs.gv.data(), jobs.gs.data(), jobs.depth.data(), jobs.points,
+                                gather);
+        const std::size_t padded = (n + 7) / 8 * 8;
         for (std::size_t i = 0; i < n; ++i) {
             jobs.od_p[i] = jobs.depth[jobs.first_point[i]];
             jobs.od_q[i] = jobs.depth[jobs.first_point[i] + 1];
         }
-        // Eight jobs at a time; the arrays padded to a multiple of 8 with jobs that add nothing.
-        const std::size_t padded = (n + 7) / 8 * 8;
-        for (std::vector<float>* v : {&jobs.od_p, &jobs.od_q, &jobs.length, &jobs.sigma_t, &jobs.attenuation, &jobs.weight})
-            v->resize(padded, 0.0f);
-        jobs.integral.resize(padded);
-        jobs.refine.resize(padded);
+        for (std::size_t i = n; i < padded; ++i)
+            jobs.od_p[i] = jobs.od_q[i] = jobs.length[i] = jobs.sigma_t[i] = jobs.attenuation[i] = jobs.weight[i] = 0.0f;
         const float* od_p = jobs.od_p.data();
         const float* od_q = jobs.od_q.data();
         const float* length = jobs.length.data();
@@ -629,16 +641,29 @@ public:
             simd::store8(jobs.integral.data() + i, integral);
             simd::store8(jobs.refine.data() + i, refine);
         }
+        // The sums, and a list of the jobs to refine (without a branch: which they are, the branch
+        // predictor could not know).
         const float* integral = jobs.integral.data();
         const std::int32_t* refine = jobs.refine.data();
+        std::uint32_t* refined = jobs.refined.data();
+        std::size_t to_refine = 0;
         for (std::size_t i = 0; i < n; ++i) {
-            float sum = integral[i];
-            if (refine[i]) {
-                float p = jobs.p[i], od = od_p[i];
-                float at_p = exp_minus(attenuation[i] + od);
-                sum = lit_piece(jobs.rays[jobs.ray[i]], p, p + length[i], od, od_q[i], sigma_t[i], weight[i], at_p);
-            }
-            const Float4 light = jobs.light[i] * sum;
+            const Float4 light = jobs.light[i] * integral[i];
+            dvec3& out = pixel_sums[jobs.pixel[i]];
+            out.x += double(light[1]);
+            out.y += double(light[2]);
+            out.z += double(light[3]);
+            refined[to_refine] = std::uint32_t(i);
+            to_refine -= std::size_t(std::int64_t(refine[i]));  // refine[i] is -1 or 0
+        }
+        // Where the depth changes fast: the piece halved (lit_piece), its light put in place of the
+        // unrefined one's.
+        for (std::size_t r = 0; r < to_refine; ++r) {
+            const std::size_t i = refined[r];
+            float p = jobs.p[i], od = od_p[i];
+            float at_p = exp_minus(attenuation[i] + od);
+            const float sum = lit_piece(jobs.rays[jobs.ray[i]], p, p + length[i], od, od_q[i], sigma_t[i], weight[i], at_p);
+            const Float4 light = jobs.light[i] * (sum - integral[i]);
             dvec3& out = pixel_sums[jobs.pixel[i]];
             out.x += double(light[1]);
             out.y += double(light[2]);

@@ -43,6 +43,11 @@ struct PixelRect {
     int x0, y0, x1, y1;
 };
 bool sphere_pixel_rect(const Sphere& sphere, const Camera& camera, int width, int height, PixelRect& rect);
+// The pixels (centres and, as sphere_pixel_rect's, a pixel more each way) whose rays may meet the convex
+// hull of points[0, count): their projection's rectangle, or the whole image where a point is not in
+// front of the eye. False where no pixel's.
+bool hull_pixel_rect(const glm::dvec3* points, int count, const Camera& camera, int width, int height,
+                     PixelRect& rect);
 // Every sphere's rectangle, in scene order, over `threads` (0: every hardware thread); an empty one
 // ({0, 0, 0, 0}) where the sphere has no extinction or covers no pixel.
 std::vector<PixelRect> sphere_pixel_rects(const Scene& scene, int width, int height, int threads);

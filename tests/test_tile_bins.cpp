@@ -2,6 +2,7 @@
 // listed in that pixel's tile), ordered (each tile keeps the order given), and tight (a sphere is
 // not listed in tiles far from it).
 #include "render/nearest_bounds.h"
+#include "render/ray_box.h"
 #include "render/tile_bins.h"
 #include "sim/camera_rays.h"
 #include "sim/smoke_cloud_scene.h"
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <numeric>
 #include <set>
 
@@ -165,6 +167,43 @@ TEST(TileBins, SpheresBehindTheEyeOrWithoutMediumAreLeftOut) {
     TileBins bins;
     bin_spheres(s, 64, 64, 8, {0, 1}, bound, bins);
     EXPECT_EQ(bins.entry_count(), 0u);
+}
+
+// hull_pixel_rect (trace's culling of box shadows by tile): every pixel whose centre ray meets a box
+// lies in the rectangle of its corners' hull, the rectangle is not the whole image for a small box in
+// view, and a hull reaching behind the eye takes the whole image.
+TEST(TileBins, AHullsRectangleHoldsEveryPixelWhoseRayMeetsIt) {
+    Camera camera;
+    camera.width = 96;
+    camera.height = 64;
+    const CameraRays rays = make_camera_rays(camera);
+    const Box boxes[] = {{{-0.3, 0.1, -0.4}, {0.2, 0.6, 0.1}}, {{0.8, -0.5, -2.0}, {1.4, 0.0, -1.2}},
+                         {{-2.0, 0.9, 1.0}, {-1.5, 1.3, 2.5}}};
+    for (const Box& box : boxes) {
+        glm::dvec3 corners[8];
+        for (int c = 0; c < 8; ++c)
+            corners[c] = glm::dvec3((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
+                                    (c & 4) ? box.max.z : box.min.z);
+        PixelRect rect;
+        ASSERT_TRUE(hull_pixel_rect(corners, 8, camera, camera.width, camera.height, rect));
+        EXPECT_LT((rect.x1 - rect.x0) * (rect.y1 - rect.y0), camera.width * camera.height);
+        int meeting = 0;
+        for (int y = 0; y < camera.height; ++y)
+            for (int x = 0; x < camera.width; ++x) {
+                if (!std::isfinite(ray_box_distance(box, rays.eye, rays.direction(x + 0.5, y + 0.5)))) continue;
+                ++meeting;
+                EXPECT_TRUE(x >= rect.x0 && x < rect.x1 && y >= rect.y0 && y < rect.y1) << x << ", " << y;
+            }
+        EXPECT_GT(meeting, 0);
+    }
+    // A corner behind the eye: its projection is unbounded.
+    const glm::dvec3 behind[] = {{0.0, 0.5, 0.0}, {0.0, 1.0, 9.0}};
+    PixelRect rect;
+    ASSERT_TRUE(hull_pixel_rect(behind, 2, camera, camera.width, camera.height, rect));
+    EXPECT_EQ(rect.x0, 0);
+    EXPECT_EQ(rect.y0, 0);
+    EXPECT_EQ(rect.x1, camera.width);
+    EXPECT_EQ(rect.y1, camera.height);
 }
 
 }  // namespace

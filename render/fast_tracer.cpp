@@ -403,8 +403,9 @@ public:
     template <bool kPlain>
     dvec3 radiance(const dvec3& d, const TileSphere* list, const std::uint32_t* items, std::size_t count,
                    RayScratch& scratch, SunJobs& jobs, std::uint32_t pixel) const {
-        dvec3 behind;
-        const float t_opaque = float(opaque_.hit(eye_, d, behind));
+        // The opaque surface's distance now, its radiance (a lit face's T_sun) only if the ray gets there.
+        const OpaqueSurfaces::Hit opaque = opaque_.nearest(eye_, d);
+        const float t_opaque = float(opaque.t);
         const float dx = float(d.x), dy = float(d.y), dz = float(d.z);
 
         const double cos_theta = glm::dot(sun_unit_, d);
@@ -476,7 +477,7 @@ public:
             exits.insert(event_key(end, k, true));
         }
         if (!flush(SortedRun::kSentinel, st)) return st.color();
-        return st.color() + double(st.transmittance) * behind;
+        return st.color() + double(st.transmittance) * opaque_.radiance(opaque, eye_, d);
     }
 
     bool plain() const { return plain_; }

@@ -12,21 +12,25 @@ OpaqueSurfaces::OpaqueSurfaces(const Scene& scene, const SunLight& sun)
     : boxes_(scene.boxes), lighting_(scene.lighting), sun_(sun) {}
 
 double OpaqueSurfaces::hit(const glm::dvec3& o, const glm::dvec3& d, glm::dvec3& behind) const {
-    double t_opaque = std::numeric_limits<double>::infinity();
-    behind = lighting_.background;
-    int hit_box = -1, hit_axis = -1;
+    const Hit h = nearest(o, d);
+    behind = radiance(h, o, d);
+    return h.t;
+}
+
+OpaqueSurfaces::Hit OpaqueSurfaces::nearest(const glm::dvec3& o, const glm::dvec3& d) const {
+    Hit h;
+    h.t = std::numeric_limits<double>::infinity();
     const glm::dvec3 inv_d = inverse_direction(d);
     for (std::size_t k = 0; k < boxes_.size(); ++k) {
         int axis = -1;
         const double t = ray_box_distance(boxes_[k], o, d, inv_d, &axis);
-        if (t < t_opaque) {
-            t_opaque = t;
-            hit_box = int(k);
-            hit_axis = axis;
+        if (t < h.t) {
+            h.t = t;
+            h.box = int(k);
+            h.axis = axis;
         }
     }
-    if (hit_box >= 0) behind = box_radiance(hit_box, hit_axis, o, d, t_opaque);
-    return t_opaque;
+    return h;
 }
 
 // From inside the box no face is crossed, so only the ambient term is reflected.

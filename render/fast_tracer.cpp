@@ -711,7 +711,8 @@ private:
     // with the depth read at the midpoint, up to kSunPieceSplits times. Takes p, od_p and at_p on to q.
     // A loop, not a recursion, so that it inlines into the tile's code (trace_tile_avx2): the far ends
     // of the halves still to come wait on a stack, nearest last, with their level (as the GPU's
-    // sun_segment_integral, shaders/exact_integrator.glsl).
+    // sun_segment_integral, shaders/exact_integrator.glsl). resolve_sun_jobs calls it for the pieces whose
+    // depth changes fast.
     float lit_piece(const SunDepthMap::Ray& map, float& p, float q, float& od_p, float od_q, float sigma_t,
                     float weight, float& at_p) const {
         float wait_t[kSunPieceSplits], wait_od[kSunPieceSplits];

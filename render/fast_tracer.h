@@ -17,8 +17,9 @@
 // GPU. The accurate technique reads the spheres' optical depth toward the sun from a light-space map
 // built once per frame (render/sun_depth_map.h), at every event and at most every four map cells along
 // a segment (closer where the depth changes fast), takes it as linear in between (a closed form), and
-// cuts the box shadows (render/box_shadow_volume.h) out of each segment exactly; lit boxes take the
-// exact T_sun at the hit. Bit-identical for any thread count. A tile's work is compiled for any x86-64
+// cuts the box shadows (render/box_shadow_volume.h) out of each segment exactly; those pieces of a
+// tile's rays are integrated together after the rays, eight at a time (render/simd8.h), since none
+// depends on another. Lit boxes take the exact T_sun at the hit. Bit-identical for any thread count. A tile's work is compiled for any x86-64
 // and again for AVX2 with FMA, taken where the CPU has them (TraceInstructions).
 #pragma once
 

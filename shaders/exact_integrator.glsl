@@ -109,8 +109,9 @@ float sun_depth_along(vec3 from_eye, vec3 dir, float t) {
     return sun_grid.map_size.x == 0u ? 0.0 : sun_map_depth(from_eye + t * dir);
 }
 
-// integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt, the accurate technique as
-// trace computes it (render/fast_tracer.cpp sun_segment_integral): T_sun is 0 inside the ray's box
+// integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt, the accurate technique with
+// trace's pieces and rules (render/fast_tracer.cpp add_sun_pieces and resolve_sun_jobs, which take the
+// pieces of a whole tile together after its rays, not one segment at a time): T_sun is 0 inside the ray's box
 // shadows (find_sun_box_spans, exact) and exp(-depth) elsewhere, the depth read from the map at the
 // ends of pieces no longer than SUN_PIECE_CELLS map cells (halved, up to SUN_PIECE_SPLITS times,
 // where the light the piece may carry times its change of depth exceeds SUN_PIECE_DEPTH_CHANGE) and

@@ -241,20 +241,27 @@ public:
     // front. What was integrated, run[1, head), stays: it lies below any new key (its keys were under a
     // mark that the new one is not), so an insertion never passes it, and a ray adds at most one key per
     // sphere it lists, for which reset() makes room.
+    // The run is written through a pointer into memory that reset() sized, not by push_back: a
+    // vector's size and capacity tests were 2-3% of a frame.
     struct SortedRun {
         static constexpr std::uint64_t kSentinel = ~std::uint64_t(0);  // no key reaches it (t is finite)
-        std::vector<std::uint64_t> run;
+        std::vector<std::uint64_t> storage;
+        std::uint64_t* run = nullptr;
+        std::size_t size = 0;
         std::size_t head = 1;
 
         void reset(std::size_t spheres) {
-            run.reserve(spheres + 2);
-            run.assign({0, kSentinel});
+            if (storage.size() < spheres + 2) storage.resize(spheres + 2);
+            run = storage.data();
+            run[0] = 0;
+            run[1] = kSentinel;
+            size = 2;
             head = 1;
         }
         std::uint64_t front() const { return run[head]; }
         void insert(std::uint64_t key) {
-            std::size_t i = run.size();
-            run.push_back(kSentinel);
+            std::size_t i = size++;
+            run[i] = kSentinel;
             for (; run[i - 1] > key; --i) run[i] = run[i - 1];
             run[i] = key;
         }

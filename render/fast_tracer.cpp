@@ -241,8 +241,8 @@ public:
     // front. What was integrated, run[1, head), stays: it lies below any new key (its keys were under a
     // mark that the new one is not), so an insertion never passes it, and a ray adds at most one key per
     // sphere it lists, for which reset() makes room.
-    // The run is written through a pointer into memory that reset() sized, not by push_back: a
-    // vector's size and capacity tests were 2-3% of a frame.
+    // The run is written through a pointer into memory that reset() sized, not by push_back, which
+    // tested the size and capacity at each insertion (layers at 2 layers, 800x600: 2.5% a frame).
     struct SortedRun {
         static constexpr std::uint64_t kSentinel = ~std::uint64_t(0);  // no key reaches it (t is finite)
         std::vector<std::uint64_t> storage;

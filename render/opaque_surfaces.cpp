@@ -20,6 +20,7 @@ double OpaqueSurfaces::hit(const glm::dvec3& o, const glm::dvec3& d, glm::dvec3&
 OpaqueSurfaces::Hit OpaqueSurfaces::nearest(const glm::dvec3& o, const glm::dvec3& d) const {
     Hit h;
     h.t = std::numeric_limits<double>::infinity();
+    if (boxes_.empty()) return h;  // the background (and no reciprocals to take: three quotients a ray)
     const glm::dvec3 inv_d = inverse_direction(d);
     for (std::size_t k = 0; k < boxes_.size(); ++k) {
         int axis = -1;

@@ -686,13 +686,17 @@ public:
         const float* integral = jobs.integral.data();
         const std::int32_t* refine = jobs.refine.data();
         std::uint32_t* refined = jobs.refined.data();
-        std::size_t to_refine = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const Float4 light = jobs.light[i] * integral[i];
+        // Job i's light times `amount`, into its pixel's sum.
+        const auto add_light = [&](std::size_t i, float amount) {
+            const Float4 light = jobs.light[i] * amount;
             dvec3& out = pixel_sums[jobs.pixel[i]];
             out.x += double(light[1]);
             out.y += double(light[2]);
             out.z += double(light[3]);
+        };
+        std::size_t to_refine = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            add_light(i, integral[i]);
             refined[to_refine] = std::uint32_t(i);
             to_refine -= std::size_t(std::int64_t(refine[i]));  // refine[i] is -1 or 0
         }
@@ -703,11 +707,7 @@ public:
             float p = jobs.p[i], od = od_p[i];
             float at_p = exp_minus(attenuation[i] + od);
             const float sum = lit_piece(jobs.rays[jobs.ray[i]], p, p + length[i], od, od_q[i], sigma_t[i], weight[i], at_p);
-            const Float4 light = jobs.light[i] * (sum - integral[i]);
-            dvec3& out = pixel_sums[jobs.pixel[i]];
-            out.x += double(light[1]);
-            out.y += double(light[2]);
-            out.z += double(light[3]);
+            add_light(i, sum - integral[i]);
         }
     }
 

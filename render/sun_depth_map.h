@@ -82,7 +82,7 @@ public:
 
     // optical_depth at n points given in lattice coordinates (a Ray's at some t), into out, eight at a
     // time (render/simd8.h): the same interpolation without a branch, its eight vertices read by
-    // `gather` (simd::GatherByLanes, or GatherAvx2 in code compiled for AVX2). A point outside the
+    // `gather`, a pair along s at a time (simd::GatherByLanes, or GatherAvx2 in code compiled for AVX2). A point outside the
     // columns (or NaN) reads 0, as optical_depth's. The arrays hold n rounded up to a multiple of 8.
     template <class Gather>
     [[gnu::always_inline]] void optical_depths(const float* gu, const float* gv, const float* gs, float* out,
@@ -112,7 +112,8 @@ public:
             const Int8 c = (j * nu_ + i) * ns_ + k;
             // The eight vertices: along s (+1), u (+ns) and v (+stride_v).
             const auto along_s = [&](int offset) {
-                const Float8 lo = gather(depth, c + offset), hi = gather(depth, c + (offset + 1));
+                Float8 lo, hi;
+                gather.pair(depth, c + offset, lo, hi);
                 return lo + fs * (hi - lo);
             };
             const Float8 a = along_s(0), b = along_s(ns_), e = along_s(stride_v_), f = along_s(stride_v_ + ns_);

@@ -120,21 +120,12 @@ std::uint64_t event_key(float t, std::uint32_t sphere, bool exit) {
 }
 float key_distance(std::uint64_t key) { return std::bit_cast<float>(std::uint32_t(key >> 32)); }
 
-// exp(-x) for any x, clamped to float's normal range.
-[[gnu::always_inline]] inline float exp_minus(float x) { return exp_in_range(std::min(std::max(-x, -87.0f), 87.0f)); }
-
-// (1 - exp(-x)) / x for any x, exp(-x) given: the sun integral's exponent also holds the change of the
-// optical depth toward the sun, which may fall along a segment (x < 0).
-float phi_signed(float x, float exp_minus_x) {
-    if (std::abs(x) < 0.125f) return phi(x, exp_minus_x);  // its series holds for small x of either sign
-    return (1.0f - exp_minus_x) / x;
-}
 
 using simd::Float8;
 using simd::Int8;
 using simd::load8;
 
-// exp(-x), clamped to float's normal range, in each lane: exp_minus's arithmetic.
+// exp(-x), clamped to float's normal range, in each lane: exp_in_range's arithmetic.
 [[gnu::always_inline]] inline Float8 exp_minus8(Float8 x) {
     Float8 y = -x;
     y = y > -87.0f ? y : Float8{} - 87.0f;  // NaN never reaches here
@@ -148,7 +139,10 @@ using simd::load8;
     return p * Float8(bits);  // a cast between vectors of one size keeps the bits
 }
 
-// phi_signed in each lane: both forms computed, the quotient's divisor kept away from 0, one chosen.
+// (1 - exp(-x)) / x for any x, exp(-x) given, in each lane: the sun integral's exponent also holds the
+// change of the optical depth toward the sun, which may fall along a piece (x < 0). phi's series below
+// |x| = 1/8 (it holds for either sign); both forms computed, the quotient's divisor kept away from 0,
+// one chosen.
 [[gnu::always_inline]] inline Float8 phi_signed8(Float8 x, Float8 exp_minus_x) {
     const Int8 small = Float8(Int8(x) & 0x7fffffff) < 0.125f;  // |x| by its bits
     const Float8 series =
@@ -158,7 +152,7 @@ using simd::load8;
 }
 
 // The longest piece, in map cells, over which the accurate technique takes the optical depth toward the
-// sun as linear, before lit_piece halves it where the depth changes fast. A lit piece is halved, up to
+// sun as linear, before refine_sun_jobs halves it where the depth changes fast. A lit piece is halved, up to
 // kSunPieceSplits times (down to a quarter cell), while the light it may carry times its change of
 // optical depth toward the sun exceeds kSunPieceDepthChange: the depth bends most where it changes
 // fast, at the edges of shadow cylinders (a square-root kink), and there a linear depth over 2 cells
@@ -182,8 +176,8 @@ constexpr std::size_t kFlushEvery = 8;
 // optical depths toward the sun are read from the map in one pass (a piece that starts where the one
 // before ended shares its point), and the integrals are then taken in a second pass. Neither pass
 // carries anything from one job to the next, so both run over SIMD lanes (AVX2: eight at a time), where
-// a ray's walk, one event after another, could not; a job whose depth changes fast is refined on its
-// own afterwards (lit_piece).
+// a ray's walk, one event after another, could not; the jobs whose depth changes fast are then halved
+// in rounds that also run over the lanes (refine_sun_jobs).
 struct SunJobs {
     // The points: lattice coordinates (SunDepthMap::Ray at t), then the depth there; `points` of them.
     std::vector<float> gu, gv, gs, depth;
@@ -202,6 +196,25 @@ struct SunJobs {
     std::vector<std::uint32_t> refined;
     std::vector<SunDepthMap::Ray> rays;  // the map rays of the tile's rays, by `ray`
     std::uint64_t shadow_mask = 0;       // the box shadows the tile's rays may meet (tile_shadow_mask)
+
+    // The refinement's pieces, one level of halving a round (FastTracer::refine_sun_jobs): each with
+    // the job it belongs to (`owner`), whose light and pixel it shares, and the same fields as a job.
+    struct Pieces {
+        std::vector<std::uint32_t> owner;
+        std::vector<float> p, length, sigma_t, attenuation, weight, od_p, od_q, integral;
+        std::vector<std::int32_t> refine;
+        // Room for n pieces, padded to a multiple of 8.
+        void reserve(std::size_t n) {
+            const std::size_t size = (n + 7) / 8 * 8;
+            if (p.size() >= size) return;
+            for (std::vector<float>* v : {&p, &length, &sigma_t, &attenuation, &weight, &od_p, &od_q, &integral})
+                v->resize(size);
+            owner.resize(size);
+            refine.resize(size);
+        }
+    };
+    Pieces halving, halves;  // the pieces to halve this round, and their halves
+    std::vector<float> mid_u, mid_v, mid_s, mid_depth;  // the halving pieces' midpoints
 
     // The arrays are kept at their largest (a tile's jobs are written by index, not appended: one test
     // of room per job rather than one per array), with room for the padding to a multiple of 8.
@@ -602,7 +615,7 @@ private:
     // exp(-sigma_t (t - a)) T_sun(eye + t d) dt, where light = {0, T(a) sigma_s L_sun P(theta)}. T_sun is
     // 0 inside the ray's box shadows (exact intervals) and exp(-optical depth) elsewhere, the depth read
     // from the map at the ends of pieces no longer than kSunPieceCells (halved where it changes fast,
-    // lit_piece) and linear between them, where the integral has a closed form. The lit pieces go to the
+    // refine_sun_jobs) and linear between them, where the integral has a closed form. The lit pieces go to the
     // tile's jobs (SunJobs), whose integrals resolve_sun_jobs takes after the tile's rays.
     void add_sun_pieces(State& st, const Ray& ray, float a, float b, float sigma_t, const Float4& light) const {
         const float max_piece = kSunPieceCells * sun_map_.cell();
@@ -646,7 +659,7 @@ public:
     // pixel's sum. In passes over the jobs that carry nothing from one to the next, so that the compiler
     // takes them over SIMD lanes: the depths at the points; the closed form over each piece, with the
     // depth linear along it, and whether the light it may carry times its change of depth calls for
-    // halving it (lit_piece's test); then, one job at a time, the refinement where called for and the sums.
+    // halving it; the sums; then the halving where called for (refine_sun_jobs).
     template <class Gather>
     void resolve_sun_jobs(SunJobs& jobs, dvec3* pixel_sums, const Gather& gather) const {
         const std::size_t n = jobs.count;
@@ -663,93 +676,134 @@ public:
         }
         for (std::size_t i = n; i < padded; ++i)
             jobs.od_p[i] = jobs.od_q[i] = jobs.length[i] = jobs.sigma_t[i] = jobs.attenuation[i] = jobs.weight[i] = 0.0f;
-        const float* od_p = jobs.od_p.data();
-        const float* od_q = jobs.od_q.data();
-        const float* length = jobs.length.data();
-        const float* sigma_t = jobs.sigma_t.data();
-        const float* attenuation = jobs.attenuation.data();
-        const float* weight = jobs.weight.data();
+        piece_integrals(jobs.od_p.data(), jobs.od_q.data(), jobs.length.data(), jobs.sigma_t.data(),
+                        jobs.attenuation.data(), jobs.weight.data(), padded, jobs.integral.data(), jobs.refine.data());
+        // The sums, and the jobs to refine listed without a branch (which they are, the branch predictor
+        // could not know), as the first round's pieces to halve.
+        const float* integral = jobs.integral.data();
+        const std::int32_t* refine = jobs.refine.data();
+        SunJobs::Pieces& halving = jobs.halving;
+        halving.reserve(n);
+        std::size_t to_refine = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            add_job_light(jobs, pixel_sums, i, integral[i]);
+            halving.owner[to_refine] = std::uint32_t(i);
+            to_refine -= std::size_t(std::int64_t(refine[i]));  // refine[i] is -1 or 0
+        }
+        for (std::size_t r = 0; r < to_refine; ++r) {
+            const std::size_t i = halving.owner[r];
+            halving.p[r] = jobs.p[i];
+            halving.length[r] = jobs.length[i];
+            halving.sigma_t[r] = jobs.sigma_t[i];
+            halving.attenuation[r] = jobs.attenuation[i];
+            halving.weight[r] = jobs.weight[i];
+            halving.od_p[r] = jobs.od_p[i];
+            halving.od_q[r] = jobs.od_q[i];
+            halving.integral[r] = integral[i];
+        }
+        refine_sun_jobs(jobs, to_refine, pixel_sums, gather);
+    }
+
+private:
+    // Job i's light times `amount`, into its pixel's sum.
+    static void add_job_light(const SunJobs& jobs, dvec3* pixel_sums, std::size_t i, float amount) {
+        const Float4 light = jobs.light[i] * amount;
+        dvec3& out = pixel_sums[jobs.pixel[i]];
+        out.x += double(light[1]);
+        out.y += double(light[2]);
+        out.z += double(light[3]);
+    }
+
+    // Over pieces [0, padded), eight at a time: the integral over each with the depth linear along it,
+    // and whether the light it may carry (the view's transmittance to its segment, `weight`, times the
+    // integrand at its start) times its change of depth calls for halving it (all ones, or 0).
+    [[gnu::always_inline]] static void piece_integrals(const float* od_p, const float* od_q, const float* length,
+                                                       const float* sigma_t, const float* attenuation,
+                                                       const float* weight, std::size_t padded, float* integral,
+                                                       std::int32_t* refine) {
         for (std::size_t i = 0; i < padded; i += 8) {
             const Float8 op = load8(od_p + i), oq = load8(od_q + i), len = load8(length + i);
             const Float8 change = oq - op;
             const Float8 x = load8(sigma_t + i) * len + change;
             // The integrand at p, exp(-sigma_t (p - a) - depth(p)); exp(-x) takes it to q.
             const Float8 at_p = exp_minus8(load8(attenuation + i) + op);
-            const Float8 integral = at_p * len * phi_signed8(x, exp_minus8(x));
+            const Float8 value = at_p * len * phi_signed8(x, exp_minus8(x));
             const Float8 magnitude = Float8(Int8(change) & 0x7fffffff);
-            const Int8 refine = load8(weight + i) * at_p * magnitude > kSunPieceDepthChange;
-            simd::store8(jobs.integral.data() + i, integral);
-            simd::store8(jobs.refine.data() + i, refine);
-        }
-        // The sums, and a list of the jobs to refine (without a branch: which they are, the branch
-        // predictor could not know).
-        const float* integral = jobs.integral.data();
-        const std::int32_t* refine = jobs.refine.data();
-        std::uint32_t* refined = jobs.refined.data();
-        // Job i's light times `amount`, into its pixel's sum.
-        const auto add_light = [&](std::size_t i, float amount) {
-            const Float4 light = jobs.light[i] * amount;
-            dvec3& out = pixel_sums[jobs.pixel[i]];
-            out.x += double(light[1]);
-            out.y += double(light[2]);
-            out.z += double(light[3]);
-        };
-        std::size_t to_refine = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            add_light(i, integral[i]);
-            refined[to_refine] = std::uint32_t(i);
-            to_refine -= std::size_t(std::int64_t(refine[i]));  // refine[i] is -1 or 0
-        }
-        // Where the depth changes fast: the piece halved (lit_piece), its light put in place of the
-        // unrefined one's.
-        for (std::size_t r = 0; r < to_refine; ++r) {
-            const std::size_t i = refined[r];
-            float p = jobs.p[i], od = od_p[i];
-            float at_p = exp_minus(attenuation[i] + od);
-            const float sum = lit_piece(jobs.rays[jobs.ray[i]], p, p + length[i], od, od_q[i], sigma_t[i], weight[i], at_p);
-            add_light(i, sum - integral[i]);
+            simd::store8(integral + i, value);
+            simd::store8(refine + i, load8(weight + i) * at_p * magnitude > kSunPieceDepthChange);
         }
     }
 
-private:
-    // integral over the lit piece [p, q] of the integrand at_p carries (resolve_sun_jobs), the depth
-    // linear between p and q or, where the light the piece may carry (the view's transmittance to the
-    // segment, `weight`, times at_p) times the depth's change is over kSunPieceDepthChange, over each half
-    // with the depth read at the midpoint, up to kSunPieceSplits times. Takes p, od_p and at_p on to q.
-    // A loop, not a recursion, so that it inlines into the tile's code (trace_tile_avx2): the far ends
-    // of the halves still to come wait on a stack, nearest last, with their level (as the GPU's
-    // sun_segment_integral, shaders/exact_integrator.glsl). resolve_sun_jobs calls it for the pieces whose
-    // depth changes fast.
-    float lit_piece(const SunDepthMap::Ray& map, float& p, float q, float& od_p, float od_q, float sigma_t,
-                    float weight, float& at_p) const {
-        float wait_t[kSunPieceSplits], wait_od[kSunPieceSplits];
-        int wait_level[kSunPieceSplits];
-        int waiting = 0, level = 0;
-        float r = q, od_r = od_q;
-        float sum = 0.0f;
-        for (;;) {
-            if (level < kSunPieceSplits && weight * at_p * std::abs(od_r - od_p) > kSunPieceDepthChange) {
-                wait_t[waiting] = r;
-                wait_od[waiting] = od_r;
-                wait_level[waiting] = level + 1;
-                ++waiting;
-                ++level;
-                r = 0.5f * (p + r);
-                od_r = sun_map_.optical_depth(map, r);
-                continue;
+    // The refinement, where the depth changes fast: each of the `count` pieces in jobs.halving is
+    // halved, the depth read at its midpoint, and its halves' light put in place of its own; the
+    // halves that call for it are halved in the next round, up to kSunPieceSplits rounds (down to a
+    // sixteenth of a piece). A round takes its reads and closed forms eight at a time, as the jobs'
+    // pass; one level at a time rather than depth first, as the GPU's sun_segment_integral
+    // (shaders/exact_integrator.glsl) does, but the same pieces with the same tests.
+    template <class Gather>
+    void refine_sun_jobs(SunJobs& jobs, std::size_t count, dvec3* pixel_sums, const Gather& gather) const {
+        SunJobs::Pieces& halving = jobs.halving;
+        SunJobs::Pieces& halves = jobs.halves;
+        for (int level = 1; level <= kSunPieceSplits && count > 0; ++level) {
+            const std::size_t padded_mid = (count + 7) / 8 * 8;
+            if (jobs.mid_u.size() < padded_mid)
+                for (std::vector<float>* v : {&jobs.mid_u, &jobs.mid_v, &jobs.mid_s, &jobs.mid_depth})
+                    v->resize(std::max(padded_mid, 2 * v->size()));
+            halves.reserve(2 * count);
+            for (std::size_t r = 0; r < count; ++r) {
+                const std::uint32_t owner = halving.owner[r];
+                const float p = halving.p[r], q = p + halving.length[r], mid = 0.5f * (p + q);
+                const SunDepthMap::Ray& map = jobs.rays[jobs.ray[owner]];
+                jobs.mid_u[r] = map.u0 + mid * map.du;
+                jobs.mid_v[r] = map.v0 + mid * map.dv;
+                jobs.mid_s[r] = map.s0 + mid * map.ds;
+                const float sigma_t = halving.sigma_t[r], attenuation = halving.attenuation[r];
+                const float weight = halving.weight[r];
+                for (std::size_t h : {2 * r, 2 * r + 1}) {
+                    halves.owner[h] = owner;
+                    halves.sigma_t[h] = sigma_t;
+                    halves.weight[h] = weight;
+                }
+                halves.p[2 * r] = p;
+                halves.length[2 * r] = mid - p;
+                halves.attenuation[2 * r] = attenuation;
+                halves.od_p[2 * r] = halving.od_p[r];
+                halves.p[2 * r + 1] = mid;
+                halves.length[2 * r + 1] = q - mid;
+                halves.attenuation[2 * r + 1] = attenuation + sigma_t * (mid - p);
+                halves.od_q[2 * r + 1] = halving.od_q[r];
             }
-            const float len = r - p;
-            const float x = sigma_t * len + (od_r - od_p);
-            const float e = exp_minus(x);
-            sum += at_p * len * phi_signed(x, e);
-            at_p *= e;
-            p = r;
-            od_p = od_r;
-            if (waiting == 0) return sum;
-            --waiting;
-            r = wait_t[waiting];
-            od_r = wait_od[waiting];
-            level = wait_level[waiting];
+            for (std::size_t m = count; m < padded_mid; ++m) jobs.mid_u[m] = jobs.mid_v[m] = jobs.mid_s[m] = -1.0f;
+            sun_map_.optical_depths(jobs.mid_u.data(), jobs.mid_v.data(), jobs.mid_s.data(), jobs.mid_depth.data(),
+                                    count, gather);
+            for (std::size_t r = 0; r < count; ++r) halves.od_q[2 * r] = halves.od_p[2 * r + 1] = jobs.mid_depth[r];
+            const std::size_t n = 2 * count, padded = (n + 7) / 8 * 8;
+            for (std::size_t h = n; h < padded; ++h)
+                halves.od_p[h] = halves.od_q[h] = halves.length[h] = halves.sigma_t[h] = halves.attenuation[h] =
+                    halves.weight[h] = 0.0f;
+            piece_integrals(halves.od_p.data(), halves.od_q.data(), halves.length.data(), halves.sigma_t.data(),
+                            halves.attenuation.data(), halves.weight.data(), padded, halves.integral.data(),
+                            halves.refine.data());
+            for (std::size_t r = 0; r < count; ++r)
+                add_job_light(jobs, pixel_sums, halving.owner[r],
+                              halves.integral[2 * r] + halves.integral[2 * r + 1] - halving.integral[r]);
+            if (level == kSunPieceSplits) break;
+            // The halves to halve next round, listed without a branch.
+            halving.reserve(n);
+            std::size_t next = 0;
+            for (std::size_t h = 0; h < n; ++h) {
+                halving.owner[next] = halves.owner[h];
+                halving.p[next] = halves.p[h];
+                halving.length[next] = halves.length[h];
+                halving.sigma_t[next] = halves.sigma_t[h];
+                halving.attenuation[next] = halves.attenuation[h];
+                halving.weight[next] = halves.weight[h];
+                halving.od_p[next] = halves.od_p[h];
+                halving.od_q[next] = halves.od_q[h];
+                halving.integral[next] = halves.integral[h];
+                next -= std::size_t(std::int64_t(halves.refine[h]));
+            }
+            count = next;
         }
     }
 

@@ -143,13 +143,13 @@ private:
     // in it (`ends`) and the whole-cell runs as differences (`runs`), per column of the band; for each
     // column the highest and lowest cell a chord reached (-1 and ns: none). Zeroed once, and put back
     // to zero as the sums read it, so a band costs what its spheres touch, not the band's size; kept
-    // from build to build while the columns keep their shape (scratch_nu_, scratch_ns_).
+    // from build to build (`bottom`'s none written again when ns changes: scratch_ns_).
     struct BandScratch {
         std::vector<float> ends, runs;
         std::vector<int> top, bottom;
     };
     std::vector<BandScratch> band_scratch_;
-    int scratch_nu_ = 0, scratch_ns_ = 0;
+    int scratch_ns_ = 0;
 };
 
 }  // namespace brume

@@ -48,7 +48,8 @@ void FrameResources::upload(const Scene& scene) {
     const bool new_boxes = box_buffer_.size() < box_bytes;
     // The sun's light-space grid (render/sun_light.h): the per-sphere T_sun comes from it on the CPU, and the
     // opaque pass's exact T_sun at lit box hits reads its GPU copy.
-    const SunLight sun_light(scene);
+    sun_light_ = std::make_unique<SunLight>(scene);
+    const SunLight& sun_light = *sun_light_;
     const std::size_t grid_words = sun_light.grid_side() > 0 ? sun_light.cell_start().size() + sun_light.cell_items().size() : 0;
     // Room for the depth map the previous frame had, so that an animation does not regrow every frame.
     const std::size_t map_words = sun_header_.map_size.x > 0
@@ -80,13 +81,11 @@ void FrameResources::upload(const Scene& scene) {
     // Storage buffers hold at least one element: Vulkan has no empty buffers.
     if (new_spheres)
         sphere_buffer_ = Buffer(device_, sphere_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.spheres");
-    // The per-sphere shadow technique: T_sun at each centre, computed in double by the same code as the
-    // reference's per-sphere mode, so the GPU differs from it by float rounding alone.
-    std::vector<double> sun(scene.spheres.size(), 1.0);
-    if (sun_light.shadows())
-        for (std::size_t i = 0; i < scene.spheres.size(); ++i) sun[i] = sun_light.transmittance(scene.spheres[i].center);
+    // T_sun at the centres (the per-sphere shadow technique) comes later, if a method reads it
+    // (ensure_sphere_sun).
     auto* spheres = sphere_buffer_.as<gpu::GpuSphere>();
-    for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i], sun[i]);
+    for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i], 1.0);
+    sphere_sun_done_ = !sun_light.shadows();
 
     if (new_boxes)
         box_buffer_ = Buffer(device_, box_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.boxes");
@@ -134,15 +133,24 @@ void FrameResources::write_sun_buffer(std::span<const float> map) {
     std::memcpy(bytes, &sun_header_, sizeof sun_header_);
 }
 
+void FrameResources::ensure_sphere_sun(const Scene& scene) {
+    if (sphere_sun_done_) return;
+    // The same code as the reference's per-sphere mode, in double, so the GPU differs from it by float
+    // rounding alone.
+    auto* spheres = sphere_buffer_.as<gpu::GpuSphere>();
+    for (std::size_t i = 0; i < scene.spheres.size(); ++i)
+        spheres[i] = gpu::to_gpu(scene.spheres[i], sun_light_->transmittance(scene.spheres[i].center));
+    sphere_sun_done_ = true;
+}
+
 void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     if (sun_depth_map_done_) return;
     sun_depth_map_done_ = true;
     if (!scene.lighting.shadows || scene.render.shadow_technique != ShadowTechnique::Accurate ||
         sun_header_.size.x == 0)
         return;  // no map is read, or no sphere casts a shadow (size.x = 0 also tells the shader)
-    const SunLight sun_light(scene);
     SunDepthMap& map = sun_depth_map_;
-    map.build(scene, sun_light, scene.camera.position, 0);  // in the last frame's memory
+    map.build(scene, *sun_light_, scene.camera.position, 0);  // in the last frame's memory
     if (map.empty()) return;
     const glm::dvec3 o = map.origin_coordinates();
     sun_header_.map_origin = gpu::vec4(float(o.x), float(o.y), float(o.z), float(map.inverse_cell()));

@@ -95,6 +95,10 @@ public:
     // finds its own boxes, and on a CPU device that pass costs as much as tracing a light scene.
     // Asked after prepare().
     virtual bool uses_opaque_pass() const { return true; }
+    // Whether this method's passes read the per-sphere shadow technique's T_sun at the spheres' centres
+    // (FrameResources::ensure_sphere_sun; the comparison methods shade by it in every technique).
+    // A CPU tracer takes the scene's light itself. Asked after prepare().
+    virtual bool reads_sphere_sun() const { return true; }
     virtual void prepare(FrameContext& ctx) = 0;
     virtual bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) = 0;
     virtual After after_step(FrameContext&, int) { return After::Done; }

@@ -76,6 +76,7 @@ public:
     const vk::SharedDescriptors& descriptors() const override { return chosen_->descriptors(); }
     bool has_list_stats() const override { return false; }  // the lists exist only on some frames
     bool uses_opaque_pass() const override { return chosen_->uses_opaque_pass(); }
+    bool reads_sphere_sun() const override { return chosen_->reads_sphere_sun(); }
     void prepare(FrameContext& ctx) override;
     bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override { return chosen_->record(cmd, ctx, step); }
     After after_step(FrameContext& ctx, int step) override;

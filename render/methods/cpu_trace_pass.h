@@ -24,6 +24,7 @@ public:
     using GpuMethod::render;
 
     bool uses_opaque_pass() const override { return false; }  // the tracers meet the boxes themselves
+    bool reads_sphere_sun() const override { return false; }  // nor do they read the GPU's spheres
     void prepare(FrameContext& ctx) override;
     bool record(VkCommandBuffer cmd, FrameContext& ctx, int step) override;
     void report(FrameStats& stats, const FrameContext& ctx) override;

@@ -194,5 +194,33 @@ TEST(SunDepthMap, BuiltAgainInPlaceIsAFreshMap) {
     EXPECT_TRUE(same_map(kept, SunDepthMap(second, SunLight(second), eye, 2)));
 }
 
+TEST(SunDepthMap, BuiltAgainAsAnAnimationGrowsAndShrinksIsAFreshMap) {
+    // Playback: the smoke spreads and gathers from frame to frame, so the lattice changes its shape
+    // (on every axis, up and down) and its size, within the room the map keeps and past it. Each
+    // build must still equal a fresh map bit for bit: the kept scratch is all zero after a build in
+    // any shape, and a column's "no chord" bottom follows the number of vertices along s.
+    const glm::dvec3 eye(0.0, 1.0, -8.0);
+    SunDepthMap kept;
+    int shape_changes = 0, grew = 0, shrank = 0;
+    std::size_t last_size = 0;
+    int last_ns = 0;
+    for (double spread : {1.0, 1.08, 1.2, 1.1, 1.35, 0.9, 1.5, 1.45, 1.0}) {
+        Scene s = random_cloud(120, 31, {0.3, -1.0, -0.2});
+        for (Sphere& sp : s.spheres) sp.center = glm::dvec3(sp.center.x * spread, sp.center.y, sp.center.z / spread);
+        kept.build(s, SunLight(s), eye, 2);
+        const SunDepthMap fresh(s, SunLight(s), eye, 2);
+        ASSERT_FALSE(fresh.empty());
+        EXPECT_TRUE(same_map(kept, fresh)) << "spread " << spread;
+        if (last_ns != 0 && kept.size_s() != last_ns) ++shape_changes;
+        if (last_size != 0) (kept.values().size() > last_size ? grew : shrank) += kept.values().size() != last_size;
+        last_ns = kept.size_s();
+        last_size = kept.values().size();
+    }
+    // The sequence did what it is for.
+    EXPECT_GE(shape_changes, 3);
+    EXPECT_GE(grew, 2);
+    EXPECT_GE(shrank, 2);
+}
+
 }  // namespace
 }  // namespace brume

@@ -189,11 +189,10 @@ struct SunJobs {
     std::vector<float> p, length, sigma_t, attenuation, weight;
     std::vector<Float4> light;
     std::size_t count = 0;
-    // The passes' working arrays: per job the depths at its ends, the integral, whether to refine it
-    // (all ones or 0); the jobs to refine.
+    // The passes' working arrays: per job the depths at its ends, the integral, whether to halve it
+    // (all ones or 0).
     std::vector<float> od_p, od_q, integral;
     std::vector<std::int32_t> refine;
-    std::vector<std::uint32_t> refined;
     std::vector<SunDepthMap::Ray> rays;  // the map rays of the tile's rays, by `ray`
     std::uint64_t shadow_mask = 0;       // the box shadows the tile's rays may meet (tile_shadow_mask)
 
@@ -229,7 +228,7 @@ struct SunJobs {
             const std::size_t size = std::max<std::size_t>(256, 2 * p.size());
             for (std::vector<float>* v : {&p, &length, &sigma_t, &attenuation, &weight, &od_p, &od_q, &integral})
                 v->resize(size);
-            for (std::vector<std::uint32_t>* v : {&first_point, &ray, &pixel, &refined}) v->resize(size);
+            for (std::vector<std::uint32_t>* v : {&first_point, &ray, &pixel}) v->resize(size);
             refine.resize(size);
             light.resize(size);
         }
@@ -738,8 +737,8 @@ private:
     // halved, the depth read at its midpoint, and its halves' light put in place of its own; the
     // halves that call for it are halved in the next round, up to kSunPieceSplits rounds (down to a
     // sixteenth of a piece). A round takes its reads and closed forms eight at a time, as the jobs'
-    // pass; one level at a time rather than depth first, as the GPU's sun_segment_integral
-    // (shaders/exact_integrator.glsl) does, but the same pieces with the same tests.
+    // pass: one level a round, where the GPU's sun_segment_integral (shaders/exact_integrator.glsl)
+    // halves depth first, one piece at a time, but the same pieces with the same tests.
     template <class Gather>
     void refine_sun_jobs(SunJobs& jobs, std::size_t count, dvec3* pixel_sums, const Gather& gather) const {
         SunJobs::Pieces& halving = jobs.halving;

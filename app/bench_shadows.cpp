@@ -169,6 +169,12 @@ int run_bench_shadows(const BenchArgs& args) {
         }
         const double fill_median = median(fill_ms);
 
+        // trace keeps its memory (the sun map) from render to render, as the frame path's does for a
+        // user's frames: allocated afresh each render, the map's pages faulted in again every frame
+        // (and past glibc's largest heap block, 32 MiB, that is every allocation).
+        FastTraceScratch trace_scratch;
+        FastTraceOptions trace_options;
+        trace_options.scratch = &trace_scratch;
         for (const std::string& name : methods) {
             const char* method = name.c_str();
             const bool on_cpu = std::string(method) == "trace";
@@ -188,13 +194,14 @@ int run_bench_shadows(const BenchArgs& args) {
                         s.render.shadow_technique = t.technique;
                         // Warm-up: the first frame of a pipeline compiles it (and trace's touches its memory).
                         Image img;
-                        warm_up([&] { img = on_cpu ? render_fast_trace(s) : gpu.render(s); }, on_cpu ? 0.0 : warm_ms);
+                        warm_up([&] { img = on_cpu ? render_fast_trace(s, trace_options) : gpu.render(s); },
+                                on_cpu ? 0.0 : warm_ms);
                         std::vector<double> ms;
                         FrameStats stats;
                         for (int r = 0; r < args.frames; ++r) {
                             if (on_cpu) {
                                 const auto t0 = std::chrono::steady_clock::now();
-                                img = render_fast_trace(s);
+                                img = render_fast_trace(s, trace_options);
                                 ms.push_back(wall_ms_since(t0));
                             } else {
                                 img = gpu.render(s, &stats);

@@ -689,17 +689,7 @@ public:
             halving.owner[to_refine] = std::uint32_t(i);
             to_refine -= std::size_t(std::int64_t(refine[i]));  // refine[i] is -1 or 0
         }
-        for (std::size_t r = 0; r < to_refine; ++r) {
-            const std::size_t i = halving.owner[r];
-            halving.p[r] = jobs.p[i];
-            halving.length[r] = jobs.length[i];
-            halving.sigma_t[r] = jobs.sigma_t[i];
-            halving.attenuation[r] = jobs.attenuation[i];
-            halving.weight[r] = jobs.weight[i];
-            halving.od_p[r] = jobs.od_p[i];
-            halving.od_q[r] = jobs.od_q[i];
-            halving.integral[r] = integral[i];
-        }
+        for (std::size_t r = 0; r < to_refine; ++r) copy_piece(jobs, halving.owner[r], halving, r, halving.owner[r]);
         refine_sun_jobs(jobs, to_refine, pixel_sums, gather);
     }
 
@@ -711,6 +701,22 @@ private:
         out.x += double(light[1]);
         out.y += double(light[2]);
         out.z += double(light[3]);
+    }
+
+    // Piece `from` of `source` (the jobs, or a round's halves: both hold these arrays) into slot `to`
+    // of `target`, as a piece of job `owner`.
+    template <class Source>
+    static void copy_piece(const Source& source, std::size_t from, SunJobs::Pieces& target, std::size_t to,
+                           std::uint32_t owner) {
+        target.owner[to] = owner;
+        target.p[to] = source.p[from];
+        target.length[to] = source.length[from];
+        target.sigma_t[to] = source.sigma_t[from];
+        target.attenuation[to] = source.attenuation[from];
+        target.weight[to] = source.weight[from];
+        target.od_p[to] = source.od_p[from];
+        target.od_q[to] = source.od_q[from];
+        target.integral[to] = source.integral[from];
     }
 
     // Over pieces [0, padded), eight at a time: the integral over each with the depth linear along it,
@@ -791,15 +797,7 @@ private:
             halving.reserve(n);
             std::size_t next = 0;
             for (std::size_t h = 0; h < n; ++h) {
-                halving.owner[next] = halves.owner[h];
-                halving.p[next] = halves.p[h];
-                halving.length[next] = halves.length[h];
-                halving.sigma_t[next] = halves.sigma_t[h];
-                halving.attenuation[next] = halves.attenuation[h];
-                halving.weight[next] = halves.weight[h];
-                halving.od_p[next] = halves.od_p[h];
-                halving.od_q[next] = halves.od_q[h];
-                halving.integral[next] = halves.integral[h];
+                copy_piece(halves, h, halving, next, halves.owner[h]);
                 next -= std::size_t(std::int64_t(halves.refine[h]));
             }
             count = next;

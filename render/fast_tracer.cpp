@@ -324,6 +324,18 @@ public:
                 shadow_rects_.push_back(rect);
             }
         }
+        // Each box's pixels: the rectangle of its corners' projection (the whole image where a corner is
+        // not in front of the eye), which holds every pixel whose rays, sub-pixel rays included, may meet it.
+        for (const Box& box : scene.boxes) {
+            dvec3 corners[8];
+            for (int c = 0; c < 8; ++c)
+                corners[c] = dvec3((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
+                                   (c & 4) ? box.max.z : box.min.z);
+            PixelRect rect{0, 0, 0, 0};
+            if (!hull_pixel_rect(corners, 8, scene.camera, scene.camera.width, scene.camera.height, rect))
+                rect = PixelRect{0, 0, 0, 0};  // no pixel's ray meets it
+            box_rects_.push_back(rect);
+        }
         const std::size_t n = scene.spheres.size();
         extinction_scatter_.resize(n);
         lit_media_.resize(n);
@@ -419,11 +431,12 @@ public:
     // sigma_s: a third of the work per event.
     // With accurate shadows the sun's light is not in the answer: the ray's lit pieces go to `jobs`, for
     // tile pixel `pixel` (resolve_sun_jobs adds their light to the pixel's sum).
+    // `boxes`: the boxes the ray may meet (tile_box_mask).
     template <bool kPlain>
     dvec3 radiance(const dvec3& d, const TileSphere* list, const std::uint32_t* items, std::size_t count,
-                   RayScratch& scratch, SunJobs& jobs, std::uint32_t pixel) const {
+                   RayScratch& scratch, SunJobs& jobs, std::uint32_t pixel, std::uint64_t boxes) const {
         // The opaque surface's distance now, its radiance (a lit face's T_sun) only if the ray gets there.
-        const OpaqueSurfaces::Hit opaque = opaque_.nearest(eye_, d);
+        const OpaqueSurfaces::Hit opaque = opaque_.nearest(eye_, d, boxes);
         const float t_opaque = float(opaque.t);
         const float dx = float(d.x), dy = float(d.y), dz = float(d.z);
 
@@ -501,18 +514,27 @@ public:
 
     bool plain() const { return plain_; }
 
+    // Which of the first 64 boxes the rays of pixels [x0, x1) x [y0, y1) may meet (bit k for box k): a
+    // tile tests only those (on ground-fog, 5 boxes, a stone's box lies in a few tiles).
+    std::uint64_t tile_box_mask(int x0, int y0, int x1, int y1) const { return rect_mask(box_rects_, x0, y0, x1, y1); }
+
     // Which of the first 64 box shadow volumes the rays of pixels [x0, x1) x [y0, y1) may meet within
     // the media's bounds (bit n for volume n).
     std::uint64_t tile_shadow_mask(int x0, int y0, int x1, int y1) const {
+        return rect_mask(shadow_rects_, x0, y0, x1, y1);
+    }
+
+private:
+    // Bit n for each of the first 64 rectangles that overlaps pixels [x0, x1) x [y0, y1).
+    static std::uint64_t rect_mask(const std::vector<PixelRect>& rects, int x0, int y0, int x1, int y1) {
         std::uint64_t mask = 0;
-        for (std::size_t n = 0; n < std::min<std::size_t>(shadow_rects_.size(), 64); ++n) {
-            const PixelRect& r = shadow_rects_[n];
+        for (std::size_t n = 0; n < std::min<std::size_t>(rects.size(), 64); ++n) {
+            const PixelRect& r = rects[n];
             if (r.x0 < x1 && x0 < r.x1 && r.y0 < y1 && y0 < r.y1) mask |= std::uint64_t(1) << n;
         }
         return mask;
     }
 
-private:
     // Whether box's shadow volume (the box swept along -l) meets the axis-aligned box [lo, hi]: is there
     // an s >= 0 with box - s l overlapping it on every axis? Each axis bounds s to an interval; their
     // intersection is [s_lo, s_hi].
@@ -859,6 +881,7 @@ private:
     SunDepthMap& sun_map_;   // the accurate technique's optical depth toward the sun
     std::vector<BoxShadowVolume> shadow_volumes_;  // the accurate technique's box shadows, those that reach the media
     std::vector<PixelRect> shadow_rects_;          // and the pixels whose rays may meet them there
+    std::vector<PixelRect> box_rects_;             // per box, the pixels whose rays may meet it (empty: none)
     dvec3 eye_;
     float min_transmittance_;
     bool accurate_shadows_;
@@ -941,6 +964,7 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
     w.sun_jobs.clear();
     const int i1 = std::min(i0 + int(kTile), f.width), j1 = std::min(j0 + int(kTile), f.height);
     w.sun_jobs.shadow_mask = f.tracer.tile_shadow_mask(i0, j0, i1, j1);
+    const std::uint64_t boxes = f.tracer.tile_box_mask(i0, j0, i1, j1);
     for (int j = j0; j < j1; ++j) {
         for (int i = i0; i < i1; ++i) {
             const std::uint32_t p = std::uint32_t((j - j0) * int(kTile) + (i - i0));
@@ -951,9 +975,9 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
                     const std::uint32_t* items = w.lists.items.data() + w.lists.first[p];
                     const std::size_t count = w.lists.count[p];
                     sum += f.plain ? f.tracer.radiance<true>(d, w.lists.spheres.data(), items, count, w.ray,
-                                                             w.sun_jobs, p)
+                                                             w.sun_jobs, p, boxes)
                                    : f.tracer.radiance<false>(d, w.lists.spheres.data(), items, count, w.ray,
-                                                              w.sun_jobs, p);
+                                                              w.sun_jobs, p, boxes);
                 }
             sums[p] = sum;
         }

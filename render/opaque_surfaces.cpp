@@ -17,12 +17,13 @@ double OpaqueSurfaces::hit(const glm::dvec3& o, const glm::dvec3& d, glm::dvec3&
     return h.t;
 }
 
-OpaqueSurfaces::Hit OpaqueSurfaces::nearest(const glm::dvec3& o, const glm::dvec3& d) const {
+OpaqueSurfaces::Hit OpaqueSurfaces::nearest(const glm::dvec3& o, const glm::dvec3& d, std::uint64_t candidates) const {
     Hit h;
     h.t = std::numeric_limits<double>::infinity();
     if (boxes_.empty()) return h;  // the background (and no reciprocals to take: three quotients a ray)
     const glm::dvec3 inv_d = inverse_direction(d);
     for (std::size_t k = 0; k < boxes_.size(); ++k) {
+        if (k < 64 && !((candidates >> k) & 1u)) continue;
         int axis = -1;
         const double t = ray_box_distance(boxes_[k], o, d, inv_d, &axis);
         if (t < h.t) {

@@ -9,6 +9,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstdint>
 #include <vector>
 
 namespace brume {
@@ -30,7 +31,9 @@ public:
         int box = -1;    // -1: the background
         int axis = -1;
     };
-    Hit nearest(const glm::dvec3& o, const glm::dvec3& d) const;
+    // Only the boxes k < 64 whose bit k `candidates` holds are tested (a caller that knows which boxes
+    // its rays may meet: trace, per tile), and every box past the 64th.
+    Hit nearest(const glm::dvec3& o, const glm::dvec3& d, std::uint64_t candidates = ~std::uint64_t(0)) const;
     glm::dvec3 radiance(const Hit& hit, const glm::dvec3& o, const glm::dvec3& d) const {
         return hit.box >= 0 ? box_radiance(hit.box, hit.axis, o, d, hit.t) : lighting_.background;
     }

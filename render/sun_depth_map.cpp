@@ -97,15 +97,18 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
     // pays one streaming pass over the map, in parallel, not a zeroing pass before it. The last build's
     // memory is reused where it is large enough: freed and allocated again, its pages went back to the
     // system and faulted in afresh on the next frame's first touch (plume at 640x360, one thread: 6%
-    // of the frame in page faults under the build's writes). And it is taken with a quarter more room,
-    // within the budget: in playback the lattice grows with the smoke, frame after frame (ground-fog,
-    // frames 40-69: 6.62 M to 7.47 M vertices, a new largest every second frame), and a map allocated
-    // to the vertex each time took 41-47 ms to build against 3 ms in its kept memory (ground-fog in the
-    // preview window rendered at half the speed of the same frame rendered alone).
+    // of the frame in page faults under the build's writes). A map that outgrows its memory takes a
+    // quarter more room, within the budget: in playback the lattice grows with the smoke, frame after
+    // frame (ground-fog, frames 40-69: 6.62 M to 7.47 M vertices, a new largest every second frame),
+    // and a map allocated to the vertex each time took 41-47 ms to build against 3 ms in its kept
+    // memory (ground-fog in the preview window rendered at half the speed of the same frame alone). A
+    // first build takes what it needs: a map built once (one frame without a kept scratch) gains
+    // nothing from room, and at 32 MiB its block would leave glibc's heap for pages of its own.
     if (vertex_count > capacity_) {
+        const bool grows = capacity_ > 0;
         depth_.reset();  // the old one first: both at once could exceed what the machine has
         capacity_ = 0;
-        const std::size_t room = std::min(max_vertices, vertex_count + vertex_count / 4);
+        const std::size_t room = grows ? std::min(max_vertices, vertex_count + vertex_count / 4) : vertex_count;
         try {
             depth_.reset(new float[room]);
         } catch (...) {

@@ -3,7 +3,9 @@
 #include "render/box_shadow_volume.h"
 #include "render/nearest_bounds.h"
 #include "render/opaque_surfaces.h"
+#include "render/packet_walk.h"
 #include "render/sun_depth_map.h"
+#include "render/simd8_math.h"
 #include "render/sun_light.h"
 #include "sim/scene_file.h"
 #include "render/tile_bins.h"
@@ -34,11 +36,33 @@ using glm::dvec3;
 // tile lists, so a small tile wastes fewer tests; the bins cost little at this size.
 constexpr std::uint32_t kTile = 8;
 
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
 // Four floats in one SSE register (a GCC and Clang vector extension): the running sums an event
 // changes, and the radiance they add, step together, one lane per sum, each lane rounding as the
 // scalar code it replaces did. Lane 0 holds sigma_t where a sum has it, and 0 elsewhere.
 using Float4 = float __attribute__((vector_size(16)));
 using Int4 = std::int32_t __attribute__((vector_size(16)));  // a lane mask: 0 or all ones
+
+// Four doubles in one AVX register, or two SSE registers (a GCC and Clang vector extension).
+using Double4 = double __attribute__((vector_size(32)));
+
+// The square root of each lane (>= 0), correctly rounded as std::sqrt: SSE2's, on any x86-64.
+[[gnu::always_inline]] inline Double4 sqrt4(const Double4& v) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    __m128d half[2];
+    std::memcpy(half, &v, sizeof v);
+    half[0] = _mm_sqrt_pd(half[0]);
+    half[1] = _mm_sqrt_pd(half[1]);
+    Double4 r;
+    std::memcpy(&r, half, sizeof r);
+    return r;
+#else
+    Double4 r;
+    for (int l = 0; l < 4; ++l) r[l] = std::sqrt(v[l]);
+    return r;
+#endif
+}
 
 // What a sphere's events add and remove beyond {tau, tau * albedo} (sigma_t and sigma_s, kept apart:
 // all a scene without shadows or emission reads, 16 bytes a sphere, so that a large scene's random
@@ -125,31 +149,8 @@ using simd::Float8;
 using simd::Int8;
 using simd::load8;
 
-// exp(-x), clamped to float's normal range, in each lane: exp_in_range's arithmetic.
-[[gnu::always_inline]] inline Float8 exp_minus8(Float8 x) {
-    Float8 y = -x;
-    y = y > -87.0f ? y : Float8{} - 87.0f;  // NaN never reaches here
-    y = y < 87.0f ? y : Float8{} + 87.0f;
-    const Float8 n = (y * 1.44269504088896341f + 12582912.0f) - 12582912.0f;
-    const Float8 r = (y - n * 0.693145751953125f) - n * 1.42860682030941723e-6f;
-    const Float8 r2 = r * r, r4 = r2 * r2;
-    const Float8 p = ((1.0f + r) + r2 * (0.5f + r * (1.0f / 6.0f))) +
-                     r4 * ((1.0f / 24.0f + r * (1.0f / 120.0f)) + r2 * (1.0f / 720.0f));
-    const Int8 bits = (__builtin_convertvector(n, Int8) + 127) << 23;
-    return p * Float8(bits);  // a cast between vectors of one size keeps the bits
-}
-
-// (1 - exp(-x)) / x for any x, exp(-x) given, in each lane: the sun integral's exponent also holds the
-// change of the optical depth toward the sun, which may fall along a piece (x < 0). phi's series below
-// |x| = 1/8 (it holds for either sign); both forms computed, the quotient's divisor kept away from 0,
-// one chosen.
-[[gnu::always_inline]] inline Float8 phi_signed8(Float8 x, Float8 exp_minus_x) {
-    const Int8 small = Float8(Int8(x) & 0x7fffffff) < 0.125f;  // |x| by its bits
-    const Float8 series =
-        1.0f - x * 0.5f * (1.0f - x * (1.0f / 3.0f) * (1.0f - x * 0.25f * (1.0f - x * 0.2f * (1.0f - x * (1.0f / 6.0f)))));
-    const Float8 quotient = (1.0f - exp_minus_x) / (small ? Float8{} + 1.0f : x);
-    return small ? series : quotient;
-}
+using simd::exp_minus8;
+using simd::phi_signed8;
 
 // The longest piece, in map cells, over which the accurate technique takes the optical depth toward the
 // sun as linear, before refine_sun_jobs halves it where the depth changes fast. A lit piece is halved, up to
@@ -513,6 +514,87 @@ public:
     }
 
     bool plain() const { return plain_; }
+
+    // The packet walk (render/packet_walk.h), for a tile of a plain scene whose rays are one per pixel
+    // and whose spheres are at most packet::kMaxSpheres: the tile's spheres as it reads them.
+    void packet_spheres(const TileLists& lists, packet::Spheres& out) const {
+        const int count = int(lists.spheres.size());
+        out.count = count;
+        out.sigma_t = out.sigma_r = out.sigma_g = out.sigma_b = Float8{};
+        for (int n = 0; n < count; ++n) {
+            const TileSphere& m = lists.spheres[std::size_t(n)];
+            out.cx[n] = m.cx;
+            out.cy[n] = m.cy;
+            out.cz[n] = m.cz;
+            out.r2[n] = m.r2;
+            out.c_minus_r2[n] = m.c_minus_r2;
+            std::uint32_t rank = 0;
+            for (int o = 0; o < count; ++o) rank += lists.spheres[std::size_t(o)].sphere < m.sphere ? 1u : 0u;
+            out.rank[n] = rank;
+            const Float4& sigma = extinction_scatter_[m.sphere];
+            out.sigma_t[rank] = sigma[0];
+            out.sigma_r[rank] = sigma[1];
+            out.sigma_g[rank] = sigma[2];
+            out.sigma_b[rank] = sigma[3];
+        }
+    }
+
+    // The radiance of tile row `row`'s eight pixels by the packet walk, into sums (by tile pixel, as
+    // radiance<true> of each would give it): `directions` and `pixel_rays` as trace_tile's, `boxes` as
+    // radiance's.
+    void radiance_row(const packet::Spheres& spheres, const TileLists& lists, const float* directions,
+                      const dvec3* pixel_rays, int row, std::uint64_t boxes, dvec3* sums) const {
+        packet::Rays rays;
+        OpaqueSurfaces::Hit opaque[kTile];
+        for (int l = 0; l < int(kTile); ++l) {
+            const int p = row * int(kTile) + l;
+            const dvec3& d = pixel_rays[p];
+            rays.dx[l] = directions[3 * p];
+            rays.dy[l] = directions[3 * p + 1];
+            rays.dz[l] = directions[3 * p + 2];
+            opaque[l] = boxes == 0 && box_rects_.size() <= 64 ? OpaqueSurfaces::Hit{kInfinity, -1, -1}
+                                                              : opaque_.nearest(eye_, d, boxes);
+            rays.t_opaque[l] = float(opaque[l].t);
+        }
+        // L_ambient + L_sun P(theta), in double as radiance takes it (the same operations), four lanes
+        // at a time.
+        for (int h = 0; h < int(kTile); h += 4) {
+            Double4 dx, dy, dz;
+            for (int l = 0; l < 4; ++l) {
+                const dvec3& d = pixel_rays[row * int(kTile) + h + l];
+                dx[l] = d.x;
+                dy[l] = d.y;
+                dz[l] = d.z;
+            }
+            const Double4 cos_theta = (sun_unit_.x * dx + sun_unit_.y * dy) + sun_unit_.z * dz;
+            const Double4 phase = 3.0 / (16.0 * 3.14159265358979323846) * (1.0 + cos_theta * cos_theta);
+            const Float4 r = __builtin_convertvector(ambient_.x + lighting_sun_.x * phase, Float4);
+            const Float4 g = __builtin_convertvector(ambient_.y + lighting_sun_.y * phase, Float4);
+            const Float4 b = __builtin_convertvector(ambient_.z + lighting_sun_.z * phase, Float4);
+            for (int l = 0; l < 4; ++l) {
+                rays.source_r[h + l] = r[l];
+                rays.source_g[h + l] = g[l];
+                rays.source_b[h + l] = b[l];
+            }
+        }
+        // Sphere n listed for lane l: bit row * 8 + l of its hits.
+        const Int8 lane{0, 1, 2, 3, 4, 5, 6, 7};
+        for (int n = 0; n < spheres.count; ++n) {
+            const std::int32_t row_hits = std::int32_t((lists.hits[std::size_t(n)] >> (row * int(kTile))) & 0xffu);
+            rays.listed[n] = -(((Int8{} + row_hits) >> lane) & 1);
+        }
+        const int count = spheres.count;
+        const packet::Result r = count <= 1   ? packet::walk<2>(spheres, rays, min_transmittance_)
+                                 : count <= 2 ? packet::walk<4>(spheres, rays, min_transmittance_)
+                                 : count <= 4 ? packet::walk<8>(spheres, rays, min_transmittance_)
+                                              : packet::walk<16>(spheres, rays, min_transmittance_);
+        for (int l = 0; l < int(kTile); ++l) {
+            const int p = row * int(kTile) + l;
+            dvec3 color(r.r[l], r.g[l], r.b[l]);
+            if (!r.stopped[l]) color += double(r.transmittance[l]) * opaque_.radiance(opaque[l], eye_, pixel_rays[p]);
+            sums[p] = color;
+        }
+    }
 
     // Which of the first 64 boxes the rays of pixels [x0, x1) x [y0, y1) may meet (bit k for box k): a
     // tile tests only those (on ground-fog, 5 boxes, a stone's box lies in a few tiles).
@@ -924,8 +1006,10 @@ struct FrameTiles {
     const TileBins& bins;
     const std::vector<PixelRect>& rects;
     const CameraRays& rays;
+    const std::vector<double>& ndc_x;  // per column (column_ndc)
     int width, height, supersample;
     bool plain;
+    bool packets;  // the packet walk where a tile allows it (FastTraceOptions::packets)
 };
 
 // A worker's memory for the tiles it traces. A cache line or more each: the workers write their runs'
@@ -934,9 +1018,47 @@ struct FrameTiles {
 // 16-37 ms a frame, erratically, against 15-16 ms aligned, in the machine's slow state; one thread 38 ms).
 struct alignas(64) TileScratch {
     TileLists lists;
+    packet::Spheres packet;
     FastTracer::RayScratch ray;
     SunJobs sun_jobs;
 };
+
+// Each column's ndc_x as CameraRays::direction computes it for the pixel centre, 2 (i + 0.5) / width - 1,
+// for every column of the tiles (past the image's width too): a quotient a frame, not one a pixel.
+std::vector<double> column_ndc(const CameraRays& c, std::size_t columns) {
+    std::vector<double> ndc(columns);
+    for (std::size_t i = 0; i < columns; ++i) ndc[i] = 2.0 * (double(i) + 0.5) / c.width - 1.0;
+    return ndc;
+}
+
+// The tile's pixel-centre rays (CameraRays::pixel_direction, the same operations in the same order)
+// four pixels at a time, in double and in float as the tracer takes them (3 floats a pixel). One at a
+// time, in double, they were a tenth of a frame where the tile's spheres are few (2 layers, 800x600).
+// `ndc_x_of_column`: column_ndc's.
+[[gnu::always_inline]] inline void pixel_directions(const CameraRays& c, const double* ndc_x_of_column, int i0, int j0,
+                                                    dvec3* rays, float* directions) {
+    for (int y = 0; y < int(kTile); ++y) {
+        const double ndc_y = 2.0 * (double(j0 + y) + 0.5) / c.height - 1.0;
+        for (int x0 = 0; x0 < int(kTile); x0 += 4) {
+            Double4 ndc_x;
+            std::memcpy(&ndc_x, ndc_x_of_column + i0 + x0, sizeof ndc_x);
+            // forward + ndc_x * right - ndc_y * up, then normalize: v * (1 / sqrt(dot(v, v))).
+            const Double4 vx = (c.forward.x + ndc_x * c.right.x) - ndc_y * c.up.x;
+            const Double4 vy = (c.forward.y + ndc_x * c.right.y) - ndc_y * c.up.y;
+            const Double4 vz = (c.forward.z + ndc_x * c.right.z) - ndc_y * c.up.z;
+            const Double4 xx = vx * vx, yy = vy * vy, zz = vz * vz;
+            const Double4 inverse = 1.0 / sqrt4((xx + yy) + zz);
+            const Double4 dx = vx * inverse, dy = vy * inverse, dz = vz * inverse;
+            for (int l = 0; l < 4; ++l) {
+                const int p = y * int(kTile) + x0 + l;
+                rays[p] = dvec3(dx[l], dy[l], dz[l]);
+                directions[3 * p] = float(dx[l]);
+                directions[3 * p + 1] = float(dy[l]);
+                directions[3 * p + 2] = float(dz[l]);
+            }
+        }
+    }
+}
 
 // Tile t: its pixel lists, then its pixels, each handed to store(i, j, value); `gather` reads the sun
 // map's vertices (render/simd8.h).
@@ -947,15 +1069,7 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
     // The tile's pixel rays, and in float as the tracer takes them (one ray a pixel: no supersampling).
     dvec3 pixel_rays[kTile * kTile];
     float directions[3 * kTile * kTile];
-    if (k == 1)
-        for (int y = 0; y < int(kTile); ++y)
-            for (int x = 0; x < int(kTile); ++x) {
-                const int p = y * int(kTile) + x;
-                const dvec3 d = pixel_rays[p] = f.rays.pixel_direction(i0 + x, j0 + y);
-                directions[3 * p] = float(d.x);
-                directions[3 * p + 1] = float(d.y);
-                directions[3 * p + 2] = float(d.z);
-            }
+    if (k == 1) pixel_directions(f.rays, f.ndc_x.data(), i0, j0, pixel_rays, directions);
     f.tracer.list_tile(f.bins.entries.data() + 2 * std::size_t(f.bins.first[t]), f.bins.first[t + 1] - f.bins.first[t],
                        f.rects, i0, j0, k == 1 ? directions : nullptr, w.lists);
     // Each pixel's sum over its rays; with accurate shadows the sun's light joins it after all the
@@ -965,21 +1079,27 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
     const int i1 = std::min(i0 + int(kTile), f.width), j1 = std::min(j0 + int(kTile), f.height);
     w.sun_jobs.shadow_mask = f.tracer.tile_shadow_mask(i0, j0, i1, j1);
     const std::uint64_t boxes = f.tracer.tile_box_mask(i0, j0, i1, j1);
-    for (int j = j0; j < j1; ++j) {
-        for (int i = i0; i < i1; ++i) {
-            const std::uint32_t p = std::uint32_t((j - j0) * int(kTile) + (i - i0));
-            dvec3 sum(0.0);
-            for (int b = 0; b < k; ++b)
-                for (int a = 0; a < k; ++a) {
-                    const dvec3 d = k == 1 ? pixel_rays[p] : f.rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
-                    const std::uint32_t* items = w.lists.items.data() + w.lists.first[p];
-                    const std::size_t count = w.lists.count[p];
-                    sum += f.plain ? f.tracer.radiance<true>(d, w.lists.spheres.data(), items, count, w.ray,
-                                                             w.sun_jobs, p, boxes)
-                                   : f.tracer.radiance<false>(d, w.lists.spheres.data(), items, count, w.ray,
-                                                              w.sun_jobs, p, boxes);
-                }
-            sums[p] = sum;
+    // A tile of few spheres in a plain scene: eight rays at once, a row at a time (render/packet_walk.h).
+    if (f.packets && f.plain && k == 1 && w.lists.spheres.size() <= std::size_t(packet::kMaxSpheres)) {
+        f.tracer.packet_spheres(w.lists, w.packet);
+        for (int j = j0; j < j1; ++j) f.tracer.radiance_row(w.packet, w.lists, directions, pixel_rays, j - j0, boxes, sums);
+    } else {
+        for (int j = j0; j < j1; ++j) {
+            for (int i = i0; i < i1; ++i) {
+                const std::uint32_t p = std::uint32_t((j - j0) * int(kTile) + (i - i0));
+                dvec3 sum(0.0);
+                for (int b = 0; b < k; ++b)
+                    for (int a = 0; a < k; ++a) {
+                        const dvec3 d = k == 1 ? pixel_rays[p] : f.rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
+                        const std::uint32_t* items = w.lists.items.data() + w.lists.first[p];
+                        const std::size_t count = w.lists.count[p];
+                        sum += f.plain ? f.tracer.radiance<true>(d, w.lists.spheres.data(), items, count, w.ray,
+                                                                 w.sun_jobs, p, boxes)
+                                       : f.tracer.radiance<false>(d, w.lists.spheres.data(), items, count, w.ray,
+                                                                  w.sun_jobs, p, boxes);
+                    }
+                sums[p] = sum;
+            }
         }
     }
     f.tracer.resolve_sun_jobs(w.sun_jobs, sums, gather);
@@ -1043,7 +1163,8 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     bin_spheres(rects, width, height, kTile, order, bound, bins, options.threads);
 
     const CameraRays rays = make_camera_rays(scene.camera);
-    const FrameTiles frame{tracer, bins, rects, rays, width, height, k, tracer.plain()};
+    const std::vector<double> ndc_x = column_ndc(rays, std::size_t(bins.tiles_x) * kTile);
+    const FrameTiles frame{tracer, bins, rects, rays, ndc_x, width, height, k, tracer.plain(), options.packets};
     const std::size_t tiles = bins.tile_count();
     std::vector<TileScratch> scratch(std::size_t(worker_count(options.threads, tiles)));
     const bool avx2 = options.instructions == TraceInstructions::Best && cpu_has_avx2_fma();

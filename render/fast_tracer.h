@@ -10,6 +10,9 @@
 // before it), and every eighth sphere the final events are merged from the two runs and integrated. So
 // the events are integrated in exact order, and once transmittance falls below the scene's
 // min_transmittance the ray stops: the spheres behind are never intersected (at most eight too many are).
+// A tile that lists at most eight spheres, in a scene without shadows or emission, walks a row's eight
+// rays at once instead, one per SIMD lane (render/packet_walk.h): the same events in the same order, the
+// same images to the bit, for a fraction of the per-ray cost where rays have few events.
 //
 // What differs from the reference is float arithmetic only (the same as the GPU methods' exact
 // integrator, shaders/exact_integrator.glsl): the opaque surfaces are the reference's own
@@ -45,6 +48,9 @@ struct FastTraceOptions {
     int threads = 0;  // 0: every hardware thread
     TraceInstructions instructions = TraceInstructions::Best;
     FastTraceScratch* scratch = nullptr;  // null: the frame allocates its own
+    // Tiles of few spheres in a scene without shadows or emission take eight rays at once
+    // (render/packet_walk.h); false: every ray walks alone (the tests hold the two together).
+    bool packets = true;
 };
 
 // The instructions `options` gives the per-pixel work on this CPU: "AVX2+FMA" or "portable", for the

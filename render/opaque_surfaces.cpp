@@ -20,7 +20,9 @@ double OpaqueSurfaces::hit(const glm::dvec3& o, const glm::dvec3& d, glm::dvec3&
 OpaqueSurfaces::Hit OpaqueSurfaces::nearest(const glm::dvec3& o, const glm::dvec3& d, std::uint64_t candidates) const {
     Hit h;
     h.t = std::numeric_limits<double>::infinity();
-    if (boxes_.empty()) return h;  // the background (and no reciprocals to take: three quotients a ray)
+    // The background, where no box is a candidate (and no reciprocals to take: three quotients a ray).
+    if (boxes_.size() <= 64 && (boxes_.size() == 64 ? candidates : candidates & ((std::uint64_t(1) << boxes_.size()) - 1)) == 0)
+        return h;
     const glm::dvec3 inv_d = inverse_direction(d);
     for (std::size_t k = 0; k < boxes_.size(); ++k) {
         if (k < 64 && !((candidates >> k) & 1u)) continue;

@@ -17,6 +17,8 @@
 #include <cstring>
 #include <random>
 #include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace brume {
@@ -181,6 +183,44 @@ TEST(FastTracer, TwoHundredFiftySixNestedSurfaces) {
     const Scene s = make_layers_scene(256, 32, 24);
     const ImageDiff d = against_reference(s);
     EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+// The tiles of at most eight spheres that the packet walk takes (render/packet_walk.h): every event
+// count its sorting network has (1, 2, 3-4 and 5-8 spheres a tile), early stops, an eye inside a
+// sphere, boxes that clip chords, negative albedo; each image the one-ray walk's to the bit, and the
+// reference's.
+std::vector<std::pair<std::string, Scene>> few_sphere_scenes() {
+    std::vector<std::pair<std::string, Scene>> scenes;
+    for (const int layers : {2, 4, 8, 16}) scenes.emplace_back("layers " + std::to_string(layers), make_layers_scene(layers, 48, 32));
+    Scene far_layers = make_layers_scene(16, 40, 30);
+    for (std::size_t k = 4; k < far_layers.spheres.size(); ++k) far_layers.spheres[k].albedo.x = -0.2;
+    scenes.emplace_back("negative albedo", far_layers);
+    for (const unsigned seed : {21u, 22u}) {
+        Scene sparse = testing::random_scene(96, 72, 24, seed, true);
+        scenes.emplace_back("sparse " + std::to_string(seed), sparse);
+        for (Sphere& sp : sparse.spheres) sp.extinction *= 30.0;
+        sparse.render.min_transmittance = 0.05;
+        scenes.emplace_back("sparse dense stopping " + std::to_string(seed), sparse);
+    }
+    Scene inside = testing::random_scene(64, 48, 16, 23, true);
+    inside.camera.position = inside.spheres[0].center;
+    inside.camera.look_at = {0.0, 0.0, 0.0};
+    scenes.emplace_back("eye inside", inside);
+    return scenes;
+}
+
+TEST(FastTracer, PacketWalkIsTheOneRayWalk) {
+    FastTraceOptions alone;
+    alone.packets = false;
+    FastTraceOptions portable, portable_alone = alone;
+    portable.instructions = portable_alone.instructions = TraceInstructions::Portable;
+    for (const auto& [name, s] : few_sphere_scenes()) {
+        EXPECT_TRUE(same_bits(render_fast_trace(s), render_fast_trace(s, alone))) << name;
+        EXPECT_TRUE(same_bits(render_fast_trace(s, portable), render_fast_trace(s, portable_alone))) << name;
+        const ImageDiff d = against_reference(s);
+        EXPECT_EQ(d.pixels_over, 0u) << name << ": " << describe(d);
+        EXPECT_GT(d.peak, 0.0) << name;
+    }
 }
 
 TEST(FastTracer, BitIdenticalForAnyThreadCount) {

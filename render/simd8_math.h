@@ -1,0 +1,93 @@
+// The integrators' functions over eight lanes at once (render/simd8.h's Float8): exp, (1 - exp(-x)) / x,
+// sqrt and a table lookup by lane. Each lane computes what the scalar form in render/fast_tracer.cpp
+// computes for one value, by the same arithmetic, so a lane and the scalar code agree but for how the
+// compiler fuses multiply-adds.
+#pragma once
+
+#include "render/simd8.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace brume::simd {
+
+// e^y for |y| < 87 (float's normal range), in each lane: y = n ln2 + r with |r| <= ln2 / 2; e^r by its
+// Taylor polynomial to degree 6 (truncation below 2e-7), Estrin's scheme; 2^n through the exponent bits.
+// The scalar exp_in_range's arithmetic.
+[[gnu::always_inline]] inline Float8 exp_in_range8(Float8 y) {
+    // Round to nearest by the 1.5 * 2^23 trick (|y log2 e| < 2^22 here).
+    const Float8 n = (y * 1.44269504088896341f + 12582912.0f) - 12582912.0f;
+    const Float8 r = (y - n * 0.693145751953125f) - n * 1.42860682030941723e-6f;  // ln2 split: hi exact in n * hi
+    const Float8 r2 = r * r, r4 = r2 * r2;
+    const Float8 p = ((1.0f + r) + r2 * (0.5f + r * (1.0f / 6.0f))) +
+                     r4 * ((1.0f / 24.0f + r * (1.0f / 120.0f)) + r2 * (1.0f / 720.0f));
+    const Int8 bits = (__builtin_convertvector(n, Int8) + 127) << 23;
+    return p * Float8(bits);  // a cast between vectors of one size keeps the bits
+}
+
+// exp(-x), clamped to float's normal range, in each lane (NaN never reaches here).
+[[gnu::always_inline]] inline Float8 exp_minus8(Float8 x) {
+    Float8 y = -x;
+    y = y > -87.0f ? y : Float8{} - 87.0f;
+    y = y < 87.0f ? y : Float8{} + 87.0f;
+    return exp_in_range8(y);
+}
+
+// exp(y) for y <= 0 in each lane, 0 below float's normal range: the scalar exp_nonpositive's answer,
+// which a segment's transmittance takes (exp_minus8 would leave e^-87 there, not 0).
+[[gnu::always_inline]] inline Float8 exp_nonpositive8(Float8 y) {
+    const Int8 in_range = y > -87.0f;
+    return in_range ? exp_in_range8(in_range ? y : Float8{}) : Float8{};
+}
+
+// (1 - exp(-x)) / x for x >= 0, exp(-x) given, in each lane: the scalar phi's series below 1/8, its
+// quotient above (both computed, the quotient's divisor kept away from 0, one chosen).
+[[gnu::always_inline]] inline Float8 phi8(Float8 x, Float8 exp_minus_x) {
+    const Int8 small = x < 0.125f;
+    const Float8 series =
+        1.0f - x * 0.5f * (1.0f - x * (1.0f / 3.0f) * (1.0f - x * 0.25f * (1.0f - x * 0.2f * (1.0f - x * (1.0f / 6.0f)))));
+    const Float8 quotient = (1.0f - exp_minus_x) / (small ? Float8{} + 1.0f : x);
+    return small ? series : quotient;
+}
+
+// (1 - exp(-x)) / x for any x, exp(-x) given, in each lane: the sun integral's exponent also holds the
+// change of the optical depth toward the sun, which may fall along a piece (x < 0). The series below
+// |x| = 1/8 (it holds for either sign).
+[[gnu::always_inline]] inline Float8 phi_signed8(Float8 x, Float8 exp_minus_x) {
+    const Int8 small = Float8(Int8(x) & 0x7fffffff) < 0.125f;  // |x| by its bits
+    const Float8 series =
+        1.0f - x * 0.5f * (1.0f - x * (1.0f / 3.0f) * (1.0f - x * 0.25f * (1.0f - x * 0.2f * (1.0f - x * (1.0f / 6.0f)))));
+    const Float8 quotient = (1.0f - exp_minus_x) / (small ? Float8{} + 1.0f : x);
+    return small ? series : quotient;
+}
+
+// The square root of each lane, for lanes >= 0 (correctly rounded, as std::sqrt): SSE's on any
+// x86-64, two halves at a time.
+[[gnu::always_inline]] inline Float8 sqrt8(const Float8& v) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    __m128 half[2];
+    std::memcpy(half, &v, sizeof v);
+    half[0] = _mm_sqrt_ps(half[0]);
+    half[1] = _mm_sqrt_ps(half[1]);
+    Float8 r;
+    std::memcpy(&r, half, sizeof r);
+    return r;
+#else
+    Float8 r;
+    for (int l = 0; l < 8; ++l) r[l] = std::sqrt(v[l]);
+    return r;
+#endif
+}
+
+// table[index[l]] in each lane l (index in 0..7): one permute where the target has one (AVX2's vpermps).
+[[gnu::always_inline]] inline Float8 lookup8(const Float8& table, const Int8& index) {
+#if defined(__clang__)
+    Float8 r;
+    for (int l = 0; l < 8; ++l) r[l] = table[index[l] & 7];
+    return r;
+#else
+    return __builtin_shuffle(table, index);
+#endif
+}
+
+}  // namespace brume::simd

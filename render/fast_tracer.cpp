@@ -98,6 +98,15 @@ struct TileLists {
     std::vector<std::uint64_t> hits;  // per tile sphere, a bit per pixel its ray meets (list_tile's)
 };
 
+// A tile's pixel-centre rays (one a pixel: no supersampling), by tile pixel p = y * kTile + x: unit
+// directions in double, as the opaque surfaces and the light take them, and in float, as the tracer
+// does; each component apart, so that eight neighbours load as one SIMD value (render/packet_walk.h).
+struct alignas(32) TileRays {
+    double x[kTile * kTile], y[kTile * kTile], z[kTile * kTile];
+    float fx[kTile * kTile], fy[kTile * kTile], fz[kTile * kTile];
+    dvec3 direction(int p) const { return dvec3(x[p], y[p], z[p]); }
+};
+
 // The squared distance by which the ray t (dx, dy, dz) passes inside the sphere: r^2 less the squared
 // distance of closest approach; the ray meets the sphere's volume where it is positive. One function for
 // list_tile and the tracer, so both decide alike, bit for bit.
@@ -377,13 +386,12 @@ public:
 
     // The tile's lists (TileLists) from its bin entries (pairs of sphere and float bound bits,
     // render/tile_bins.h), near to far by bound; `rects` are the spheres' pixel rectangles, (x0, y0)
-    // the tile's corner; `directions`, the float ray direction of each of its pixels (3 floats each, the
-    // tracer's own), or null with supersampling (then every pixel of a rectangle lists its sphere). Two
+    // the tile's corner; `rays`, the ray of each of its pixels, or null with supersampling (then every pixel of a rectangle lists its sphere). Two
     // counting passes, so each pixel's list keeps the tile's order. Whether a ray meets a sphere was the
     // tracer's most mispredicted branch after the event order's; here it is arithmetic: every pixel of
     // the rectangle writes the sphere into its next slot and moves on only where its ray meets it.
     void list_tile(const std::uint32_t* entries, std::size_t count, const std::vector<PixelRect>& rects, int x0,
-                   int y0, const float* directions, TileLists& out) const {
+                   int y0, const TileRays* rays, TileLists& out) const {
         out.spheres.resize(count);
         out.hits.resize(count);
         std::uint32_t counts[kTile * kTile] = {};
@@ -399,10 +407,9 @@ public:
             std::uint64_t hits = 0;
             covered(rects[k], [&](int p) {
                 std::uint32_t hit = 1;
-                if (directions) {
+                if (rays) {
                     float b;
-                    const float* d = directions + 3 * p;
-                    hit = chord_discriminant(m, d[0], d[1], d[2], b) > 0.0f ? 1u : 0u;
+                    hit = chord_discriminant(m, rays->fx[p], rays->fy[p], rays->fz[p], b) > 0.0f ? 1u : 0u;
                 }
                 hits |= std::uint64_t(hit) << p;
                 counts[p] += hit;
@@ -516,22 +523,30 @@ public:
     bool plain() const { return plain_; }
 
     // The packet walk (render/packet_walk.h), for a tile of a plain scene whose rays are one per pixel
-    // and whose spheres are at most packet::kMaxSpheres: the tile's spheres as it reads them.
-    void packet_spheres(const TileLists& lists, packet::Spheres& out) const {
-        const int count = int(lists.spheres.size());
-        out.count = count;
+    // and whose spheres are at most packet::kMaxSpheres: the tile's spheres as it reads them, from its
+    // bin entries as list_tile takes them, each with the tile's pixels that its rectangle covers (which
+    // list_tile would test), (x0, y0) the tile's corner. No pixel lists: every lane tests every sphere.
+    void packet_spheres(const std::uint32_t* entries, std::size_t count, const std::vector<PixelRect>& rects, int x0,
+                        int y0, packet::Spheres& out) const {
+        out.count = int(count);
         out.sigma_t = out.sigma_r = out.sigma_g = out.sigma_b = Float8{};
-        for (int n = 0; n < count; ++n) {
-            const TileSphere& m = lists.spheres[std::size_t(n)];
+        for (std::size_t n = 0; n < count; ++n) {
+            const std::uint32_t k = entries[2 * n];
+            const TileSphere& m = geometry_[k];
             out.cx[n] = m.cx;
             out.cy[n] = m.cy;
             out.cz[n] = m.cz;
             out.r2[n] = m.r2;
             out.c_minus_r2[n] = m.c_minus_r2;
+            const PixelRect& r = rects[k];
+            out.columns[n][0] = r.x0 - x0;
+            out.columns[n][1] = r.x1 - x0;
+            out.rows[n][0] = r.y0 - y0;
+            out.rows[n][1] = r.y1 - y0;
             std::uint32_t rank = 0;
-            for (int o = 0; o < count; ++o) rank += lists.spheres[std::size_t(o)].sphere < m.sphere ? 1u : 0u;
+            for (std::size_t o = 0; o < count; ++o) rank += entries[2 * o] < k ? 1u : 0u;
             out.rank[n] = rank;
-            const Float4& sigma = extinction_scatter_[m.sphere];
+            const Float4& sigma = extinction_scatter_[k];
             out.sigma_t[rank] = sigma[0];
             out.sigma_r[rank] = sigma[1];
             out.sigma_g[rank] = sigma[2];
@@ -540,48 +555,50 @@ public:
     }
 
     // The radiance of tile row `row`'s eight pixels by the packet walk, into sums (by tile pixel, as
-    // radiance<true> of each would give it): `directions` and `pixel_rays` as trace_tile's, `boxes` as
-    // radiance's.
-    void radiance_row(const packet::Spheres& spheres, const TileLists& lists, const float* directions,
-                      const dvec3* pixel_rays, int row, std::uint64_t boxes, dvec3* sums) const {
+    // radiance<true> of each would give it); `boxes` as radiance's.
+    void radiance_row(const packet::Spheres& spheres, const TileRays& tile_rays, int row,
+                      std::uint64_t boxes, dvec3* sums) const {
+        const int first = row * int(kTile);
         packet::Rays rays;
+        rays.dx = load8(tile_rays.fx + first);
+        rays.dy = load8(tile_rays.fy + first);
+        rays.dz = load8(tile_rays.fz + first);
+        // The opaque surfaces: none where the tile has no candidate box (and the scene no box past the
+        // 64th, which every tile tests).
         OpaqueSurfaces::Hit opaque[kTile];
+        float t_opaque[kTile];
+        const bool no_box = boxes == 0 && box_rects_.size() <= 64;
         for (int l = 0; l < int(kTile); ++l) {
-            const int p = row * int(kTile) + l;
-            const dvec3& d = pixel_rays[p];
-            rays.dx[l] = directions[3 * p];
-            rays.dy[l] = directions[3 * p + 1];
-            rays.dz[l] = directions[3 * p + 2];
-            opaque[l] = boxes == 0 && box_rects_.size() <= 64 ? OpaqueSurfaces::Hit{kInfinity, -1, -1}
-                                                              : opaque_.nearest(eye_, d, boxes);
-            rays.t_opaque[l] = float(opaque[l].t);
+            opaque[l] = no_box ? OpaqueSurfaces::Hit{kInfinity, -1, -1}
+                               : opaque_.nearest(eye_, tile_rays.direction(first + l), boxes);
+            t_opaque[l] = float(opaque[l].t);
         }
+        rays.t_opaque = load8(t_opaque);
         // L_ambient + L_sun P(theta), in double as radiance takes it (the same operations), four lanes
         // at a time.
+        float source[3][kTile];
         for (int h = 0; h < int(kTile); h += 4) {
             Double4 dx, dy, dz;
-            for (int l = 0; l < 4; ++l) {
-                const dvec3& d = pixel_rays[row * int(kTile) + h + l];
-                dx[l] = d.x;
-                dy[l] = d.y;
-                dz[l] = d.z;
-            }
+            std::memcpy(&dx, tile_rays.x + first + h, sizeof dx);
+            std::memcpy(&dy, tile_rays.y + first + h, sizeof dy);
+            std::memcpy(&dz, tile_rays.z + first + h, sizeof dz);
             const Double4 cos_theta = (sun_unit_.x * dx + sun_unit_.y * dy) + sun_unit_.z * dz;
             const Double4 phase = 3.0 / (16.0 * 3.14159265358979323846) * (1.0 + cos_theta * cos_theta);
             const Float4 r = __builtin_convertvector(ambient_.x + lighting_sun_.x * phase, Float4);
             const Float4 g = __builtin_convertvector(ambient_.y + lighting_sun_.y * phase, Float4);
             const Float4 b = __builtin_convertvector(ambient_.z + lighting_sun_.z * phase, Float4);
-            for (int l = 0; l < 4; ++l) {
-                rays.source_r[h + l] = r[l];
-                rays.source_g[h + l] = g[l];
-                rays.source_b[h + l] = b[l];
-            }
+            std::memcpy(source[0] + h, &r, sizeof r);
+            std::memcpy(source[1] + h, &g, sizeof g);
+            std::memcpy(source[2] + h, &b, sizeof b);
         }
-        // Sphere n listed for lane l: bit row * 8 + l of its hits.
+        rays.source_r = load8(source[0]);
+        rays.source_g = load8(source[1]);
+        rays.source_b = load8(source[2]);
+        // Sphere n tested by lane l where its rectangle covers the lane's pixel, as list_tile tests it.
         const Int8 lane{0, 1, 2, 3, 4, 5, 6, 7};
         for (int n = 0; n < spheres.count; ++n) {
-            const std::int32_t row_hits = std::int32_t((lists.hits[std::size_t(n)] >> (row * int(kTile))) & 0xffu);
-            rays.listed[n] = -(((Int8{} + row_hits) >> lane) & 1);
+            const bool row_covered = row >= spheres.rows[n][0] && row < spheres.rows[n][1];
+            rays.listed[n] = (lane >= spheres.columns[n][0]) & (lane < spheres.columns[n][1]) & (row_covered ? -1 : 0);
         }
         const int count = spheres.count;
         const packet::Result r = count <= 1   ? packet::walk<2>(spheres, rays, min_transmittance_)
@@ -591,7 +608,8 @@ public:
         for (int l = 0; l < int(kTile); ++l) {
             const int p = row * int(kTile) + l;
             dvec3 color(r.r[l], r.g[l], r.b[l]);
-            if (!r.stopped[l]) color += double(r.transmittance[l]) * opaque_.radiance(opaque[l], eye_, pixel_rays[p]);
+            if (!r.stopped[l])
+                color += double(r.transmittance[l]) * opaque_.radiance(opaque[l], eye_, tile_rays.direction(p));
             sums[p] = color;
         }
     }
@@ -1018,6 +1036,7 @@ struct FrameTiles {
 // 16-37 ms a frame, erratically, against 15-16 ms aligned, in the machine's slow state; one thread 38 ms).
 struct alignas(64) TileScratch {
     TileLists lists;
+    TileRays rays;  // the tile's pixel rays
     packet::Spheres packet;
     FastTracer::RayScratch ray;
     SunJobs sun_jobs;
@@ -1031,12 +1050,11 @@ std::vector<double> column_ndc(const CameraRays& c, std::size_t columns) {
     return ndc;
 }
 
-// The tile's pixel-centre rays (CameraRays::pixel_direction, the same operations in the same order)
-// four pixels at a time, in double and in float as the tracer takes them (3 floats a pixel). One at a
-// time, in double, they were a tenth of a frame where the tile's spheres are few (2 layers, 800x600).
-// `ndc_x_of_column`: column_ndc's.
+// The tile's pixel-centre rays (CameraRays::pixel_direction, the same operations in the same order),
+// four pixels at a time. One at a time they were a tenth of a frame where the tile's spheres are few
+// (2 layers, 800x600). `ndc_x_of_column`: column_ndc's.
 [[gnu::always_inline]] inline void pixel_directions(const CameraRays& c, const double* ndc_x_of_column, int i0, int j0,
-                                                    dvec3* rays, float* directions) {
+                                                    TileRays& out) {
     for (int y = 0; y < int(kTile); ++y) {
         const double ndc_y = 2.0 * (double(j0 + y) + 0.5) / c.height - 1.0;
         for (int x0 = 0; x0 < int(kTile); x0 += 4) {
@@ -1049,13 +1067,15 @@ std::vector<double> column_ndc(const CameraRays& c, std::size_t columns) {
             const Double4 xx = vx * vx, yy = vy * vy, zz = vz * vz;
             const Double4 inverse = 1.0 / sqrt4((xx + yy) + zz);
             const Double4 dx = vx * inverse, dy = vy * inverse, dz = vz * inverse;
-            for (int l = 0; l < 4; ++l) {
-                const int p = y * int(kTile) + x0 + l;
-                rays[p] = dvec3(dx[l], dy[l], dz[l]);
-                directions[3 * p] = float(dx[l]);
-                directions[3 * p + 1] = float(dy[l]);
-                directions[3 * p + 2] = float(dz[l]);
-            }
+            const int p = y * int(kTile) + x0;
+            std::memcpy(out.x + p, &dx, sizeof dx);
+            std::memcpy(out.y + p, &dy, sizeof dy);
+            std::memcpy(out.z + p, &dz, sizeof dz);
+            const Float4 fx = __builtin_convertvector(dx, Float4), fy = __builtin_convertvector(dy, Float4),
+                         fz = __builtin_convertvector(dz, Float4);
+            std::memcpy(out.fx + p, &fx, sizeof fx);
+            std::memcpy(out.fy + p, &fy, sizeof fy);
+            std::memcpy(out.fz + p, &fz, sizeof fz);
         }
     }
 }
@@ -1067,11 +1087,16 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
     const int k = f.supersample;
     const int i0 = int(t % f.bins.tiles_x * kTile), j0 = int(t / f.bins.tiles_x * kTile);
     // The tile's pixel rays, and in float as the tracer takes them (one ray a pixel: no supersampling).
-    dvec3 pixel_rays[kTile * kTile];
-    float directions[3 * kTile * kTile];
-    if (k == 1) pixel_directions(f.rays, f.ndc_x.data(), i0, j0, pixel_rays, directions);
-    f.tracer.list_tile(f.bins.entries.data() + 2 * std::size_t(f.bins.first[t]), f.bins.first[t + 1] - f.bins.first[t],
-                       f.rects, i0, j0, k == 1 ? directions : nullptr, w.lists);
+    TileRays& tile_rays = w.rays;
+    if (k == 1) pixel_directions(f.rays, f.ndc_x.data(), i0, j0, tile_rays);
+    const std::uint32_t* entries = f.bins.entries.data() + 2 * std::size_t(f.bins.first[t]);
+    const std::size_t entry_count = f.bins.first[t + 1] - f.bins.first[t];
+    // A tile of few spheres in a plain scene: eight rays at once, a row at a time (render/packet_walk.h).
+    const bool packets = f.packets && f.plain && k == 1 && entry_count <= std::size_t(packet::kMaxSpheres);
+    if (packets)
+        f.tracer.packet_spheres(entries, entry_count, f.rects, i0, j0, w.packet);
+    else
+        f.tracer.list_tile(entries, entry_count, f.rects, i0, j0, k == 1 ? &tile_rays : nullptr, w.lists);
     // Each pixel's sum over its rays; with accurate shadows the sun's light joins it after all the
     // tile's rays (FastTracer::resolve_sun_jobs).
     dvec3 sums[kTile * kTile];
@@ -1079,10 +1104,8 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
     const int i1 = std::min(i0 + int(kTile), f.width), j1 = std::min(j0 + int(kTile), f.height);
     w.sun_jobs.shadow_mask = f.tracer.tile_shadow_mask(i0, j0, i1, j1);
     const std::uint64_t boxes = f.tracer.tile_box_mask(i0, j0, i1, j1);
-    // A tile of few spheres in a plain scene: eight rays at once, a row at a time (render/packet_walk.h).
-    if (f.packets && f.plain && k == 1 && w.lists.spheres.size() <= std::size_t(packet::kMaxSpheres)) {
-        f.tracer.packet_spheres(w.lists, w.packet);
-        for (int j = j0; j < j1; ++j) f.tracer.radiance_row(w.packet, w.lists, directions, pixel_rays, j - j0, boxes, sums);
+    if (packets) {
+        for (int j = j0; j < j1; ++j) f.tracer.radiance_row(w.packet, tile_rays, j - j0, boxes, sums);
     } else {
         for (int j = j0; j < j1; ++j) {
             for (int i = i0; i < i1; ++i) {
@@ -1090,7 +1113,7 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
                 dvec3 sum(0.0);
                 for (int b = 0; b < k; ++b)
                     for (int a = 0; a < k; ++a) {
-                        const dvec3 d = k == 1 ? pixel_rays[p] : f.rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
+                        const dvec3 d = k == 1 ? tile_rays.direction(int(p)) : f.rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
                         const std::uint32_t* items = w.lists.items.data() + w.lists.first[p];
                         const std::size_t count = w.lists.count[p];
                         sum += f.plain ? f.tracer.radiance<true>(d, w.lists.spheres.data(), items, count, w.ray,

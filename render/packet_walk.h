@@ -35,15 +35,18 @@ struct Spheres {
     int count = 0;
     float cx[kMaxSpheres], cy[kMaxSpheres], cz[kMaxSpheres], r2[kMaxSpheres], c_minus_r2[kMaxSpheres];
     std::uint32_t rank[kMaxSpheres];
+    // The tile's columns [first, last) and rows its pixel rectangle covers (render/tile_bins.h): the
+    // rays that may meet it, which alone test it (as list_tile's).
+    int columns[kMaxSpheres][2], rows[kMaxSpheres][2];
     Float8 sigma_t{}, sigma_r{}, sigma_g{}, sigma_b{};
 };
 
 // Eight rays, lane by lane: unit direction, the opaque surface's distance, L_ambient + L_sun P(theta),
-// and per sphere n whether list_tile listed it for the lane's ray (all ones) or not.
+// and per sphere n whether the lane's ray tests it (all ones: its pixel lies in the sphere's rectangle).
 struct Rays {
-    Float8 dx{}, dy{}, dz{}, t_opaque{};
-    Float8 source_r{}, source_g{}, source_b{};
-    Int8 listed[kMaxSpheres]{};
+    Float8 dx, dy, dz, t_opaque;
+    Float8 source_r, source_g, source_b;
+    Int8 listed[kMaxSpheres];
 };
 
 // What the media send to the eye in each lane, the transmittance left, and whether the ray stopped

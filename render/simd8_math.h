@@ -62,16 +62,13 @@ namespace brume::simd {
 }
 
 // The square root of each lane, for lanes >= 0 (correctly rounded, as std::sqrt): SSE's on any
-// x86-64, two halves at a time.
+// x86-64, a half at a time, the halves taken apart and put together in registers.
 [[gnu::always_inline]] inline Float8 sqrt8(const Float8& v) {
 #if defined(__x86_64__) && defined(__GNUC__)
-    __m128 half[2];
-    std::memcpy(half, &v, sizeof v);
-    half[0] = _mm_sqrt_ps(half[0]);
-    half[1] = _mm_sqrt_ps(half[1]);
-    Float8 r;
-    std::memcpy(&r, half, sizeof r);
-    return r;
+    using Float4 = float __attribute__((vector_size(16)));
+    const Float4 lo = Float4(_mm_sqrt_ps(__m128(__builtin_shufflevector(v, v, 0, 1, 2, 3))));
+    const Float4 hi = Float4(_mm_sqrt_ps(__m128(__builtin_shufflevector(v, v, 4, 5, 6, 7))));
+    return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
 #else
     Float8 r;
     for (int l = 0; l < 8; ++l) r[l] = std::sqrt(v[l]);

@@ -20,20 +20,33 @@ inline int worker_count(int requested, std::size_t items) {
 }
 
 // Calls body(item, worker) for every item in [0, count), worker in [0, worker_count(threads, count)) so
-// callers can keep per-worker scratch. Items are handed out one at a time, so uneven items share out.
-// The calling thread is worker 0. The first exception stops the others at their next item and is
-// rethrown here.
+// callers can keep per-worker scratch. Items are handed out in runs that shrink as the work does (an
+// eighth of each worker's share of what is left, down to one item), so uneven items still share out
+// at the end while a large count costs few trips to the shared counter: taken one item at a time, the
+// counter's cache line went back and forth between the cores at every item (trace's 7,500 tiles of
+// the layers scene at 800x600: 16% of a frame on two threads). The calling thread is worker 0. The
+// first exception stops the others at their next run and is rethrown here.
 template <class Body>
 void parallel_for(std::size_t count, int threads, const Body& body) {
-    std::atomic<std::size_t> next{0};
+    struct alignas(64) Counter {  // a cache line of its own
+        std::atomic<std::size_t> next{0};
+    } counter;
     const int n = worker_count(threads, count);
     std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
+    const std::size_t split = 8 * std::size_t(n);
     auto worker = [&](int w) {
         try {
-            for (std::size_t item; (item = next.fetch_add(1, std::memory_order_relaxed)) < count;) body(item, w);
+            std::size_t first = counter.next.load(std::memory_order_relaxed);
+            for (;;) {
+                if (first >= count) break;
+                const std::size_t run = std::max<std::size_t>(1, (count - first) / split);
+                if (!counter.next.compare_exchange_weak(first, first + run, std::memory_order_relaxed)) continue;
+                for (std::size_t item = first; item < std::min(count, first + run); ++item) body(item, w);
+                first = counter.next.load(std::memory_order_relaxed);
+            }
         } catch (...) {
             errors[std::size_t(w)] = std::current_exception();
-            next.store(count);
+            counter.next.store(count);
         }
     };
     std::vector<std::thread> pool;

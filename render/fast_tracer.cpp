@@ -574,25 +574,23 @@ public:
         }
         rays.t_opaque = load8(t_opaque);
         // L_ambient + L_sun P(theta), in double as radiance takes it (the same operations), four lanes
-        // at a time.
-        float source[3][kTile];
-        for (int h = 0; h < int(kTile); h += 4) {
+        // at a time, the halves put together in registers (through memory, an 8-lane load of two
+        // 4-lane stores stalls).
+        Float4 source[3][2];
+        for (int h = 0; h < 2; ++h) {
             Double4 dx, dy, dz;
-            std::memcpy(&dx, tile_rays.x + first + h, sizeof dx);
-            std::memcpy(&dy, tile_rays.y + first + h, sizeof dy);
-            std::memcpy(&dz, tile_rays.z + first + h, sizeof dz);
+            std::memcpy(&dx, tile_rays.x + first + 4 * h, sizeof dx);
+            std::memcpy(&dy, tile_rays.y + first + 4 * h, sizeof dy);
+            std::memcpy(&dz, tile_rays.z + first + 4 * h, sizeof dz);
             const Double4 cos_theta = (sun_unit_.x * dx + sun_unit_.y * dy) + sun_unit_.z * dz;
             const Double4 phase = 3.0 / (16.0 * 3.14159265358979323846) * (1.0 + cos_theta * cos_theta);
-            const Float4 r = __builtin_convertvector(ambient_.x + lighting_sun_.x * phase, Float4);
-            const Float4 g = __builtin_convertvector(ambient_.y + lighting_sun_.y * phase, Float4);
-            const Float4 b = __builtin_convertvector(ambient_.z + lighting_sun_.z * phase, Float4);
-            std::memcpy(source[0] + h, &r, sizeof r);
-            std::memcpy(source[1] + h, &g, sizeof g);
-            std::memcpy(source[2] + h, &b, sizeof b);
+            source[0][h] = __builtin_convertvector(ambient_.x + lighting_sun_.x * phase, Float4);
+            source[1][h] = __builtin_convertvector(ambient_.y + lighting_sun_.y * phase, Float4);
+            source[2][h] = __builtin_convertvector(ambient_.z + lighting_sun_.z * phase, Float4);
         }
-        rays.source_r = load8(source[0]);
-        rays.source_g = load8(source[1]);
-        rays.source_b = load8(source[2]);
+        rays.source_r = __builtin_shufflevector(source[0][0], source[0][1], 0, 1, 2, 3, 4, 5, 6, 7);
+        rays.source_g = __builtin_shufflevector(source[1][0], source[1][1], 0, 1, 2, 3, 4, 5, 6, 7);
+        rays.source_b = __builtin_shufflevector(source[2][0], source[2][1], 0, 1, 2, 3, 4, 5, 6, 7);
         // Sphere n tested by lane l where its rectangle covers the lane's pixel, as list_tile tests it.
         const Int8 lane{0, 1, 2, 3, 4, 5, 6, 7};
         for (int n = 0; n < spheres.count; ++n) {

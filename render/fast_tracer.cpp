@@ -292,6 +292,7 @@ public:
     struct RayScratch {
         SortedRun entries, exits;
         std::vector<float> shadows;
+        std::vector<float> lane_shadows[kTile];  // the packet walk's, a lane's each (radiance_row)
     };
 
     // `sun_map` is built again here when the scene takes accurate shadows (in its own memory).
@@ -521,14 +522,15 @@ public:
 
     bool plain() const { return plain_; }
 
-    // The packet walk (render/packet_walk.h), for a tile of a plain scene whose rays are one per pixel
-    // and whose spheres are at most packet::kMaxSpheres: the tile's spheres as it reads them, from its
+    // The packet walk (render/packet_walk.h), for a tile whose rays are one per pixel and whose spheres
+    // are at most packet::kMaxSpheres: the tile's spheres as it reads them, from its
     // bin entries as list_tile takes them, each with the tile's pixels that its rectangle covers (which
     // list_tile would test), (x0, y0) the tile's corner. No pixel lists: every lane tests every sphere.
     void packet_spheres(const std::uint32_t* entries, std::size_t count, const std::vector<PixelRect>& rects, int x0,
                         int y0, packet::Spheres& out) const {
         out.count = int(count);
         out.sigma_t = out.sigma_r = out.sigma_g = out.sigma_b = Float8{};
+        out.sun_r = out.sun_g = out.sun_b = out.emission_r = out.emission_g = out.emission_b = Float8{};
         for (std::size_t n = 0; n < count; ++n) {
             const std::uint32_t k = entries[2 * n];
             const TileSphere& m = geometry_[k];
@@ -550,13 +552,28 @@ public:
             out.sigma_r[rank] = sigma[1];
             out.sigma_g[rank] = sigma[2];
             out.sigma_b[rank] = sigma[3];
+            const LitMedium& lit = lit_media_[k];
+            out.sun_r[rank] = lit.sun_scatter[1];
+            out.sun_g[rank] = lit.sun_scatter[2];
+            out.sun_b[rank] = lit.sun_scatter[3];
+            out.emission_r[rank] = lit.emission[1];
+            out.emission_g[rank] = lit.emission[2];
+            out.emission_b[rank] = lit.emission[3];
         }
     }
 
+    // The packet walk's light for this scene (as radiance's: kPlain where plain_).
+    packet::Light packet_light() const {
+        return plain_ ? packet::Light::kPlain : accurate_shadows_ ? packet::Light::kAccurate : packet::Light::kPerSphere;
+    }
+
     // The radiance of tile row `row`'s eight pixels by the packet walk, into sums (by tile pixel, as
-    // radiance<true> of each would give it); `boxes` as radiance's.
-    void radiance_row(const packet::Spheres& spheres, const TileRays& tile_rays, int row,
-                      std::uint64_t boxes, dvec3* sums) const {
+    // radiance of each would give it); `boxes`, `scratch` and `jobs` as radiance's. kLight:
+    // packet_light() (a template argument, so that each light's ray set-up is radiance's to the
+    // operation: where L_sun P(theta) has no other use, its sum with L_ambient fuses).
+    template <packet::Light kLight>
+    void radiance_row(const packet::Spheres& spheres, const TileRays& tile_rays, int row, std::uint64_t boxes,
+                      RayScratch& scratch, SunJobs& jobs, dvec3* sums) const {
         const int first = row * int(kTile);
         packet::Rays rays;
         rays.dx = load8(tile_rays.fx + first);
@@ -576,7 +593,7 @@ public:
         // L_ambient + L_sun P(theta), in double as radiance takes it (the same operations), four lanes
         // at a time, the halves put together in registers (through memory, an 8-lane load of two
         // 4-lane stores stalls).
-        Float4 source[3][2];
+        Float4 source[3][2], sun_phase[3][2] = {};
         for (int h = 0; h < 2; ++h) {
             Double4 dx, dy, dz;
             std::memcpy(&dx, tile_rays.x + first + 4 * h, sizeof dx);
@@ -584,24 +601,44 @@ public:
             std::memcpy(&dz, tile_rays.z + first + 4 * h, sizeof dz);
             const Double4 cos_theta = (sun_unit_.x * dx + sun_unit_.y * dy) + sun_unit_.z * dz;
             const Double4 phase = 3.0 / (16.0 * 3.14159265358979323846) * (1.0 + cos_theta * cos_theta);
-            source[0][h] = __builtin_convertvector(ambient_.x + lighting_sun_.x * phase, Float4);
-            source[1][h] = __builtin_convertvector(ambient_.y + lighting_sun_.y * phase, Float4);
-            source[2][h] = __builtin_convertvector(ambient_.z + lighting_sun_.z * phase, Float4);
+            if constexpr (kLight == packet::Light::kPlain) {
+                source[0][h] = __builtin_convertvector(ambient_.x + lighting_sun_.x * phase, Float4);
+                source[1][h] = __builtin_convertvector(ambient_.y + lighting_sun_.y * phase, Float4);
+                source[2][h] = __builtin_convertvector(ambient_.z + lighting_sun_.z * phase, Float4);
+                continue;
+            }
+            const Double4 sun_r = lighting_sun_.x * phase, sun_g = lighting_sun_.y * phase,
+                          sun_b = lighting_sun_.z * phase;
+            source[0][h] = __builtin_convertvector(ambient_.x + sun_r, Float4);
+            source[1][h] = __builtin_convertvector(ambient_.y + sun_g, Float4);
+            source[2][h] = __builtin_convertvector(ambient_.z + sun_b, Float4);
+            sun_phase[0][h] = __builtin_convertvector(sun_r, Float4);
+            sun_phase[1][h] = __builtin_convertvector(sun_g, Float4);
+            sun_phase[2][h] = __builtin_convertvector(sun_b, Float4);
         }
-        rays.source_r = __builtin_shufflevector(source[0][0], source[0][1], 0, 1, 2, 3, 4, 5, 6, 7);
-        rays.source_g = __builtin_shufflevector(source[1][0], source[1][1], 0, 1, 2, 3, 4, 5, 6, 7);
-        rays.source_b = __builtin_shufflevector(source[2][0], source[2][1], 0, 1, 2, 3, 4, 5, 6, 7);
+        const auto lanes = [](const Float4 (&halves)[2]) {
+            return __builtin_shufflevector(halves[0], halves[1], 0, 1, 2, 3, 4, 5, 6, 7);
+        };
+        rays.source_r = lanes(source[0]);
+        rays.source_g = lanes(source[1]);
+        rays.source_b = lanes(source[2]);
+        rays.sun_phase_r = lanes(sun_phase[0]);
+        rays.sun_phase_g = lanes(sun_phase[1]);
+        rays.sun_phase_b = lanes(sun_phase[2]);
+        rays.ambient_r = Float8{} + float(ambient_.x);
+        rays.ambient_g = Float8{} + float(ambient_.y);
+        rays.ambient_b = Float8{} + float(ambient_.z);
         // Sphere n tested by lane l where its rectangle covers the lane's pixel, as list_tile tests it.
         const Int8 lane{0, 1, 2, 3, 4, 5, 6, 7};
         for (int n = 0; n < spheres.count; ++n) {
             const bool row_covered = row >= spheres.rows[n][0] && row < spheres.rows[n][1];
             rays.listed[n] = (lane >= spheres.columns[n][0]) & (lane < spheres.columns[n][1]) & (row_covered ? -1 : 0);
         }
-        const int count = spheres.count;
-        const packet::Result r = count <= 1   ? packet::walk<2>(spheres, rays, min_transmittance_)
-                                 : count <= 2 ? packet::walk<4>(spheres, rays, min_transmittance_)
-                                 : count <= 4 ? packet::walk<8>(spheres, rays, min_transmittance_)
-                                              : packet::walk<16>(spheres, rays, min_transmittance_);
+        packet::Result r;
+        if constexpr (kLight == packet::Light::kAccurate)
+            r = walk_accurate_packet(spheres, rays, tile_rays, first, scratch, jobs);
+        else
+            r = walk_packet<kLight>(spheres, rays, packet::NoSink{});
         for (int l = 0; l < int(kTile); ++l) {
             const int p = row * int(kTile) + l;
             dvec3 color(r.r[l], r.g[l], r.b[l]);
@@ -614,6 +651,44 @@ public:
     // Which of the first 64 boxes the rays of pixels [x0, x1) x [y0, y1) may meet (bit k for box k): a
     // tile tests only those (on ground-fog, 5 boxes, a stone's box lies in a few tiles).
     std::uint64_t tile_box_mask(int x0, int y0, int x1, int y1) const { return rect_mask(box_rects_, x0, y0, x1, y1); }
+
+    // The packet walk with as many event slots as the tile's spheres need.
+    template <packet::Light kLight, class Sink>
+    packet::Result walk_packet(const packet::Spheres& spheres, const packet::Rays& rays, const Sink& sink) const {
+        const int count = spheres.count;
+        return count <= 1   ? packet::walk<2, kLight>(spheres, rays, min_transmittance_, sink)
+               : count <= 2 ? packet::walk<4, kLight>(spheres, rays, min_transmittance_, sink)
+               : count <= 4 ? packet::walk<8, kLight>(spheres, rays, min_transmittance_, sink)
+                            : packet::walk<16, kLight>(spheres, rays, min_transmittance_, sink);
+    }
+
+    // The packet walk under the accurate technique: each lane's lit segments go to add_sun_pieces as
+    // the one-ray walk's do, each lane with its own ray in the map, box shadows and state, its jobs
+    // for its own pixel (the jobs of the row's rays interleave; each pixel's keep their order, and
+    // so its sums).
+    packet::Result walk_accurate_packet(const packet::Spheres& spheres, const packet::Rays& rays,
+                                        const TileRays& tile_rays, int first, RayScratch& scratch,
+                                        SunJobs& jobs) const {
+        Ray lane_rays[kTile];
+        State states[kTile];
+        for (int l = 0; l < int(kTile); ++l) {
+            Ray& ray = lane_rays[l];
+            ray.d = tile_rays.direction(first + l);
+            ray.map = sun_map_.ray(ray.d);
+            ray.t_opaque = rays.t_opaque[l];
+            ray.shadow_scratch = &scratch.lane_shadows[l];
+            ray.sun_jobs = &jobs;
+            ray.ray_id = std::uint32_t(jobs.rays.size());
+            ray.pixel = std::uint32_t(first + l);
+            jobs.rays.push_back(ray.map);
+        }
+        const auto sink = [&](const packet::LitSegment& s) {
+            State& st = states[s.lane];
+            st.transmittance = s.transmittance;  // the job's weight, T at the segment's start
+            add_sun_pieces(st, lane_rays[s.lane], s.a, s.b, s.sigma_t, Float4{0.0f, s.light_r, s.light_g, s.light_b});
+        };
+        return walk_packet<packet::Light::kAccurate>(spheres, rays, sink);
+    }
 
     // Which of the first 64 box shadow volumes the rays of pixels [x0, x1) x [y0, y1) may meet within
     // the media's bounds (bit n for volume n).
@@ -722,6 +797,7 @@ private:
         // jobs (SunJobs), which the next piece shares if it starts there.
         bool shadows_ready = false;
         float last_point = -1.0f;
+        std::size_t last_point_index = 0;  // and its index in the jobs' points
         const float* shadows = nullptr;
         std::size_t shadow_count = 0;
         std::size_t shadow_next = 0;
@@ -754,11 +830,14 @@ private:
             if (!(q > p)) q = b;  // a piece shorter than float's step: end the segment (adds nothing)
             if (!shadowed) {
                 jobs.make_room();
-                if (st.last_point != p) jobs.add_point(ray.map, p);  // else the piece before ended here
+                // A piece's two points are consecutive: it shares the last point added where that is where
+                // this ray's piece before ended (the packet walk's rays add theirs in turn).
+                if (st.last_point != p || st.last_point_index != jobs.points - 1) jobs.add_point(ray.map, p);
                 const std::size_t j = jobs.count++;
                 jobs.first_point[j] = std::uint32_t(jobs.points - 1);
                 jobs.add_point(ray.map, q);
                 st.last_point = q;
+                st.last_point_index = jobs.points - 1;
                 jobs.p[j] = p;
                 jobs.length[j] = q - p;
                 jobs.sigma_t[j] = sigma_t;
@@ -1088,8 +1167,8 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
     if (k == 1) pixel_directions(f.rays, f.ndc_x.data(), i0, j0, tile_rays);
     const std::uint32_t* entries = f.bins.entries.data() + 2 * std::size_t(f.bins.first[t]);
     const std::size_t entry_count = f.bins.first[t + 1] - f.bins.first[t];
-    // A tile of few spheres in a plain scene: eight rays at once, a row at a time (render/packet_walk.h).
-    const bool packets = f.packets && f.plain && k == 1 && entry_count <= std::size_t(packet::kMaxSpheres);
+    // A tile of few spheres, one ray a pixel: eight rays at once, a row at a time (render/packet_walk.h).
+    const bool packets = f.packets && k == 1 && entry_count <= std::size_t(packet::kMaxSpheres);
     if (packets)
         f.tracer.packet_spheres(entries, entry_count, f.rects, i0, j0, w.packet);
     else
@@ -1102,7 +1181,15 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
     w.sun_jobs.shadow_mask = f.tracer.tile_shadow_mask(i0, j0, i1, j1);
     const std::uint64_t boxes = f.tracer.tile_box_mask(i0, j0, i1, j1);
     if (packets) {
-        for (int j = j0; j < j1; ++j) f.tracer.radiance_row(w.packet, tile_rays, j - j0, boxes, sums);
+        const auto rows = [&]<packet::Light kLight>() {
+            for (int j = j0; j < j1; ++j)
+                f.tracer.template radiance_row<kLight>(w.packet, tile_rays, j - j0, boxes, w.ray, w.sun_jobs, sums);
+        };
+        switch (f.tracer.packet_light()) {
+            case packet::Light::kPlain: rows.template operator()<packet::Light::kPlain>(); break;
+            case packet::Light::kPerSphere: rows.template operator()<packet::Light::kPerSphere>(); break;
+            case packet::Light::kAccurate: rows.template operator()<packet::Light::kAccurate>(); break;
+        }
     } else {
         for (int j = j0; j < j1; ++j) {
             for (int i = i0; i < i1; ++i) {

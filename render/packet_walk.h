@@ -1,5 +1,5 @@
-// trace's plain walk (no shadows, no emission: render/fast_tracer.cpp FastTracer::radiance<true>) for
-// eight rays at once, one per SIMD lane (render/simd8.h), where a tile lists few spheres: a tile row's
+// trace's walk (render/fast_tracer.cpp FastTracer::radiance) for eight rays at once, one per SIMD lane
+// (render/simd8.h), where a tile lists few spheres: a tile row's
 // eight pixels take every event of the tile's spheres (at most kMaxSpheres, so at most 16 events a
 // ray), sorted in each lane by a fixed network, then integrated in step, a lane masked off where its
 // ray has no event left or stopped. On such tiles the walk one ray at a time spent most of a pixel on
@@ -28,9 +28,17 @@ using Uint8 = std::uint32_t __attribute__((vector_size(32)));
 // saves where lists are long.
 constexpr int kMaxSpheres = 8;
 
+// Which light the walk integrates, as the one-ray walk's integrate(): kPlain, a scene without shadows
+// or emission (sigma_s L_s); kPerSphere, the per-sphere technique (the sun's light scattered by the
+// part of sigma_s that the sun lights at the spheres' centres), emission included, and any scene with
+// emission but no shadows; kAccurate, the accurate technique, whose sun light goes to the tile's jobs
+// (a Sink, one call per lit segment of a lane) and whose walk adds the ambient light and emission.
+enum class Light { kPlain, kPerSphere, kAccurate };
+
 // A tile's spheres as the packet reads them, in the tile's order n: the chord test's values (centre
 // relative to the eye, r^2, |c|^2 - r^2), each one's rank by scene index (the events' order among equal
-// distances), and by rank each one's {sigma_t, sigma_s} in four tables of lanes.
+// distances), and by rank, in tables of lanes, each one's sigma_t and sigma_s, the part of sigma_s the
+// sun lights at its centre (kPerSphere) and tau * emission.
 struct Spheres {
     int count = 0;
     float cx[kMaxSpheres], cy[kMaxSpheres], cz[kMaxSpheres], r2[kMaxSpheres], c_minus_r2[kMaxSpheres];
@@ -39,14 +47,33 @@ struct Spheres {
     // rays that may meet it, which alone test it (as list_tile's).
     int columns[kMaxSpheres][2], rows[kMaxSpheres][2];
     Float8 sigma_t{}, sigma_r{}, sigma_g{}, sigma_b{};
+    Float8 sun_r{}, sun_g{}, sun_b{};
+    Float8 emission_r{}, emission_g{}, emission_b{};
 };
 
 // Eight rays, lane by lane: unit direction, the opaque surface's distance, L_ambient + L_sun P(theta),
-// and per sphere n whether the lane's ray tests it (all ones: its pixel lies in the sphere's rectangle).
+// L_sun P(theta), L_ambient, and per sphere n whether the lane's ray tests it (all ones: its pixel lies
+// in the sphere's rectangle).
 struct Rays {
     Float8 dx, dy, dz, t_opaque;
     Float8 source_r, source_g, source_b;
+    Float8 sun_phase_r, sun_phase_g, sun_phase_b;
+    Float8 ambient_r, ambient_g, ambient_b;
     Int8 listed[kMaxSpheres];
+};
+
+// What kAccurate hands its sink for each lit segment [a, b] of lane `lane`: as the one-ray walk's
+// add_sun_pieces, sigma_t, the light {sigma_s L_sun P(theta) T(a)} and the transmittance T(a).
+struct LitSegment {
+    int lane;
+    float a, b, sigma_t;
+    float light_r, light_g, light_b;
+    float transmittance;
+};
+
+// A sink for the walks that have no sun pieces.
+struct NoSink {
+    void operator()(const LitSegment&) const {}
 };
 
 // What the media send to the eye in each lane, the transmittance left, and whether the ray stopped
@@ -89,9 +116,11 @@ constexpr auto merge_sort_network() {
 }
 
 // The walk of the rays through the spheres, P event slots per lane (P >= 2 * spheres.count, a power of
-// two). min_transmittance: the scene's early stop.
-template <int P>
-[[gnu::always_inline]] inline Result walk(const Spheres& spheres, const Rays& rays, float min_transmittance) {
+// two). min_transmittance: the scene's early stop. `sink` takes kAccurate's lit segments, in each
+// lane's order.
+template <int P, Light kLight, class Sink>
+[[gnu::always_inline]] inline Result walk(const Spheres& spheres, const Rays& rays, float min_transmittance,
+                                          const Sink& sink) {
     static_assert(P >= 2 && P <= 2 * kMaxSpheres && (P & (P - 1)) == 0);
     // The events: a distance's bits (>= +0 where the chord is taken, so they order as the distances
     // do; -0 orders last, as in the one-ray walk's keys) and rank * 2 + exit. A slot with no event holds
@@ -140,6 +169,8 @@ template <int P>
     Result out;
     out.transmittance = zero + 1.0f;
     Float8 sigma_t{}, sigma_r{}, sigma_g{}, sigma_b{}, t_prev{};
+    Float8 sun_r{}, sun_g{}, sun_b{};                 // kPerSphere's
+    Float8 emission_r{}, emission_g{}, emission_b{};  // all but kPlain's
     Int8 inside{}, stopped{};
     for (int e = 0; e < P; ++e) {
         const Int8 live = (key[e] < kNone) & ~stopped;
@@ -155,9 +186,30 @@ template <int P>
             const Float8 segment_transmittance = simd::exp_nonpositive8(-x);
             const Float8 w = len * simd::phi8(x, segment_transmittance);
             const Float8 tw = out.transmittance * w;
-            out.r = segment ? out.r + sigma_r * rays.source_r * tw : out.r;
-            out.g = segment ? out.g + sigma_g * rays.source_g * tw : out.g;
-            out.b = segment ? out.b + sigma_b * rays.source_b * tw : out.b;
+            // Each lane as the one-ray walk's integrate() adds it, operation for operation.
+            if constexpr (kLight == Light::kPlain) {
+                out.r = segment ? out.r + sigma_r * rays.source_r * tw : out.r;
+                out.g = segment ? out.g + sigma_g * rays.source_g * tw : out.g;
+                out.b = segment ? out.b + sigma_b * rays.source_b * tw : out.b;
+            } else if constexpr (kLight == Light::kAccurate) {
+                const Float8 light_r = sigma_r * rays.sun_phase_r * out.transmittance;
+                const Float8 light_g = sigma_g * rays.sun_phase_g * out.transmittance;
+                const Float8 light_b = sigma_b * rays.sun_phase_b * out.transmittance;
+                for (int l = 0; l < 8; ++l)
+                    if (segment[l])
+                        sink(LitSegment{l, t_prev[l], t[l], sigma_t[l], light_r[l], light_g[l], light_b[l],
+                                        out.transmittance[l]});
+                out.r = segment ? out.r + (sigma_r * rays.ambient_r + emission_r) * tw : out.r;
+                out.g = segment ? out.g + (sigma_g * rays.ambient_g + emission_g) * tw : out.g;
+                out.b = segment ? out.b + (sigma_b * rays.ambient_b + emission_b) * tw : out.b;
+            } else {
+                out.r = segment ? out.r + (sigma_r * rays.source_r - (sigma_r - sun_r) * rays.sun_phase_r + emission_r) * tw
+                                : out.r;
+                out.g = segment ? out.g + (sigma_g * rays.source_g - (sigma_g - sun_g) * rays.sun_phase_g + emission_g) * tw
+                                : out.g;
+                out.b = segment ? out.b + (sigma_b * rays.source_b - (sigma_b - sun_b) * rays.sun_phase_b + emission_b) * tw
+                                : out.b;
+            }
             out.transmittance = segment ? out.transmittance * segment_transmittance : out.transmittance;
             stops = segment & (out.transmittance < min_transmittance);
             stopped |= stops;
@@ -181,6 +233,16 @@ template <int P>
         sigma_r = advance(sigma_r, spheres.sigma_r);
         sigma_g = advance(sigma_g, spheres.sigma_g);
         sigma_b = advance(sigma_b, spheres.sigma_b);
+        if constexpr (kLight == Light::kPerSphere) {
+            sun_r = advance(sun_r, spheres.sun_r);
+            sun_g = advance(sun_g, spheres.sun_g);
+            sun_b = advance(sun_b, spheres.sun_b);
+        }
+        if constexpr (kLight != Light::kPlain) {
+            emission_r = advance(emission_r, spheres.emission_r);
+            emission_g = advance(emission_g, spheres.emission_g);
+            emission_b = advance(emission_b, spheres.emission_b);
+        }
     }
     out.stopped = stopped;
     return out;

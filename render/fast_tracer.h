@@ -10,9 +10,10 @@
 // before it), and every eighth sphere the final events are merged from the two runs and integrated. So
 // the events are integrated in exact order, and once transmittance falls below the scene's
 // min_transmittance the ray stops: the spheres behind are never intersected (at most eight too many are).
-// A tile that lists at most eight spheres, in a scene without shadows or emission, walks a row's eight
-// rays at once instead, one per SIMD lane (render/packet_walk.h): the same events in the same order, the
-// same images to the bit, for a fraction of the per-ray cost where rays have few events.
+// A tile that lists at most eight spheres (one ray a pixel) walks a row's eight rays at once instead,
+// one per SIMD lane (render/packet_walk.h): the same events in the same order and the same arithmetic,
+// for a fraction of the per-ray cost where rays have few events; its images agree with the one-ray
+// walk's to float rounding (where the compiler fuses a multiply-add in one walk and not the other).
 //
 // What differs from the reference is float arithmetic only (the same as the GPU methods' exact
 // integrator, shaders/exact_integrator.glsl): the opaque surfaces are the reference's own

@@ -125,16 +125,11 @@ float phi(float x, float exp_minus_x) {
     return (1.0f - exp_minus_x) / x;
 }
 
-// e^y for |y| < 87 (within float's normal range): y = n ln2 + r with |r| <= ln2 / 2; e^r by its
-// Taylor polynomial to degree 6 (truncation below 2e-7); 2^n through the exponent bits.
+// e^y for |y| < 87 (within float's normal range): simd::exp_reduced's polynomial, 2^n through the
+// exponent bits.
 [[gnu::always_inline]] inline float exp_in_range(float y) {
-    // Round to nearest by the 1.5 * 2^23 trick (|y log2 e| < 2^22 here): no libm call, no SSE4.1.
-    const float n = (y * 1.44269504088896341f + 12582912.0f) - 12582912.0f;
-    const float r = (y - n * 0.693145751953125f) - n * 1.42860682030941723e-6f;  // ln2 split: hi exact in n * hi
-    // Estrin's scheme: the same polynomial as Horner's, in a third of the dependent steps.
-    const float r2 = r * r, r4 = r2 * r2;
-    const float p = ((1.0f + r) + r2 * (0.5f + r * (1.0f / 6.0f))) +
-                    r4 * ((1.0f / 24.0f + r * (1.0f / 120.0f)) + r2 * (1.0f / 720.0f));
+    float n;
+    const float p = simd::exp_reduced(y, n);
     return p * std::bit_cast<float>(std::uint32_t(int(n) + 127) << 23);
 }
 

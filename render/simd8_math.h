@@ -11,16 +11,23 @@
 
 namespace brume::simd {
 
-// e^y for |y| < 87 (float's normal range), in each lane: y = n ln2 + r with |r| <= ln2 / 2; e^r by its
-// Taylor polynomial to degree 6 (truncation below 2e-7), Estrin's scheme; 2^n through the exponent bits.
-// The scalar exp_in_range's arithmetic.
+// e^y for |y| < 87 (float's normal range) but for its factor 2^n: y = n ln2 + r with |r| <= ln2 / 2,
+// e^r by its Taylor polynomial to degree 6 (truncation below 2e-7), returned, and n (rounded to
+// nearest by the 1.5 * 2^23 trick: |y log2 e| < 2^22 here; no libm call, no SSE4.1). One definition for
+// a float (render/fast_tracer.cpp exp_in_range) and for eight lanes, so both round alike.
+template <class F>
+[[gnu::always_inline]] inline F exp_reduced(F y, F& n) {
+    n = (y * 1.44269504088896341f + 12582912.0f) - 12582912.0f;
+    const F r = (y - n * 0.693145751953125f) - n * 1.42860682030941723e-6f;  // ln2 split: hi exact in n * hi
+    // Estrin's scheme: the same polynomial as Horner's, in a third of the dependent steps.
+    const F r2 = r * r, r4 = r2 * r2;
+    return ((1.0f + r) + r2 * (0.5f + r * (1.0f / 6.0f))) + r4 * ((1.0f / 24.0f + r * (1.0f / 120.0f)) + r2 * (1.0f / 720.0f));
+}
+
+// e^y for |y| < 87 in each lane: 2^n through the exponent bits.
 [[gnu::always_inline]] inline Float8 exp_in_range8(Float8 y) {
-    // Round to nearest by the 1.5 * 2^23 trick (|y log2 e| < 2^22 here).
-    const Float8 n = (y * 1.44269504088896341f + 12582912.0f) - 12582912.0f;
-    const Float8 r = (y - n * 0.693145751953125f) - n * 1.42860682030941723e-6f;  // ln2 split: hi exact in n * hi
-    const Float8 r2 = r * r, r4 = r2 * r2;
-    const Float8 p = ((1.0f + r) + r2 * (0.5f + r * (1.0f / 6.0f))) +
-                     r4 * ((1.0f / 24.0f + r * (1.0f / 120.0f)) + r2 * (1.0f / 720.0f));
+    Float8 n;
+    const Float8 p = exp_reduced(y, n);
     const Int8 bits = (__builtin_convertvector(n, Int8) + 127) << 23;
     return p * Float8(bits);  // a cast between vectors of one size keeps the bits
 }

@@ -1,8 +1,7 @@
 // trace's walk (render/fast_tracer.cpp FastTracer::radiance) for eight rays at once, one per SIMD lane
-// (render/simd8.h), where a tile lists few spheres: a tile row's
-// eight pixels take every event of the tile's spheres (at most kMaxSpheres, so at most 16 events a
-// ray), sorted in each lane by a fixed network, then integrated in step, a lane masked off where its
-// ray has no event left or stopped. On such tiles the walk one ray at a time spent most of a pixel on
+// (render/simd8.h), where a tile lists few spheres: a tile row's eight pixels take every event of the
+// tile's spheres (at most kMaxSpheres, so at most 16 events a ray), sorted in each lane by a fixed
+// network, then integrated in step, a lane masked off where its ray has no event left or stopped. On such tiles the walk one ray at a time spent most of a pixel on
 // what a ray does once, not on its events: at 2 layers (one sphere on every ray), 140 cycles a pixel.
 //
 // Exact as the one-ray walk is: the same events (chords by the same test, clipped at the same opaque

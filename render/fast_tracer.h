@@ -14,6 +14,9 @@
 // one per SIMD lane (render/packet_walk.h): the same events in the same order and the same arithmetic,
 // for a fraction of the per-ray cost where rays have few events; its images agree with the one-ray
 // walk's to float rounding (where the compiler fuses a multiply-add in one walk and not the other).
+// A tile of 9-64 spheres that cover it does likewise in an order its rows share, each lane's events
+// put right by a few transposition passes and checked (render/ordered_walk.h); a ray whose order
+// they could not put right walks alone.
 //
 // What differs from the reference is float arithmetic only (the same as the GPU methods' exact
 // integrator, shaders/exact_integrator.glsl): the opaque surfaces are the reference's own
@@ -31,6 +34,8 @@
 #include "render/sun_depth_map.h"
 #include "sim/scene.h"
 
+#include <cstdint>
+
 namespace brume {
 
 // The instructions trace's per-pixel work is compiled for: Best takes AVX2 and FMA where the CPU has
@@ -45,13 +50,23 @@ struct FastTraceScratch {
     SunDepthMap sun_map;
 };
 
+// How a frame's tiles were walked (FastTraceOptions::counts): by the packet walk (at most 8 spheres),
+// the ordered walk (render/ordered_walk.h) or one ray at a time; and the rays of ordered tiles that
+// walked alone, their order being one the row's could not be put right into.
+struct FastTraceCounts {
+    std::uint64_t packet_tiles = 0, ordered_tiles = 0, one_ray_tiles = 0;
+    std::uint64_t ordered_rays_alone = 0;
+};
+
 struct FastTraceOptions {
     int threads = 0;  // 0: every hardware thread
     TraceInstructions instructions = TraceInstructions::Best;
     FastTraceScratch* scratch = nullptr;  // null: the frame allocates its own
-    // Tiles of few spheres in a scene without shadows or emission take eight rays at once
-    // (render/packet_walk.h); false: every ray walks alone (the tests hold the two together).
+    // Tiles of few spheres take eight rays at once (render/packet_walk.h), and so do tiles of a few
+    // dozen spheres that cover them (render/ordered_walk.h); false: every ray walks alone (the tests
+    // hold them together).
     bool packets = true;
+    FastTraceCounts* counts = nullptr;  // where given, how the frame's tiles were walked
 };
 
 // The instructions `options` gives the per-pixel work on this CPU: "AVX2+FMA" or "portable", for the

@@ -37,6 +37,12 @@ struct GatherByLanes {
             hi[l] = base[index[l] + 1];
         }
     }
+    // base[index[l]] in each lane l.
+    [[gnu::always_inline]] Float8 one(const float* base, const Int8& index) const {
+        Float8 v;
+        for (int l = 0; l < 8; ++l) v[l] = base[index[l]];
+        return v;
+    }
 };
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -57,6 +63,12 @@ struct GatherAvx2 {
         // {lo0, lo1, lo4, lo5 | lo2, lo3, lo6, lo7}, then its 64-bit quarters in order 0, 2, 1, 3.
         lo = in_order(_mm256_shuffle_ps(first, second, 0x88));
         hi = in_order(_mm256_shuffle_ps(first, second, 0xDD));
+    }
+
+    [[gnu::target("avx2")]] Float8 one(const float* base, const Int8& index) const {
+        // The masked form, as pair's: the unmasked one starts from an undefined value GCC 12 warns of.
+        const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+        return Float8(_mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, __m256i(index), all, 4));
     }
 
 private:

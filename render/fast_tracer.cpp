@@ -524,76 +524,18 @@ public:
     // list_tile would test), (x0, y0) the tile's corner. No pixel lists: every lane tests every sphere.
     void packet_spheres(const std::uint32_t* entries, std::size_t count, const std::vector<PixelRect>& rects, int x0,
                         int y0, packet::Spheres& out) const {
-        out.count = int(count);
         out.sigma_t = out.sigma_r = out.sigma_g = out.sigma_b = Float8{};
         out.sun_r = out.sun_g = out.sun_b = out.emission_r = out.emission_g = out.emission_b = Float8{};
-        for (std::size_t n = 0; n < count; ++n) {
-            const std::uint32_t k = entries[2 * n];
-            const TileSphere& m = geometry_[k];
-            out.cx[n] = m.cx;
-            out.cy[n] = m.cy;
-            out.cz[n] = m.cz;
-            out.r2[n] = m.r2;
-            out.c_minus_r2[n] = m.c_minus_r2;
-            const PixelRect& r = rects[k];
-            out.columns[n][0] = r.x0 - x0;
-            out.columns[n][1] = r.x1 - x0;
-            out.rows[n][0] = r.y0 - y0;
-            out.rows[n][1] = r.y1 - y0;
-            std::uint32_t rank = 0;
-            for (std::size_t o = 0; o < count; ++o) rank += entries[2 * o] < k ? 1u : 0u;
-            out.rank[n] = rank;
-            const Float4& sigma = extinction_scatter_[k];
-            out.sigma_t[rank] = sigma[0];
-            out.sigma_r[rank] = sigma[1];
-            out.sigma_g[rank] = sigma[2];
-            out.sigma_b[rank] = sigma[3];
-            const LitMedium& lit = lit_media_[k];
-            out.sun_r[rank] = lit.sun_scatter[1];
-            out.sun_g[rank] = lit.sun_scatter[2];
-            out.sun_b[rank] = lit.sun_scatter[3];
-            out.emission_r[rank] = lit.emission[1];
-            out.emission_g[rank] = lit.emission[2];
-            out.emission_b[rank] = lit.emission[3];
-        }
+        walk_spheres(entries, count, rects, x0, y0, out);
     }
 
     // The ordered walk (render/ordered_walk.h), for a tile whose rays are one per pixel and whose spheres
-    // are more than the packet walk takes, up to packet::kMaxOrderedSpheres: as packet_spheres, each
-    // sphere's media by its rank (a lane's event names its sphere by rank).
+    // are more than the packet walk takes, up to packet::kMaxOrderedSpheres: as packet_spheres, and
+    // each rank's place in the tile.
     void ordered_spheres(const std::uint32_t* entries, std::size_t count, const std::vector<PixelRect>& rects, int x0,
                          int y0, packet::OrderedSpheres& out) const {
-        out.count = int(count);
-        for (std::size_t n = 0; n < count; ++n) {
-            const std::uint32_t k = entries[2 * n];
-            const TileSphere& m = geometry_[k];
-            out.cx[n] = m.cx;
-            out.cy[n] = m.cy;
-            out.cz[n] = m.cz;
-            out.r2[n] = m.r2;
-            out.c_minus_r2[n] = m.c_minus_r2;
-            const PixelRect& r = rects[k];
-            out.columns[n][0] = r.x0 - x0;
-            out.columns[n][1] = r.x1 - x0;
-            out.rows[n][0] = r.y0 - y0;
-            out.rows[n][1] = r.y1 - y0;
-            std::uint32_t rank = 0;
-            for (std::size_t o = 0; o < count; ++o) rank += entries[2 * o] < k ? 1u : 0u;
-            out.rank[n] = rank;
-            out.by_rank[rank] = std::uint8_t(n);
-            const Float4& sigma = extinction_scatter_[k];
-            out.sigma_t[rank] = sigma[0];
-            out.sigma_r[rank] = sigma[1];
-            out.sigma_g[rank] = sigma[2];
-            out.sigma_b[rank] = sigma[3];
-            const LitMedium& lit = lit_media_[k];
-            out.sun_r[rank] = lit.sun_scatter[1];
-            out.sun_g[rank] = lit.sun_scatter[2];
-            out.sun_b[rank] = lit.sun_scatter[3];
-            out.emission_r[rank] = lit.emission[1];
-            out.emission_g[rank] = lit.emission[2];
-            out.emission_b[rank] = lit.emission[3];
-        }
+        walk_spheres(entries, count, rects, x0, y0, out);
+        for (std::size_t n = 0; n < count; ++n) out.by_rank[out.rank[n]] = std::uint8_t(n);
     }
 
     // The packet walk's light for this scene (as radiance's: kPlain where plain_).
@@ -653,6 +595,45 @@ public:
     }
 
 private:
+    // What both packet walks read of a tile's spheres (packet::Spheres, packet::OrderedSpheres): each
+    // one's chord test, its pixel rectangle in the tile, its rank by scene index (the events' order
+    // among equal distances), and by rank its media (sigma_t and sigma_s, the per-sphere technique's
+    // sun-lit sigma_s, tau * emission).
+    template <class Out>
+    void walk_spheres(const std::uint32_t* entries, std::size_t count, const std::vector<PixelRect>& rects, int x0,
+                      int y0, Out& out) const {
+        out.count = int(count);
+        for (std::size_t n = 0; n < count; ++n) {
+            const std::uint32_t k = entries[2 * n];
+            const TileSphere& m = geometry_[k];
+            out.cx[n] = m.cx;
+            out.cy[n] = m.cy;
+            out.cz[n] = m.cz;
+            out.r2[n] = m.r2;
+            out.c_minus_r2[n] = m.c_minus_r2;
+            const PixelRect& r = rects[k];
+            out.columns[n][0] = r.x0 - x0;
+            out.columns[n][1] = r.x1 - x0;
+            out.rows[n][0] = r.y0 - y0;
+            out.rows[n][1] = r.y1 - y0;
+            std::uint32_t rank = 0;
+            for (std::size_t o = 0; o < count; ++o) rank += entries[2 * o] < k ? 1u : 0u;
+            out.rank[n] = rank;
+            const Float4& sigma = extinction_scatter_[k];
+            out.sigma_t[rank] = sigma[0];
+            out.sigma_r[rank] = sigma[1];
+            out.sigma_g[rank] = sigma[2];
+            out.sigma_b[rank] = sigma[3];
+            const LitMedium& lit = lit_media_[k];
+            out.sun_r[rank] = lit.sun_scatter[1];
+            out.sun_g[rank] = lit.sun_scatter[2];
+            out.sun_b[rank] = lit.sun_scatter[3];
+            out.emission_r[rank] = lit.emission[1];
+            out.emission_g[rank] = lit.emission[2];
+            out.emission_b[rank] = lit.emission[3];
+        }
+    }
+
     // Tile row `row`'s eight rays as the packet walks read them, but for the spheres each lane tests
     // (the packet walk's `listed`), into `rays`; their opaque surfaces into `opaque`.
     template <packet::Light kLight>

@@ -104,19 +104,8 @@ template <Light kLight, class Gather, class Sink>
         // Tested by the lanes whose pixels its rectangle covers (as list_tile's), then packet::walk's chord.
         const bool row_covered = row >= spheres.rows[n][0] && row < spheres.rows[n][1];
         const Int8 listed = (lane >= spheres.columns[n][0]) & (lane < spheres.columns[n][1]) & (row_covered ? -1 : 0);
-        const float cx = spheres.cx[n], cy = spheres.cy[n], cz = spheres.cz[n];
-        const Float8 b = cx * rays.dx + cy * rays.dy + cz * rays.dz;
-        const Float8 px = cx - b * rays.dx, py = cy - b * rays.dy, pz = cz - b * rays.dz;
-        const Float8 disc = spheres.r2[n] - (px * px + py * py + pz * pz);
-        const Int8 meets = listed & (disc > 0.0f);
-        const Float8 s = simd::sqrt8(meets ? disc : zero);
-        Float8 q = b > 0.0f ? b + s : b - s;
-        q = meets ? q : zero + 1.0f;
-        const Float8 ta = q, tb = spheres.c_minus_r2[n] / q;
-        const Float8 near = tb < ta ? tb : ta, far = ta < tb ? tb : ta;
-        const Float8 start = near < 0.0f ? zero : near;
-        const Float8 end = rays.t_opaque < far ? rays.t_opaque : far;
-        const Int8 taken = meets & (end > start);
+        Float8 start, end;
+        const Int8 taken = lane_chord(spheres, n, rays, listed, start, end);
         events.taken[n] = taken;
         events.entry[n] = taken ? Uint8(start) : none;
         events.exit[n] = taken ? Uint8(end) : none;
@@ -175,9 +164,8 @@ template <Light kLight, class Gather, class Sink>
     // Front to back, as packet::walk, each lane's media gathered by the rank of its event's sphere.
     Result out;
     out.transmittance = zero + 1.0f;
-    Float8 sigma_t{}, sigma_r{}, sigma_g{}, sigma_b{}, t_prev{};
-    Float8 sun_r{}, sun_g{}, sun_b{};
-    Float8 emission_r{}, emission_g{}, emission_b{};
+    LaneMedia media;
+    Float8 t_prev{};
     Int8 inside{}, stopped{};
     int walked = 0;  // the slots walked
     for (int k = 0; k < slots; ++k) {
@@ -191,77 +179,32 @@ template <Light kLight, class Gather, class Sink>
         Int8 stops{};
         if constexpr (kLight == Light::kAccurate) events.lit[k] = segment;
         if (any(segment)) {
-            const Float8 x = sigma_t * len;
-            const Float8 segment_transmittance = simd::exp_nonpositive8(-x);
-            const Float8 w = len * simd::phi8(x, segment_transmittance);
-            const Float8 tw = out.transmittance * w;
-            if constexpr (kLight == Light::kPlain) {
-                out.r = segment ? out.r + sigma_r * rays.source_r * tw : out.r;
-                out.g = segment ? out.g + sigma_g * rays.source_g * tw : out.g;
-                out.b = segment ? out.b + sigma_b * rays.source_b * tw : out.b;
-            } else if constexpr (kLight == Light::kAccurate) {
-                const Float8 light_r = sigma_r * rays.sun_phase_r * out.transmittance;
-                const Float8 light_g = sigma_g * rays.sun_phase_g * out.transmittance;
-                const Float8 light_b = sigma_b * rays.sun_phase_b * out.transmittance;
+            const auto lit = [&](const Float8& light_r, const Float8& light_g, const Float8& light_b) {
                 events.lit_a[k] = t_prev;
                 events.lit_b[k] = t;
-                events.lit_sigma_t[k] = sigma_t;
+                events.lit_sigma_t[k] = media.sigma_t;
                 events.lit_transmittance[k] = out.transmittance;
                 events.lit_r[k] = light_r;
                 events.lit_g[k] = light_g;
                 events.lit_bl[k] = light_b;
-                out.r = segment ? out.r + (sigma_r * rays.ambient_r + emission_r) * tw : out.r;
-                out.g = segment ? out.g + (sigma_g * rays.ambient_g + emission_g) * tw : out.g;
-                out.b = segment ? out.b + (sigma_b * rays.ambient_b + emission_b) * tw : out.b;
-            } else {
-                out.r = segment ? out.r + (sigma_r * rays.source_r - (sigma_r - sun_r) * rays.sun_phase_r + emission_r) * tw
-                                : out.r;
-                out.g = segment ? out.g + (sigma_g * rays.source_g - (sigma_g - sun_g) * rays.sun_phase_g + emission_g) * tw
-                                : out.g;
-                out.b = segment ? out.b + (sigma_b * rays.source_b - (sigma_b - sun_b) * rays.sun_phase_b + emission_b) * tw
-                                : out.b;
-            }
-            out.transmittance = segment ? out.transmittance * segment_transmittance : out.transmittance;
-            stops = segment & (out.transmittance < min_transmittance);
+            };
+            stops = integrate_segment<kLight>(out, media, rays, segment, len, min_transmittance, lit);
             stopped |= stops;
         }
         const Int8 step = live & ~stops;
         t_prev = step ? t : t_prev;
-        // Enter or leave the event's medium: the one-ray walk's sums, lane by lane. A lane past its
-        // events reads rank 0's media and keeps its sums (step is 0 there).
+        // A lane past its events reads rank 0's media and keeps its sums (step is 0 there). Most steps
+        // take one sphere in every lane that steps (where the lanes' orders agree and none skipped a
+        // sphere the others meet): its media then by one load each, not by gathers.
         const Uint8 id = events.id[k];
-        const Int8 exit = Int8(id & 1u);
-        const Int8 exit_mask = Int8{} - exit;
-        inside = step ? inside + 1 - 2 * exit : inside;
-        const Int8 free_mask = inside == 0;
-        const Float8 sign = 1.0f - 2.0f * __builtin_convertvector(exit, Float8);
         const Int8 rank = step ? Int8(id >> 1u) : Int8{};
-        // Most steps take one sphere in every lane that steps (where the lanes' orders agree and none
-        // skipped a sphere the others meet): its media by one load each, not by gathers.
         const std::uint32_t first_id = id[__builtin_ctz(unsigned(simd_mask(step)) | 0x100u) & 7];
         const bool uniform = !any(step & (Int8(id) != int(first_id)));
         const int first_rank = int(first_id >> 1u);
-        const auto advance = [&](Float8 v, const float* table) {
-            const Float8 value = uniform ? zero + table[first_rank] : gather.one(table, rank);
-            const Float8 r = v + sign * value;
-            const Float8 clamped = ((r < 0.0f) & exit_mask) != 0 ? zero : r;
-            const Float8 next = free_mask != 0 ? zero : clamped;
-            return step ? next : v;
-        };
-        sigma_t = advance(sigma_t, spheres.sigma_t);
-        sigma_r = advance(sigma_r, spheres.sigma_r);
-        sigma_g = advance(sigma_g, spheres.sigma_g);
-        sigma_b = advance(sigma_b, spheres.sigma_b);
-        if constexpr (kLight == Light::kPerSphere) {
-            sun_r = advance(sun_r, spheres.sun_r);
-            sun_g = advance(sun_g, spheres.sun_g);
-            sun_b = advance(sun_b, spheres.sun_b);
-        }
-        if constexpr (kLight != Light::kPlain) {
-            emission_r = advance(emission_r, spheres.emission_r);
-            emission_g = advance(emission_g, spheres.emission_g);
-            emission_b = advance(emission_b, spheres.emission_b);
-        }
+        step_media<kLight>(media, inside, step, Int8(id & 1u), [&](Quantity q) {
+            const float* table = media_table(spheres, q);
+            return uniform ? zero + table[first_rank] : gather.one(table, rank);
+        });
     }
     out.stopped = stopped;
     if constexpr (kLight == Light::kAccurate)

@@ -34,6 +34,27 @@ constexpr int kMaxSpheres = 8;
 // (a Sink, one call per lit segment of a lane) and whose walk adds the ambient light and emission.
 enum class Light { kPlain, kPerSphere, kAccurate };
 
+// The quantities of a medium that a walk sums per lane (LaneMedia), as its tables name them.
+enum class Quantity { kSigmaT, kSigmaR, kSigmaG, kSigmaB, kSunR, kSunG, kSunB, kEmissionR, kEmissionG, kEmissionB };
+
+// A walk's table of quantity q, by rank: `spheres`' member of that name (packet::Spheres' lanes, or
+// packet::OrderedSpheres' arrays).
+template <class S>
+[[gnu::always_inline]] inline decltype(auto) media_table(const S& spheres, Quantity q) {
+    switch (q) {
+        case Quantity::kSigmaT: return (spheres.sigma_t);
+        case Quantity::kSigmaR: return (spheres.sigma_r);
+        case Quantity::kSigmaG: return (spheres.sigma_g);
+        case Quantity::kSigmaB: return (spheres.sigma_b);
+        case Quantity::kSunR: return (spheres.sun_r);
+        case Quantity::kSunG: return (spheres.sun_g);
+        case Quantity::kSunB: return (spheres.sun_b);
+        case Quantity::kEmissionR: return (spheres.emission_r);
+        case Quantity::kEmissionG: return (spheres.emission_g);
+        default: return (spheres.emission_b);
+    }
+}
+
 // A tile's spheres as the packet reads them, in the tile's order n: the chord test's values (centre
 // relative to the eye, r^2, |c|^2 - r^2), each one's rank by scene index (the events' order among equal
 // distances), and by rank, in tables of lanes, each one's sigma_t and sigma_s, the part of sigma_s the
@@ -114,6 +135,104 @@ constexpr auto merge_sort_network() {
     return out;
 }
 
+// The running sums of the media each lane is in: sigma_t and sigma_s; kPerSphere's sun-lit part of
+// sigma_s; tau * emission (all but kPlain's).
+struct LaneMedia {
+    Float8 sigma_t{}, sigma_r{}, sigma_g{}, sigma_b{};
+    Float8 sun_r{}, sun_g{}, sun_b{};
+    Float8 emission_r{}, emission_g{}, emission_b{};
+};
+
+// The segment [t_prev, t_prev + len] of the lanes of `segment`, each lane as the one-ray walk's
+// integrate() adds it, operation for operation: its light into `out`, its transmittance, and the
+// lanes it stops (returned). kAccurate's sun light goes to lit(light_r, light_g, light_b), with
+// out.transmittance still that at the segment's start.
+template <Light kLight, class Lit>
+[[gnu::always_inline]] inline Int8 integrate_segment(Result& out, const LaneMedia& m, const Rays& rays,
+                                                     const Int8& segment, const Float8& len, float min_transmittance,
+                                                     const Lit& lit) {
+    const Float8 x = m.sigma_t * len;
+    const Float8 segment_transmittance = simd::exp_nonpositive8(-x);
+    const Float8 w = len * simd::phi8(x, segment_transmittance);
+    const Float8 tw = out.transmittance * w;
+    if constexpr (kLight == Light::kPlain) {
+        out.r = segment ? out.r + m.sigma_r * rays.source_r * tw : out.r;
+        out.g = segment ? out.g + m.sigma_g * rays.source_g * tw : out.g;
+        out.b = segment ? out.b + m.sigma_b * rays.source_b * tw : out.b;
+    } else if constexpr (kLight == Light::kAccurate) {
+        lit(m.sigma_r * rays.sun_phase_r * out.transmittance, m.sigma_g * rays.sun_phase_g * out.transmittance,
+            m.sigma_b * rays.sun_phase_b * out.transmittance);
+        out.r = segment ? out.r + (m.sigma_r * rays.ambient_r + m.emission_r) * tw : out.r;
+        out.g = segment ? out.g + (m.sigma_g * rays.ambient_g + m.emission_g) * tw : out.g;
+        out.b = segment ? out.b + (m.sigma_b * rays.ambient_b + m.emission_b) * tw : out.b;
+    } else {
+        out.r = segment ? out.r + (m.sigma_r * rays.source_r - (m.sigma_r - m.sun_r) * rays.sun_phase_r + m.emission_r) * tw
+                        : out.r;
+        out.g = segment ? out.g + (m.sigma_g * rays.source_g - (m.sigma_g - m.sun_g) * rays.sun_phase_g + m.emission_g) * tw
+                        : out.g;
+        out.b = segment ? out.b + (m.sigma_b * rays.source_b - (m.sigma_b - m.sun_b) * rays.sun_phase_b + m.emission_b) * tw
+                        : out.b;
+    }
+    out.transmittance = segment ? out.transmittance * segment_transmittance : out.transmittance;
+    return segment & (out.transmittance < min_transmittance);
+}
+
+// Enter or leave the event's medium in the lanes of `step` (exit: 1 where it is an exit): the
+// one-ray walk's sums, lane by lane, each plus or minus value(quantity), the medium's in each lane.
+// Leaving clamps at 0; back in free space (inside, after the step, 0) the sums are exactly 0.
+template <Light kLight, class Value>
+[[gnu::always_inline]] inline void step_media(LaneMedia& m, Int8& inside, const Int8& step, const Int8& exit,
+                                              const Value& value) {
+    const Float8 zero{};
+    const Int8 exit_mask = Int8{} - exit;
+    inside = step ? inside + 1 - 2 * exit : inside;
+    const Int8 free_mask = inside == 0;
+    const Float8 sign = 1.0f - 2.0f * __builtin_convertvector(exit, Float8);
+    const auto advance = [&](Float8& v, Quantity q) {
+        const Float8 r = v + sign * value(q);
+        const Float8 clamped = ((r < 0.0f) & exit_mask) != 0 ? zero : r;
+        const Float8 next = free_mask != 0 ? zero : clamped;
+        v = step ? next : v;
+    };
+    advance(m.sigma_t, Quantity::kSigmaT);
+    advance(m.sigma_r, Quantity::kSigmaR);
+    advance(m.sigma_g, Quantity::kSigmaG);
+    advance(m.sigma_b, Quantity::kSigmaB);
+    if constexpr (kLight == Light::kPerSphere) {
+        advance(m.sun_r, Quantity::kSunR);
+        advance(m.sun_g, Quantity::kSunG);
+        advance(m.sun_b, Quantity::kSunB);
+    }
+    if constexpr (kLight != Light::kPlain) {
+        advance(m.emission_r, Quantity::kEmissionR);
+        advance(m.emission_g, Quantity::kEmissionG);
+        advance(m.emission_b, Quantity::kEmissionB);
+    }
+}
+
+// Sphere n's chord [start, end] along each lane's ray t d, in the lanes of `listed`, as the one-ray walk
+// takes it (chord_discriminant, then its roots; clipped at the eye and the opaque surface); returns the
+// lanes where it is not empty.
+template <class S>
+[[gnu::always_inline]] inline Int8 lane_chord(const S& spheres, int n, const Rays& rays, const Int8& listed,
+                                              Float8& start, Float8& end) {
+    const Float8 zero{};
+    const float cx = spheres.cx[n], cy = spheres.cy[n], cz = spheres.cz[n];
+    const Float8 b = cx * rays.dx + cy * rays.dy + cz * rays.dz;
+    const Float8 px = cx - b * rays.dx, py = cy - b * rays.dy, pz = cz - b * rays.dz;
+    const Float8 disc = spheres.r2[n] - (px * px + py * py + pz * pz);
+    const Int8 meets = listed & (disc > 0.0f);
+    const Float8 s = simd::sqrt8(meets ? disc : zero);
+    Float8 q = b > 0.0f ? b + s : b - s;  // |q| >= s > 0 where it meets
+    q = meets ? q : zero + 1.0f;
+    const Float8 ta = q, tb = spheres.c_minus_r2[n] / q;
+    // std::max(std::min(ta, tb), 0.0f) and std::min(std::max(ta, tb), t_opaque), operand for operand.
+    const Float8 near = tb < ta ? tb : ta, far = ta < tb ? tb : ta;
+    start = near < 0.0f ? zero : near;
+    end = rays.t_opaque < far ? rays.t_opaque : far;
+    return meets & (end > start);
+}
+
 // The walk of the rays through the spheres, P event slots per lane (P >= 2 * spheres.count, a power of
 // two). min_transmittance: the scene's early stop. `sink` takes kAccurate's lit segments, in each
 // lane's order.
@@ -132,21 +251,8 @@ template <int P, Light kLight, class Sink>
     }
     const Float8 zero{};
     for (int n = 0; n < spheres.count; ++n) {
-        // The chord of the ray t d (chord_discriminant, then the one-ray walk's roots).
-        const float cx = spheres.cx[n], cy = spheres.cy[n], cz = spheres.cz[n];
-        const Float8 b = cx * rays.dx + cy * rays.dy + cz * rays.dz;
-        const Float8 px = cx - b * rays.dx, py = cy - b * rays.dy, pz = cz - b * rays.dz;
-        const Float8 disc = spheres.r2[n] - (px * px + py * py + pz * pz);
-        const Int8 meets = rays.listed[n] & (disc > 0.0f);
-        const Float8 s = simd::sqrt8(meets ? disc : zero);
-        Float8 q = b > 0.0f ? b + s : b - s;  // |q| >= s > 0 where it meets
-        q = meets ? q : zero + 1.0f;
-        const Float8 ta = q, tb = spheres.c_minus_r2[n] / q;
-        // std::max(std::min(ta, tb), 0.0f) and std::min(std::max(ta, tb), t_opaque), operand for operand.
-        const Float8 near = tb < ta ? tb : ta, far = ta < tb ? tb : ta;
-        const Float8 start = near < 0.0f ? zero : near;
-        const Float8 end = rays.t_opaque < far ? rays.t_opaque : far;
-        const Int8 taken = meets & (end > start);
+        Float8 start, end;
+        const Int8 taken = lane_chord(spheres, n, rays, rays.listed[n], start, end);
         key[2 * n] = taken ? Uint8(start) : key[2 * n];
         key[2 * n + 1] = taken ? Uint8(end) : key[2 * n + 1];
         const std::uint32_t entry = 2u * spheres.rank[n];
@@ -167,9 +273,8 @@ template <int P, Light kLight, class Sink>
     // Front to back (shaders/exact_integrator.glsl), a lane at a time where its events lie.
     Result out;
     out.transmittance = zero + 1.0f;
-    Float8 sigma_t{}, sigma_r{}, sigma_g{}, sigma_b{}, t_prev{};
-    Float8 sun_r{}, sun_g{}, sun_b{};                 // kPerSphere's
-    Float8 emission_r{}, emission_g{}, emission_b{};  // all but kPlain's
+    LaneMedia media;
+    Float8 t_prev{};
     Int8 inside{}, stopped{};
     for (int e = 0; e < P; ++e) {
         const Int8 live = (key[e] < kNone) & ~stopped;
@@ -181,67 +286,20 @@ template <int P, Light kLight, class Sink>
         Int8 stops{};
         // No lane in a medium (every ray's first event, a gap between spheres): nothing to integrate.
         if (any(segment)) {
-            const Float8 x = sigma_t * len;
-            const Float8 segment_transmittance = simd::exp_nonpositive8(-x);
-            const Float8 w = len * simd::phi8(x, segment_transmittance);
-            const Float8 tw = out.transmittance * w;
-            // Each lane as the one-ray walk's integrate() adds it, operation for operation.
-            if constexpr (kLight == Light::kPlain) {
-                out.r = segment ? out.r + sigma_r * rays.source_r * tw : out.r;
-                out.g = segment ? out.g + sigma_g * rays.source_g * tw : out.g;
-                out.b = segment ? out.b + sigma_b * rays.source_b * tw : out.b;
-            } else if constexpr (kLight == Light::kAccurate) {
-                const Float8 light_r = sigma_r * rays.sun_phase_r * out.transmittance;
-                const Float8 light_g = sigma_g * rays.sun_phase_g * out.transmittance;
-                const Float8 light_b = sigma_b * rays.sun_phase_b * out.transmittance;
+            const auto lit = [&](const Float8& light_r, const Float8& light_g, const Float8& light_b) {
                 for (int l = 0; l < 8; ++l)
                     if (segment[l])
-                        sink(LitSegment{l, t_prev[l], t[l], sigma_t[l], light_r[l], light_g[l], light_b[l],
+                        sink(LitSegment{l, t_prev[l], t[l], media.sigma_t[l], light_r[l], light_g[l], light_b[l],
                                         out.transmittance[l]});
-                out.r = segment ? out.r + (sigma_r * rays.ambient_r + emission_r) * tw : out.r;
-                out.g = segment ? out.g + (sigma_g * rays.ambient_g + emission_g) * tw : out.g;
-                out.b = segment ? out.b + (sigma_b * rays.ambient_b + emission_b) * tw : out.b;
-            } else {
-                out.r = segment ? out.r + (sigma_r * rays.source_r - (sigma_r - sun_r) * rays.sun_phase_r + emission_r) * tw
-                                : out.r;
-                out.g = segment ? out.g + (sigma_g * rays.source_g - (sigma_g - sun_g) * rays.sun_phase_g + emission_g) * tw
-                                : out.g;
-                out.b = segment ? out.b + (sigma_b * rays.source_b - (sigma_b - sun_b) * rays.sun_phase_b + emission_b) * tw
-                                : out.b;
-            }
-            out.transmittance = segment ? out.transmittance * segment_transmittance : out.transmittance;
-            stops = segment & (out.transmittance < min_transmittance);
+            };
+            stops = integrate_segment<kLight>(out, media, rays, segment, len, min_transmittance, lit);
             stopped |= stops;
         }
         const Int8 step = live & ~stops;
         t_prev = step ? t : t_prev;
-        // Enter or leave the event's medium: the one-ray walk's sums, lane by lane.
-        const Int8 exit = Int8(id[e] & 1u);
-        const Int8 exit_mask = Int8{} - exit;
-        inside = step ? inside + 1 - 2 * exit : inside;
-        const Int8 free_mask = inside == 0;
-        const Float8 sign = 1.0f - 2.0f * __builtin_convertvector(exit, Float8);
         const Int8 rank = Int8(id[e] >> 1u);
-        const auto advance = [&](Float8 v, const Float8& table) {
-            const Float8 r = v + sign * simd::lookup8(table, rank);
-            const Float8 clamped = ((r < 0.0f) & exit_mask) != 0 ? zero : r;
-            const Float8 next = free_mask != 0 ? zero : clamped;
-            return step ? next : v;
-        };
-        sigma_t = advance(sigma_t, spheres.sigma_t);
-        sigma_r = advance(sigma_r, spheres.sigma_r);
-        sigma_g = advance(sigma_g, spheres.sigma_g);
-        sigma_b = advance(sigma_b, spheres.sigma_b);
-        if constexpr (kLight == Light::kPerSphere) {
-            sun_r = advance(sun_r, spheres.sun_r);
-            sun_g = advance(sun_g, spheres.sun_g);
-            sun_b = advance(sun_b, spheres.sun_b);
-        }
-        if constexpr (kLight != Light::kPlain) {
-            emission_r = advance(emission_r, spheres.emission_r);
-            emission_g = advance(emission_g, spheres.emission_g);
-            emission_b = advance(emission_b, spheres.emission_b);
-        }
+        step_media<kLight>(media, inside, step, Int8(id[e] & 1u),
+                           [&](Quantity q) { return simd::lookup8(media_table(spheres, q), rank); });
     }
     out.stopped = stopped;
     return out;

@@ -5,8 +5,9 @@
 // distances (insertion, from the tile's near-to-far order), and each lane then puts that order right
 // for itself by a few passes of odd-even transposition over its own events, in SIMD lanes: near a
 // sphere's silhouette its chord's ends close in fast from pixel to pixel and cross other spheres'
-// events, so half the lanes of fog-bank's rows disagree with any one order, but by a place or two.
-// The lanes are then integrated in step, as the packet walk's, each lane's media read by a gather.
+// events, so more than half the lanes of fog-bank's rows disagree with any one order, but by a place
+// or two. The lanes are then integrated in step, as the packet walk's, each step's media read by one
+// load where every lane that steps takes the same sphere, and by a gather where they differ.
 //
 // Exact as the one-ray walk is. After the passes each lane checks that its events' keys (distance
 // bits, then scene index, then exit after entry: the one-ray walk's total order) strictly increase;

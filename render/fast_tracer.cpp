@@ -1259,7 +1259,7 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
     const std::uint32_t* entries = f.bins.entries.data() + 2 * std::size_t(f.bins.first[t]);
     const std::size_t entry_count = f.bins.first[t + 1] - f.bins.first[t];
     // A tile of few spheres, one ray a pixel: eight rays at once, a row at a time (render/packet_walk.h).
-    const bool packets = f.packets && k == 1 && entry_count <= std::size_t(packet::kMaxSpheres);
+    const bool packets = !kOrdered && f.packets && k == 1 && entry_count <= std::size_t(packet::kMaxSpheres);
     // More spheres, up to a few dozen, that cover the tile (takes_ordered_walk): eight rays at once in an
     // order they share (render/ordered_walk.h), a ray whose order differs by the one-ray walk, whose
     // lists are then made. Compiled apart (kOrdered), so that its code does not enlarge the others'.

@@ -191,8 +191,36 @@ TEST(FastTracer, TwoHundredFiftySixNestedSurfaces) {
 // included); each image the one-ray walk's to float rounding (the two walks are the same arithmetic,
 // but the compiler may fuse a multiply-add in one and not the other: bit for bit where it does not),
 // and (without shadows, or with the per-sphere technique) the reference's.
-std::vector<std::pair<std::string, Scene>> few_sphere_scenes() {
-    std::vector<std::pair<std::string, Scene>> scenes;
+using NamedScenes = std::vector<std::pair<std::string, Scene>>;
+
+// Denser media (extinction times `factor`) and an early stop at 5% transmittance.
+Scene dense_and_stopping(Scene s, double factor) {
+    for (Sphere& sp : s.spheres) sp.extinction *= factor;
+    s.render.min_transmittance = 0.05;
+    return s;
+}
+
+// The eye at sphere 0's centre, looking at the origin.
+Scene eye_inside(Scene s) {
+    s.camera.position = s.spheres[0].center;
+    s.camera.look_at = {0.0, 0.0, 0.0};
+    return s;
+}
+
+// A scene with emitters as it is, then with per-sphere and with accurate shadows (`prefix` before
+// each name); the last of them returned.
+Scene add_light_variants(NamedScenes& scenes, const std::string& prefix, Scene lit) {
+    scenes.emplace_back(prefix + "emission", lit);
+    lit.lighting.shadows = true;
+    lit.render.shadow_technique = ShadowTechnique::PerSphere;
+    scenes.emplace_back(prefix + "per-sphere shadows", lit);
+    lit.render.shadow_technique = ShadowTechnique::Accurate;
+    scenes.emplace_back(prefix + "accurate shadows", lit);
+    return lit;
+}
+
+NamedScenes few_sphere_scenes() {
+    NamedScenes scenes;
     for (const int layers : {2, 4, 8, 16}) scenes.emplace_back("layers " + std::to_string(layers), make_layers_scene(layers, 48, 32));
     Scene far_layers = make_layers_scene(16, 40, 30);
     for (std::size_t k = 4; k < far_layers.spheres.size(); ++k) far_layers.spheres[k].albedo.x = -0.2;
@@ -200,26 +228,14 @@ std::vector<std::pair<std::string, Scene>> few_sphere_scenes() {
     for (const unsigned seed : {21u, 22u}) {
         Scene sparse = testing::random_scene(96, 72, 24, seed, true);
         scenes.emplace_back("sparse " + std::to_string(seed), sparse);
-        for (Sphere& sp : sparse.spheres) sp.extinction *= 30.0;
-        sparse.render.min_transmittance = 0.05;
-        scenes.emplace_back("sparse dense stopping " + std::to_string(seed), sparse);
+        scenes.emplace_back("sparse dense stopping " + std::to_string(seed), dense_and_stopping(sparse, 30.0));
     }
-    Scene inside = testing::random_scene(64, 48, 16, 23, true);
-    inside.camera.position = inside.spheres[0].center;
-    inside.camera.look_at = {0.0, 0.0, 0.0};
-    scenes.emplace_back("eye inside", inside);
+    scenes.emplace_back("eye inside", eye_inside(testing::random_scene(64, 48, 16, 23, true)));
     Scene lit = testing::random_scene(96, 72, 24, 24, true);
     for (std::size_t k = 0; k < lit.spheres.size(); k += 3) lit.spheres[k].emission = {2.0, 0.8, 0.1};
     for (Box& b : lit.boxes) b.diffuse = {0.5, 0.45, 0.4};
-    scenes.emplace_back("emission", lit);
-    lit.lighting.shadows = true;
-    lit.render.shadow_technique = ShadowTechnique::PerSphere;
-    scenes.emplace_back("per-sphere shadows", lit);
-    lit.render.shadow_technique = ShadowTechnique::Accurate;
-    scenes.emplace_back("accurate shadows", lit);
-    for (Sphere& sp : lit.spheres) sp.extinction *= 30.0;
-    lit.render.min_transmittance = 0.05;
-    scenes.emplace_back("accurate shadows, dense, stopping", lit);
+    const Scene accurate = add_light_variants(scenes, "", lit);
+    scenes.emplace_back("accurate shadows, dense, stopping", dense_and_stopping(accurate, 30.0));
     return scenes;
 }
 
@@ -258,8 +274,8 @@ TEST(FastTracer, PacketWalkIsTheOneRayWalk) {
 // ordered walk takes (render/ordered_walk.h), with the cases where its rows' orders need putting right
 // or defeat it (silhouettes), the eye inside, a box clipping chords, early stops, emission and both
 // shadow techniques.
-std::vector<std::pair<std::string, Scene>> fog_scenes() {
-    std::vector<std::pair<std::string, Scene>> scenes;
+NamedScenes fog_scenes() {
+    NamedScenes scenes;
     const auto fog = [](unsigned seed) {
         Scene s = testing::small_scene(96, 72);
         s.camera.position = {0.3, 1.2, 7.0};
@@ -274,22 +290,11 @@ std::vector<std::pair<std::string, Scene>> fog_scenes() {
         return s;
     };
     for (const unsigned seed : {31u, 32u}) scenes.emplace_back("fog " + std::to_string(seed), fog(seed));
-    Scene dense = fog(33);
-    for (Sphere& sp : dense.spheres) sp.extinction *= 20.0;
-    dense.render.min_transmittance = 0.05;
-    scenes.emplace_back("fog, dense, stopping", dense);
-    Scene inside = fog(34);
-    inside.camera.position = inside.spheres[0].center;
-    inside.camera.look_at = {0.0, 0.0, 0.0};
-    scenes.emplace_back("fog, eye inside", inside);
+    scenes.emplace_back("fog, dense, stopping", dense_and_stopping(fog(33), 20.0));
+    scenes.emplace_back("fog, eye inside", eye_inside(fog(34)));
     Scene lit = fog(35);
     for (std::size_t k = 0; k < lit.spheres.size(); k += 4) lit.spheres[k].emission = {2.0, 0.8, 0.1};
-    scenes.emplace_back("fog, emission", lit);
-    lit.lighting.shadows = true;
-    lit.render.shadow_technique = ShadowTechnique::PerSphere;
-    scenes.emplace_back("fog, per-sphere shadows", lit);
-    lit.render.shadow_technique = ShadowTechnique::Accurate;
-    scenes.emplace_back("fog, accurate shadows", lit);
+    add_light_variants(scenes, "fog, ", lit);
     return scenes;
 }
 

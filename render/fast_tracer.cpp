@@ -218,6 +218,46 @@ struct SunJobs {
         }
     };
     Pieces halving, halves;  // the pieces to halve this round, and their halves
+
+    // A packet row's pieces, eight lanes at a time (FastTracer::lit_steps_light): each one [p, q] in the
+    // lanes of `active`, of the row's lit segments at `step` (packet::LitSteps); its depth at q read at
+    // point end_point, and at p from the lane's piece before where `shared` (it ended at p), else at
+    // point start_point.
+    // In arrays, not Float8 (load8, store8): compiled for any x86-64, alignof(Float8) is 16, so a
+    // std::vector of structs that hold one allocates at 16 bytes, where the AVX2 code's aligned moves
+    // fault.
+    struct LanePiece {
+        float p[8], q[8];
+        std::int32_t active[8], shared[8];
+        std::uint32_t start_point, end_point;
+        int step;
+    };
+    struct LanePieces {
+        std::vector<LanePiece> pieces;
+        // The points, eight lanes each (8 floats from 8 * index; a std::vector of Float8 would drop its
+        // alignment): t along each lane's ray, then the depth there.
+        std::vector<float> t, depth;
+        std::size_t count = 0, points = 0;
+        void clear() { count = points = 0; }
+        void add(int step, const Float8& p, const Float8& q, const Int8& active, const Int8& shared, bool start) {
+            if (count + 1 > pieces.size()) pieces.resize(std::max<std::size_t>(64, 2 * pieces.size()));
+            if (8 * (points + 2) > t.size()) {
+                t.resize(std::max<std::size_t>(1024, 2 * t.size()));
+                depth.resize(t.size());
+            }
+            LanePiece& piece = pieces[count++];
+            simd::store8(piece.p, p);
+            simd::store8(piece.q, q);
+            simd::store8(piece.active, active);
+            simd::store8(piece.shared, shared);
+            piece.step = step;
+            if (start) simd::store8(t.data() + 8 * points++, p);
+            piece.start_point = std::uint32_t(points - (start ? 1 : 0));  // unread where no lane needs it
+            simd::store8(t.data() + 8 * points++, q);
+            piece.end_point = std::uint32_t(points - 1);
+        }
+    };
+    LanePieces lanes;
     std::vector<float> mid_u, mid_v, mid_s, mid_depth;  // the halving pieces' midpoints
 
     // The arrays are kept at their largest (a tile's jobs are written by index, not appended: one test
@@ -547,9 +587,10 @@ public:
     // radiance of each would give it); `boxes`, `scratch` and `jobs` as radiance's. kLight:
     // packet_light() (a template argument, so that each light's ray set-up is radiance's to the
     // operation: where L_sun P(theta) has no other use, its sum with L_ambient fuses).
-    template <packet::Light kLight>
+    template <packet::Light kLight, class Gather>
     void radiance_row(const packet::Spheres& spheres, const TileRays& tile_rays, int row, std::uint64_t boxes,
-                      RayScratch& scratch, SunJobs& jobs, dvec3* sums) const {
+                      RayScratch& scratch, SunJobs& jobs, packet::LitSteps& lit_steps, const Gather& gather,
+                      FastTraceCounts& counts, dvec3* sums) const {
         OpaqueSurfaces::Hit opaque[kTile];
         packet::Rays rays;
         row_rays<kLight>(tile_rays, row, boxes, rays, opaque);
@@ -559,14 +600,10 @@ public:
             const bool row_covered = row >= spheres.rows[n][0] && row < spheres.rows[n][1];
             rays.listed[n] = (lane >= spheres.columns[n][0]) & (lane < spheres.columns[n][1]) & (row_covered ? -1 : 0);
         }
-        packet::Result r;
-        if constexpr (kLight == packet::Light::kAccurate) {
-            const LaneSunPieces sink(*this, tile_rays, row * int(kTile), rays, scratch, jobs);
-            r = walk_packet<kLight>(spheres, rays, sink);
-        } else {
-            r = walk_packet<kLight>(spheres, rays, packet::NoSink{});
-        }
+        const packet::Result r = walk_packet<kLight>(spheres, rays, lit_steps);
         finish_row(r, opaque, tile_rays, row, Int8{}, sums);
+        if constexpr (kLight == packet::Light::kAccurate)
+            lit_steps_light(lit_steps, tile_rays, row, rays, scratch, jobs, gather, counts, sums);
     }
 
     // The radiance of tile row `row`'s eight pixels by the ordered walk (render/ordered_walk.h), into
@@ -575,20 +612,17 @@ public:
     template <packet::Light kLight, class Gather>
     unsigned radiance_ordered_row(const packet::OrderedSpheres& spheres, const TileRays& tile_rays, int row,
                                   std::uint64_t boxes, RayScratch& scratch, SunJobs& jobs,
-                                  packet::OrderedEvents& events, const Gather& gather, dvec3* sums) const {
+                                  packet::OrderedEvents& events, packet::LitSteps& lit_steps, const Gather& gather,
+                                  FastTraceCounts& counts, dvec3* sums) const {
         OpaqueSurfaces::Hit opaque[kTile];
         packet::Rays rays;
         row_rays<kLight>(tile_rays, row, boxes, rays, opaque);
         Int8 failed{};
-        packet::Result r;
-        if constexpr (kLight == packet::Light::kAccurate) {
-            const LaneSunPieces sink(*this, tile_rays, row * int(kTile), rays, scratch, jobs);
-            r = packet::ordered_walk<kLight>(spheres, rays, row, min_transmittance_, events, failed, gather, sink);
-        } else {
-            r = packet::ordered_walk<kLight>(spheres, rays, row, min_transmittance_, events, failed, gather,
-                                              packet::NoSink{});
-        }
+        const packet::Result r =
+            packet::ordered_walk<kLight>(spheres, rays, row, min_transmittance_, events, failed, gather, lit_steps);
         finish_row(r, opaque, tile_rays, row, failed, sums);
+        if constexpr (kLight == packet::Light::kAccurate)
+            lit_steps_light(lit_steps, tile_rays, row, rays, scratch, jobs, gather, counts, sums);
         unsigned bits = 0;
         for (int l = 0; l < int(kTile); ++l) bits |= failed[l] ? 1u << l : 0u;
         return bits;
@@ -713,13 +747,14 @@ public:
     std::uint64_t tile_box_mask(int x0, int y0, int x1, int y1) const { return rect_mask(box_rects_, x0, y0, x1, y1); }
 
     // The packet walk with as many event slots as the tile's spheres need.
-    template <packet::Light kLight, class Sink>
-    packet::Result walk_packet(const packet::Spheres& spheres, const packet::Rays& rays, const Sink& sink) const {
+    template <packet::Light kLight>
+    packet::Result walk_packet(const packet::Spheres& spheres, const packet::Rays& rays,
+                               packet::LitSteps& lit_steps) const {
         const int count = spheres.count;
-        return count <= 1   ? packet::walk<2, kLight>(spheres, rays, min_transmittance_, sink)
-               : count <= 2 ? packet::walk<4, kLight>(spheres, rays, min_transmittance_, sink)
-               : count <= 4 ? packet::walk<8, kLight>(spheres, rays, min_transmittance_, sink)
-                            : packet::walk<16, kLight>(spheres, rays, min_transmittance_, sink);
+        return count <= 1   ? packet::walk<2, kLight>(spheres, rays, min_transmittance_, lit_steps)
+               : count <= 2 ? packet::walk<4, kLight>(spheres, rays, min_transmittance_, lit_steps)
+               : count <= 4 ? packet::walk<8, kLight>(spheres, rays, min_transmittance_, lit_steps)
+                            : packet::walk<16, kLight>(spheres, rays, min_transmittance_, lit_steps);
     }
 
     // Which of the first 64 box shadow volumes the rays of pixels [x0, x1) x [y0, y1) may meet within
@@ -837,17 +872,14 @@ private:
         dvec3 color() const { return dvec3(radiance[1], radiance[2], radiance[3]); }
     };
 
-    // The accurate technique's sink for a row's lanes: each lane's lit segments go to add_sun_pieces as
-    // the one-ray walk's do, each lane with its own ray in the map, box shadows and state, its jobs for
-    // its own pixel (the jobs of the row's rays interleave; each pixel's keep their order, and so its
-    // sums).
-    struct LaneSunPieces {
-        const FastTracer& tracer;
+    // A walked row's rays as the one-ray walk's sun pieces take them (add_sun_pieces, add_sun_job): each
+    // lane with its own ray in the map, box shadows and state, its jobs for its own pixel (the jobs of
+    // the row's rays interleave; each pixel's keep their order, and so its sums).
+    struct RowSunRays {
         Ray lanes[kTile];
-        mutable State states[kTile];
-        LaneSunPieces(const FastTracer& t, const TileRays& tile_rays, int first, const packet::Rays& rays,
-                      RayScratch& scratch, SunJobs& jobs)
-            : tracer(t) {
+        State states[kTile];
+        RowSunRays(const FastTracer& t, const TileRays& tile_rays, int first, const packet::Rays& rays,
+                   RayScratch& scratch, SunJobs& jobs) {
             for (int l = 0; l < int(kTile); ++l) {
                 Ray& ray = lanes[l];
                 ray.d = tile_rays.direction(first + l);
@@ -860,12 +892,162 @@ private:
                 jobs.rays.push_back(ray.map);
             }
         }
-        void operator()(const packet::LitSegment& s) const {
-            State& st = states[s.lane];
-            st.transmittance = s.transmittance;  // the job's weight, T at the segment's start
-            tracer.add_sun_pieces(st, lanes[s.lane], s.a, s.b, s.sigma_t, Float4{0.0f, s.light_r, s.light_g, s.light_b});
-        }
     };
+
+    // The accurate technique's sun light over a walked row's lit segments (packet::LitSteps), into the
+    // row's pixel sums, eight lanes at a time: the pieces that add_sun_pieces cuts (box shadows
+    // included), each one's depth toward the sun read at its end (and at its start where the lane's
+    // piece before did not end there), and its closed form, as resolve_sun_jobs takes a job's. Where
+    // the one-ray walk's jobs are written down one by one, then read back, a step's eight lanes are cut
+    // at once and share the lookups and the closed form (fog-bank's and ground-fog's frames are mostly
+    // such pieces). In three passes (SunJobs::LanePieces), so that neither the lookups nor the closed
+    // forms wait on the cutting's branches: the pieces, the depths at their points, then the integrals.
+    // A piece whose light times its change of depth calls for halving goes to the tile's jobs, as the
+    // one-ray walk's pieces do, and refine_sun_jobs halves it there.
+    template <class Gather>
+    void lit_steps_light(const packet::LitSteps& steps, const TileRays& tile_rays, int row, const packet::Rays& rays,
+                         RayScratch& scratch, SunJobs& jobs, const Gather& gather, FastTraceCounts& counts,
+                         dvec3* sums) const {
+        Int8 lit_lanes{};
+        for (int k = 0; k < steps.steps; ++k) lit_lanes |= steps.lit[k];
+        if (!packet::any(lit_lanes)) return;
+        RowSunRays row_rays(*this, tile_rays, row * int(kTile), rays, scratch, jobs);
+        // Each lane's box shadow ahead: the first of its ray's intervals (box_shadows) not yet passed,
+        // [shadow_lo, shadow_hi), or +inf where none is left (none at all where the tile's mask is empty).
+        const Float8 zero{};
+        const float inf = std::numeric_limits<float>::infinity();
+        Float8 shadow_lo = zero + inf, shadow_hi = zero + inf;
+        if (jobs.shadow_mask != 0 || shadow_volumes_.size() > 64)
+            for (int l = 0; l < int(kTile); ++l)
+                if (lit_lanes[l]) {
+                    State& st = row_rays.states[l];
+                    ready_box_shadows(st, row_rays.lanes[l]);
+                    if (st.shadow_count > 0) {
+                        shadow_lo[l] = st.shadows[0];
+                        shadow_hi[l] = st.shadows[1];
+                    }
+                }
+        SunJobs::LanePieces& pieces = jobs.lanes;
+        pieces.clear();
+        // The pieces, as add_sun_pieces cuts them: from p, to the segment's end b, p + max_piece or the
+        // next edge of a box shadow, whichever is nearest, while p < b; each one's end a point to look
+        // up, and its start too where a lane's piece before did not end there. Pieces in a shadow add
+        // nothing.
+        const float max_piece = kSunPieceCells * sun_map_.cell();
+        Float8 last_t = zero - 1.0f;  // each lane's last piece's end
+        for (int k = 0; k < steps.steps; ++k) {
+            const Int8 lit = steps.lit[k];
+            if (!packet::any(lit)) continue;
+            const Float8 b = steps.b[k];
+            Float8 p = steps.a[k];
+            Int8 active = lit & (p < b);
+            while (packet::any(active)) {
+                // The shadows that end at or before p passed (State::shadow_next: a lane's next one).
+                for (Int8 passed = active & (shadow_hi <= p); packet::any(passed); passed = active & (shadow_hi <= p))
+                    for (int l = 0; l < int(kTile); ++l)
+                        if (passed[l]) {
+                            State& st = row_rays.states[l];
+                            const bool more = ++st.shadow_next < st.shadow_count;
+                            shadow_lo[l] = more ? st.shadows[2 * st.shadow_next] : inf;
+                            shadow_hi[l] = more ? st.shadows[2 * st.shadow_next + 1] : inf;
+                        }
+                const Int8 shadowed = shadow_lo <= p;
+                Float8 q = p + max_piece;
+                q = q < b ? q : b;
+                const Float8 edge = shadowed ? shadow_hi : shadow_lo;
+                q = edge < q ? edge : q;
+                q = q > p ? q : b;  // a piece shorter than float's step: end the segment (adds nothing)
+                const Int8 lit_piece = active & ~shadowed;
+                if (packet::any(lit_piece)) {
+                    const Int8 shared = last_t == p;
+                    pieces.add(k, p, q, lit_piece, shared, packet::any(lit_piece & ~shared));
+                    last_t = lit_piece ? q : last_t;
+                }
+                p = active ? q : p;
+                active &= p < b;
+            }
+        }
+        // The depths at the points.
+        Float8 u0, du, v0, dv, s0, ds;
+        for (int l = 0; l < int(kTile); ++l) {
+            const SunDepthMap::Ray& m = row_rays.lanes[l].map;
+            u0[l] = m.u0;
+            du[l] = m.du;
+            v0[l] = m.v0;
+            dv[l] = m.dv;
+            s0[l] = m.s0;
+            ds[l] = m.ds;
+        }
+        if (sun_map_.empty())
+            std::fill(pieces.depth.begin(), pieces.depth.begin() + std::ptrdiff_t(8 * pieces.points), 0.0f);
+        else
+            for (std::size_t i = 0; i < pieces.points; ++i) {
+                const Float8 t = load8(pieces.t.data() + 8 * i);  // as SunJobs::add_point's lattice coordinates
+                simd::store8(pieces.depth.data() + 8 * i,
+                             sun_map_.optical_depth8(u0 + t * du, v0 + t * dv, s0 + t * ds, gather));
+            }
+        // The integrals: piece_integrals' closed form and halving test, each lane's light times its
+        // integral added in double, as add_job_light adds a job's (its float product, then the sum).
+        Float8 last_depth = zero;  // at each lane's last piece's end
+        Double4 total[3][2] = {};
+        Int8 taken{}, halved{};  // the pieces each lane took, and handed to the jobs (FastTraceCounts)
+        for (std::size_t i = 0; i < pieces.count; ++i) {
+            const SunJobs::LanePiece& piece = pieces.pieces[i];
+            const int k = piece.step;
+            const Float8 od_q = load8(pieces.depth.data() + 8 * piece.end_point);
+            const Float8 p = load8(piece.p), q = load8(piece.q);
+            const Int8 active = simd::load8(piece.active), shared = simd::load8(piece.shared);
+            const Float8 od_p = shared ? last_depth : load8(pieces.depth.data() + 8 * piece.start_point);
+            last_depth = active ? od_q : last_depth;
+            const Float8 sigma_t = steps.sigma_t[k], weight = steps.transmittance[k];
+            const Float8 len = q - p, change = od_q - od_p;
+            const Float8 x = sigma_t * len + change;
+            const Float8 attenuation = sigma_t * (p - steps.a[k]);
+            const Float8 at_p = exp_minus8(attenuation + od_p);
+            const Float8 value = at_p * len * phi_signed8(x, exp_minus8(x));
+            const Float8 magnitude = Float8(Int8(change) & 0x7fffffff);
+            const Int8 halve = active & (weight * at_p * magnitude > kSunPieceDepthChange);
+            const Int8 take = active & ~halve;
+            const auto add = [&](Double4 (&to)[2], const Float8& light) {
+                const Float8 v = take ? light * value : zero;
+                to[0] += __builtin_convertvector(__builtin_shufflevector(v, v, 0, 1, 2, 3), Double4);
+                to[1] += __builtin_convertvector(__builtin_shufflevector(v, v, 4, 5, 6, 7), Double4);
+            };
+            add(total[0], steps.light_r[k]);
+            add(total[1], steps.light_g[k]);
+            add(total[2], steps.light_b[k]);
+            taken -= take;
+            halved -= halve;
+            if (packet::any(halve))
+                for (int l = 0; l < int(kTile); ++l)
+                    if (halve[l]) {
+                        State& st = row_rays.states[l];
+                        st.transmittance = weight[l];
+                        add_sun_job(st, row_rays.lanes[l], p[l], q[l], steps.a[k][l], sigma_t[l],
+                                    Float4{0.0f, steps.light_r[k][l], steps.light_g[k][l], steps.light_b[k][l]});
+                    }
+        }
+        for (int l = 0; l < int(kTile); ++l)
+            if (lit_lanes[l]) {
+                dvec3& out = sums[row * int(kTile) + l];
+                out.x += total[0][l / 4][l % 4];
+                out.y += total[1][l / 4][l % 4];
+                out.z += total[2][l / 4][l % 4];
+            }
+        for (int l = 0; l < int(kTile); ++l) {
+            counts.lane_sun_pieces += std::uint64_t(taken[l]);
+            counts.lane_sun_pieces_halved += std::uint64_t(halved[l]);
+        }
+    }
+
+    // The ray's box shadows, found at its first lit segment (most rays meet no media).
+    void ready_box_shadows(State& st, const Ray& ray) const {
+        if (st.shadows_ready) return;
+        box_shadows(ray.d, ray.t_opaque, *ray.shadow_scratch, ray.sun_jobs->shadow_mask);
+        st.shadows = ray.shadow_scratch->data();
+        st.shadow_count = ray.shadow_scratch->size() / 2;
+        st.shadows_ready = true;
+    }
 
     // The accurate technique's sun light over the segment [a, b]: light * integral over [a, b] of
     // exp(-sigma_t (t - a)) T_sun(eye + t d) dt, where light = {0, T(a) sigma_s L_sun P(theta)}. T_sun is
@@ -875,13 +1057,7 @@ private:
     // tile's jobs (SunJobs), whose integrals resolve_sun_jobs takes after the tile's rays.
     void add_sun_pieces(State& st, const Ray& ray, float a, float b, float sigma_t, const Float4& light) const {
         const float max_piece = kSunPieceCells * sun_map_.cell();
-        if (!st.shadows_ready) {  // the ray's first lit segment: its box shadows (most rays meet no media)
-            box_shadows(ray.d, ray.t_opaque, *ray.shadow_scratch, ray.sun_jobs->shadow_mask);
-            st.shadows = ray.shadow_scratch->data();
-            st.shadow_count = ray.shadow_scratch->size() / 2;
-            st.shadows_ready = true;
-        }
-        SunJobs& jobs = *ray.sun_jobs;
+        ready_box_shadows(st, ray);
         float p = a;
         while (p < b) {
             while (st.shadow_next < st.shadow_count && st.shadows[2 * st.shadow_next + 1] <= p) ++st.shadow_next;
@@ -890,29 +1066,34 @@ private:
             if (st.shadow_next < st.shadow_count)
                 q = std::min(q, shadowed ? st.shadows[2 * st.shadow_next + 1] : st.shadows[2 * st.shadow_next]);
             if (!(q > p)) q = b;  // a piece shorter than float's step: end the segment (adds nothing)
-            if (!shadowed) {
-                jobs.make_room();
-                // A piece shares its start with this ray's piece before where that one ended there (the
-                // same lattice coordinates, so the same depth), wherever its point lies among the
-                // points of the rays that the packet walks interleave with it.
-                const std::size_t j = jobs.count++;
-                if (st.last_point != p) jobs.add_point(ray.map, p);
-                jobs.start_point[j] = std::uint32_t(st.last_point != p ? jobs.points - 1 : st.last_point_index);
-                jobs.add_point(ray.map, q);
-                jobs.end_point[j] = std::uint32_t(jobs.points - 1);
-                st.last_point = q;
-                st.last_point_index = jobs.points - 1;
-                jobs.p[j] = p;
-                jobs.length[j] = q - p;
-                jobs.sigma_t[j] = sigma_t;
-                jobs.attenuation[j] = sigma_t * (p - a);
-                jobs.weight[j] = st.transmittance;
-                jobs.ray[j] = ray.ray_id;
-                jobs.pixel[j] = ray.pixel;
-                jobs.light[j] = light;
-            }
+            if (!shadowed) add_sun_job(st, ray, p, q, a, sigma_t, light);
             p = q;
         }
+    }
+
+    // The lit piece [p, q] of the segment that began at a, with T(a) st.transmittance, as one of the
+    // tile's jobs.
+    void add_sun_job(State& st, const Ray& ray, float p, float q, float a, float sigma_t, const Float4& light) const {
+        SunJobs& jobs = *ray.sun_jobs;
+        jobs.make_room();
+        // A piece shares its start with this ray's piece before where that one ended there (the same
+        // lattice coordinates, so the same depth), wherever its point lies among the points of the rays
+        // whose jobs interleave with it.
+        const std::size_t j = jobs.count++;
+        if (st.last_point != p) jobs.add_point(ray.map, p);
+        jobs.start_point[j] = std::uint32_t(st.last_point != p ? jobs.points - 1 : st.last_point_index);
+        jobs.add_point(ray.map, q);
+        jobs.end_point[j] = std::uint32_t(jobs.points - 1);
+        st.last_point = q;
+        st.last_point_index = jobs.points - 1;
+        jobs.p[j] = p;
+        jobs.length[j] = q - p;
+        jobs.sigma_t[j] = sigma_t;
+        jobs.attenuation[j] = sigma_t * (p - a);
+        jobs.weight[j] = st.transmittance;
+        jobs.ray[j] = ray.ray_id;
+        jobs.pixel[j] = ray.pixel;
+        jobs.light[j] = light;
     }
 
 public:
@@ -1180,6 +1361,7 @@ struct alignas(64) TileScratch {
     packet::Spheres packet;
     packet::OrderedSpheres ordered;
     packet::OrderedEvents ordered_events;
+    packet::LitSteps lit_steps;  // a packet row's lit segments (the accurate technique)
     FastTraceCounts counts;  // this worker's tiles by walk (FastTraceOptions::counts)
     FastTracer::RayScratch ray;
     SunJobs sun_jobs;
@@ -1286,7 +1468,7 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
             for (int j = j0; j < j1; ++j)
                 one_ray |= std::uint64_t(f.tracer.template radiance_ordered_row<kLight>(
                                              w.ordered, tile_rays, j - j0, boxes, w.ray, w.sun_jobs, w.ordered_events,
-                                             gather, sums) &
+                                             w.lit_steps, gather, w.counts, sums) &
                                          columns)
                            << ((j - j0) * int(kTile));
         };
@@ -1302,7 +1484,8 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
         ++w.counts.packet_tiles;
         const auto rows = [&]<packet::Light kLight>() {
             for (int j = j0; j < j1; ++j)
-                f.tracer.template radiance_row<kLight>(w.packet, tile_rays, j - j0, boxes, w.ray, w.sun_jobs, sums);
+                f.tracer.template radiance_row<kLight>(w.packet, tile_rays, j - j0, boxes, w.ray, w.sun_jobs,
+                                                       w.lit_steps, gather, w.counts, sums);
         };
         switch (f.tracer.packet_light()) {
             case packet::Light::kPlain: rows.template operator()<packet::Light::kPlain>(); break;
@@ -1330,6 +1513,7 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
             }
         sums[p] = sum;
     }
+    w.counts.job_sun_pieces += w.sun_jobs.count;
     f.tracer.resolve_sun_jobs(w.sun_jobs, sums, gather);
     for (int j = j0; j < j1; ++j)
         for (int i = i0; i < i1; ++i)
@@ -1412,6 +1596,9 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
             options.counts->ordered_tiles += w.counts.ordered_tiles;
             options.counts->one_ray_tiles += w.counts.one_ray_tiles;
             options.counts->ordered_rays_alone += w.counts.ordered_rays_alone;
+            options.counts->lane_sun_pieces += w.counts.lane_sun_pieces;
+            options.counts->job_sun_pieces += w.counts.job_sun_pieces;
+            options.counts->lane_sun_pieces_halved += w.counts.lane_sun_pieces_halved;
         }
     }
 }

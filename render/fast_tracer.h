@@ -52,10 +52,13 @@ struct FastTraceScratch {
 
 // How a frame's tiles were walked (FastTraceOptions::counts): by the packet walk (at most 8 spheres),
 // the ordered walk (render/ordered_walk.h) or one ray at a time; and the rays of ordered tiles that
-// walked alone, their order being one the row's could not be put right into.
+// walked alone, their order being one the row's could not be put right into. Under the accurate
+// shadow technique: the sun pieces that packet rows took in their lanes, and those they handed to the
+// tiles' jobs to be halved; the jobs, those and the one-ray walk's pieces.
 struct FastTraceCounts {
     std::uint64_t packet_tiles = 0, ordered_tiles = 0, one_ray_tiles = 0;
     std::uint64_t ordered_rays_alone = 0;
+    std::uint64_t lane_sun_pieces = 0, lane_sun_pieces_halved = 0, job_sun_pieces = 0;
 };
 
 struct FastTraceOptions {

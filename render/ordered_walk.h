@@ -46,25 +46,27 @@ struct OrderedSpheres {
 // A row's events: per sphere n the lanes that meet it (`taken`) and the key bits of its entry and exit
 // in each; the shared order's two runs, as (the order lane's distance bits << 32) | (rank * 2 + exit);
 // then each lane's own events, slot k its k-th, keys and ids (one spare slot past the last).
+static_assert(LitSteps::kMaxSteps >= 2 * kMaxOrderedSpheres);
 struct OrderedEvents {
     Uint8 entry[kMaxOrderedSpheres], exit[kMaxOrderedSpheres];
     Int8 taken[kMaxOrderedSpheres];
     std::uint64_t entries[kMaxOrderedSpheres + 1], exits[kMaxOrderedSpheres + 1];
     Uint8 key[2 * kMaxOrderedSpheres + 1], id[2 * kMaxOrderedSpheres + 1];
-    // kAccurate's lit segments by slot, all lanes at once (`lit`: the lanes that have one), handed to
-    // the sink lane by lane after the walk: a lane's in its order, and no lane's values taken out of
-    // the registers inside the walk.
-    Float8 lit_a[2 * kMaxOrderedSpheres], lit_b[2 * kMaxOrderedSpheres], lit_sigma_t[2 * kMaxOrderedSpheres];
-    Float8 lit_transmittance[2 * kMaxOrderedSpheres];
-    Float8 lit_r[2 * kMaxOrderedSpheres], lit_g[2 * kMaxOrderedSpheres], lit_bl[2 * kMaxOrderedSpheres];
-    Int8 lit[2 * kMaxOrderedSpheres];
 };
 
-// Bit l set where lane l of the mask is set.
+// Bit l set where lane l of the mask is set (all ones or 0): SSE's sign-bit masks of the two halves,
+// on any x86-64, where a loop over the lanes took eight extractions.
 [[gnu::always_inline]] inline int simd_mask(const Int8& mask) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    using Float4 = float __attribute__((vector_size(16)));
+    const Float8 f = Float8(mask);
+    const Float4 lo = __builtin_shufflevector(f, f, 0, 1, 2, 3), hi = __builtin_shufflevector(f, f, 4, 5, 6, 7);
+    return _mm_movemask_ps(__m128(lo)) | (_mm_movemask_ps(__m128(hi)) << 4);
+#else
     int bits = 0;
     for (int l = 0; l < 8; ++l) bits |= (mask[l] != 0 ? 1 : 0) << l;
     return bits;
+#endif
 }
 
 // The smallest of eight unsigned lanes.
@@ -89,12 +91,12 @@ struct OrderedEvents {
 
 // The walk of tile row `row`'s rays through the spheres. Lanes whose order the passes could not put
 // right come back in `failed` (all ones), their results undefined; the others' as packet::walk's.
-// `events` is the row's scratch; `gather` reads a table by lane (render/simd8.h). `sink` takes
-// kAccurate's lit segments, in each lane's order.
-template <Light kLight, class Gather, class Sink>
+// `events` is the row's scratch; `gather` reads a table by lane (render/simd8.h). kAccurate's lit
+// segments go to `lit_steps`.
+template <Light kLight, class Gather>
 [[gnu::always_inline]] inline Result ordered_walk(const OrderedSpheres& spheres, const Rays& rays, int row,
                                                   float min_transmittance, OrderedEvents& events, Int8& failed,
-                                                  const Gather& gather, const Sink& sink) {
+                                                  const Gather& gather, LitSteps& lit_steps) {
     constexpr std::uint32_t kNone = 0x7f800000u;  // +inf: no event
     constexpr int kOrderLane = 4;                 // whose distances order the events where it has them
     const Float8 zero{};
@@ -178,16 +180,10 @@ template <Light kLight, class Gather, class Sink>
         const Float8 len = t - t_prev;
         const Int8 segment = live & (len > 0.0f) & (inside > 0);
         Int8 stops{};
-        if constexpr (kLight == Light::kAccurate) events.lit[k] = segment;
+        if constexpr (kLight == Light::kAccurate) lit_steps.lit[k] = segment;
         if (any(segment)) {
             const auto lit = [&](const Float8& light_r, const Float8& light_g, const Float8& light_b) {
-                events.lit_a[k] = t_prev;
-                events.lit_b[k] = t;
-                events.lit_sigma_t[k] = media.sigma_t;
-                events.lit_transmittance[k] = out.transmittance;
-                events.lit_r[k] = light_r;
-                events.lit_g[k] = light_g;
-                events.lit_bl[k] = light_b;
+                lit_steps.record(k, segment, t_prev, t, media.sigma_t, out.transmittance, light_r, light_g, light_b);
             };
             stops = integrate_segment<kLight>(out, media, rays, segment, len, min_transmittance, lit);
             stopped |= stops;
@@ -208,13 +204,7 @@ template <Light kLight, class Gather, class Sink>
         });
     }
     out.stopped = stopped;
-    if constexpr (kLight == Light::kAccurate)
-        for (int l = 0; l < 8; ++l)
-            for (int k = 0; k < walked; ++k)
-                if (events.lit[k][l])
-                    sink(LitSegment{l, events.lit_a[k][l], events.lit_b[k][l], events.lit_sigma_t[k][l],
-                                    events.lit_r[k][l], events.lit_g[k][l], events.lit_bl[k][l],
-                                    events.lit_transmittance[k][l]});
+    if constexpr (kLight == Light::kAccurate) lit_steps.steps = walked;
     return out;
 }
 

@@ -82,18 +82,31 @@ struct Rays {
     Int8 listed[kMaxSpheres];
 };
 
-// What kAccurate hands its sink for each lit segment [a, b] of lane `lane`: as the one-ray walk's
-// add_sun_pieces, sigma_t, the light {sigma_s L_sun P(theta) T(a)} and the transmittance T(a).
-struct LitSegment {
-    int lane;
-    float a, b, sigma_t;
-    float light_r, light_g, light_b;
-    float transmittance;
-};
+// kAccurate's lit segments of a row's walk, step by step, all lanes at once: at step k the lanes of
+// lit[k] integrated the segment [a, b] with sigma_t, the light {sigma_s L_sun P(theta) T(a)} and the
+// transmittance T(a), as the one-ray walk's add_sun_pieces takes them. The walk only writes them down
+// (no lane's values taken out of the registers inside it); the tracer takes the sun's light over them
+// after the walk (FastTracer::lit_steps_light), eight lanes at a time.
+struct LitSteps {
+    static constexpr int kMaxSteps = 128;  // 2 * kMaxOrderedSpheres (render/ordered_walk.h)
+    Float8 a[kMaxSteps], b[kMaxSteps], sigma_t[kMaxSteps], transmittance[kMaxSteps];
+    Float8 light_r[kMaxSteps], light_g[kMaxSteps], light_b[kMaxSteps];
+    Int8 lit[kMaxSteps];
+    int steps = 0;  // the steps walked: lit[k] holds for k < steps
 
-// A sink for the walks that have no sun pieces.
-struct NoSink {
-    void operator()(const LitSegment&) const {}
+    // Step k's lit segments, in the lanes of `segment`.
+    [[gnu::always_inline]] void record(int k, const Int8& segment, const Float8& from, const Float8& to,
+                                       const Float8& sigma, const Float8& t_at_from, const Float8& r,
+                                       const Float8& g, const Float8& bl) {
+        lit[k] = segment;
+        a[k] = from;
+        b[k] = to;
+        sigma_t[k] = sigma;
+        transmittance[k] = t_at_from;
+        light_r[k] = r;
+        light_g[k] = g;
+        light_b[k] = bl;
+    }
 };
 
 // What the media send to the eye in each lane, the transmittance left, and whether the ray stopped
@@ -234,11 +247,11 @@ template <class S>
 }
 
 // The walk of the rays through the spheres, P event slots per lane (P >= 2 * spheres.count, a power of
-// two). min_transmittance: the scene's early stop. `sink` takes kAccurate's lit segments, in each
-// lane's order.
-template <int P, Light kLight, class Sink>
+// two). min_transmittance: the scene's early stop. kAccurate's lit segments go to `lit_steps` (which
+// the other lights leave alone).
+template <int P, Light kLight>
 [[gnu::always_inline]] inline Result walk(const Spheres& spheres, const Rays& rays, float min_transmittance,
-                                          const Sink& sink) {
+                                          LitSteps& lit_steps) {
     static_assert(P >= 2 && P <= 2 * kMaxSpheres && (P & (P - 1)) == 0);
     // The events: a distance's bits (>= +0 where the chord is taken, so they order as the distances
     // do; -0 orders last, as in the one-ray walk's keys) and rank * 2 + exit. A slot with no event holds
@@ -276,21 +289,21 @@ template <int P, Light kLight, class Sink>
     LaneMedia media;
     Float8 t_prev{};
     Int8 inside{}, stopped{};
+    int walked = 0;  // the slots walked
     for (int e = 0; e < P; ++e) {
         const Int8 live = (key[e] < kNone) & ~stopped;
         // Every lane has no event left: the slots after this one hold none either.
         if (!any(live)) break;
+        walked = e + 1;
         const Float8 t = Float8(key[e]);
         const Float8 len = t - t_prev;
         const Int8 segment = live & (len > 0.0f) & (inside > 0);
         Int8 stops{};
+        if constexpr (kLight == Light::kAccurate) lit_steps.lit[e] = segment;
         // No lane in a medium (every ray's first event, a gap between spheres): nothing to integrate.
         if (any(segment)) {
             const auto lit = [&](const Float8& light_r, const Float8& light_g, const Float8& light_b) {
-                for (int l = 0; l < 8; ++l)
-                    if (segment[l])
-                        sink(LitSegment{l, t_prev[l], t[l], media.sigma_t[l], light_r[l], light_g[l], light_b[l],
-                                        out.transmittance[l]});
+                lit_steps.record(e, segment, t_prev, t, media.sigma_t, out.transmittance, light_r, light_g, light_b);
             };
             stops = integrate_segment<kLight>(out, media, rays, segment, len, min_transmittance, lit);
             stopped |= stops;
@@ -301,6 +314,7 @@ template <int P, Light kLight, class Sink>
         step_media<kLight>(media, inside, step, Int8(id[e] & 1u),
                            [&](Quantity q) { return simd::lookup8(media_table(spheres, q), rank); });
     }
+    if constexpr (kLight == Light::kAccurate) lit_steps.steps = walked;
     out.stopped = stopped;
     return out;
 }

@@ -25,6 +25,11 @@ using Int8 = std::int32_t __attribute__((vector_size(32)));
     std::memcpy(&v, p, sizeof v);
     return v;
 }
+[[gnu::always_inline]] inline Int8 load8(const std::int32_t* p) {
+    Int8 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
 [[gnu::always_inline]] inline void store8(float* p, const Float8& v) { std::memcpy(p, &v, sizeof v); }
 [[gnu::always_inline]] inline void store8(std::int32_t* p, const Int8& v) { std::memcpy(p, &v, sizeof v); }
 

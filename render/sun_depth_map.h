@@ -80,47 +80,53 @@ public:
         return ab + fv * (ce - ab);
     }
 
-    // optical_depth at n points given in lattice coordinates (a Ray's at some t), into out, eight at a
-    // time (render/simd8.h): the same interpolation without a branch, its eight vertices read by
-    // `gather`, a pair along s at a time (simd::GatherByLanes, or GatherAvx2 in code compiled for AVX2). A point outside the
-    // columns (or NaN) reads 0, as optical_depth's. The arrays hold n rounded up to a multiple of 8.
+    // optical_depth at eight points given in lattice coordinates (a Ray's at some t), one a lane
+    // (render/simd8.h): the same interpolation without a branch, its eight vertices read by `gather`,
+    // a pair along s at a time (simd::GatherByLanes, or GatherAvx2 in code compiled for AVX2). A point
+    // outside the columns (or NaN) reads 0, as optical_depth's. Not for an empty map.
+    template <class Gather>
+    [[gnu::always_inline]] simd::Float8 optical_depth8(simd::Float8 u, simd::Float8 v, simd::Float8 s,
+                                                       const Gather& gather) const {
+        using simd::Float8;
+        using simd::Int8;
+        const Float8 zero{};
+        const Int8 inside = (u >= 0.0f) & (v >= 0.0f) & (u < last_u_) & (v < last_v_);
+        // Outside, vertex (0, 0) is read (and its value dropped) in place of one that may not exist.
+        u = inside ? u : zero;
+        v = inside ? v : zero;
+        s = s > 0.0f ? s : zero;  // NaN too
+        s = s < last_s_ ? s : zero + last_s_;
+        const Int8 i = __builtin_convertvector(u, Int8), j = __builtin_convertvector(v, Int8);
+        Int8 k = __builtin_convertvector(s, Int8);
+        k = k < ns_ - 2 ? k : Int8{} + (ns_ - 2);
+        const Float8 fu = u - __builtin_convertvector(i, Float8), fv = v - __builtin_convertvector(j, Float8),
+                     fs = s - __builtin_convertvector(k, Float8);
+        const Int8 c = (j * nu_ + i) * ns_ + k;
+        const float* depth = depth_.get();
+        // The eight vertices: along s (+1), u (+ns) and v (+stride_v).
+        const auto along_s = [&](int offset) {
+            Float8 lo, hi;
+            gather.pair(depth, c + offset, lo, hi);
+            return lo + fs * (hi - lo);
+        };
+        const Float8 a = along_s(0), b = along_s(ns_), e = along_s(stride_v_), f = along_s(stride_v_ + ns_);
+        const Float8 ab = a + fu * (b - a), ef = e + fu * (f - e);
+        const Float8 value = ab + fv * (ef - ab);
+        return inside ? value : zero;
+    }
+
+    // optical_depth8 at n points, into out, eight at a time (0 where the map is empty). The arrays hold
+    // n rounded up to a multiple of 8.
     template <class Gather>
     [[gnu::always_inline]] void optical_depths(const float* gu, const float* gv, const float* gs, float* out,
                                                std::size_t n, const Gather& gather) const {
-        using simd::Float8;
-        using simd::Int8;
         const std::size_t padded = (n + 7) / 8 * 8;
         if (empty()) {
             std::fill(out, out + padded, 0.0f);
             return;
         }
-        const float* depth = depth_.get();
-        const Float8 zero{};
-        for (std::size_t m = 0; m < padded; m += 8) {
-            Float8 u = simd::load8(gu + m), v = simd::load8(gv + m), s = simd::load8(gs + m);
-            const Int8 inside = (u >= 0.0f) & (v >= 0.0f) & (u < last_u_) & (v < last_v_);
-            // Outside, vertex (0, 0) is read (and its value dropped) in place of one that may not exist.
-            u = inside ? u : zero;
-            v = inside ? v : zero;
-            s = s > 0.0f ? s : zero;  // NaN too
-            s = s < last_s_ ? s : zero + last_s_;
-            const Int8 i = __builtin_convertvector(u, Int8), j = __builtin_convertvector(v, Int8);
-            Int8 k = __builtin_convertvector(s, Int8);
-            k = k < ns_ - 2 ? k : Int8{} + (ns_ - 2);
-            const Float8 fu = u - __builtin_convertvector(i, Float8), fv = v - __builtin_convertvector(j, Float8),
-                         fs = s - __builtin_convertvector(k, Float8);
-            const Int8 c = (j * nu_ + i) * ns_ + k;
-            // The eight vertices: along s (+1), u (+ns) and v (+stride_v).
-            const auto along_s = [&](int offset) {
-                Float8 lo, hi;
-                gather.pair(depth, c + offset, lo, hi);
-                return lo + fs * (hi - lo);
-            };
-            const Float8 a = along_s(0), b = along_s(ns_), e = along_s(stride_v_), f = along_s(stride_v_ + ns_);
-            const Float8 ab = a + fu * (b - a), ef = e + fu * (f - e);
-            const Float8 value = ab + fv * (ef - ab);
-            simd::store8(out + m, inside ? value : zero);
-        }
+        for (std::size_t m = 0; m < padded; m += 8)
+            simd::store8(out + m, optical_depth8(simd::load8(gu + m), simd::load8(gv + m), simd::load8(gs + m), gather));
     }
 
 private:

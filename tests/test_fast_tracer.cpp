@@ -258,9 +258,23 @@ void expect_the_one_ray_walk(const std::string& name, const Scene& s, const Chec
     }
 }
 
+// Under the accurate technique the packet rows take their sun pieces in their lanes (lit_steps_light),
+// and hand a piece whose depth changes fast to the jobs to be halved: both happened.
+void expect_lane_sun_pieces(const std::string& name, const Scene& s, const FastTraceCounts& counts,
+                            std::uint64_t& halved) {
+    if (!s.lighting.shadows || s.render.shadow_technique != ShadowTechnique::Accurate) return;
+    EXPECT_GT(counts.lane_sun_pieces, 0u) << name;
+    EXPECT_GE(counts.job_sun_pieces, counts.lane_sun_pieces_halved) << name;
+    halved += counts.lane_sun_pieces_halved;
+}
+
 TEST(FastTracer, PacketWalkIsTheOneRayWalk) {
+    std::uint64_t halved = 0;
     for (const auto& [name, s] : few_sphere_scenes()) {
-        expect_the_one_ray_walk(name, s, [&](const FastTraceCounts& counts) { EXPECT_GT(counts.packet_tiles, 0u) << name; });
+        expect_the_one_ray_walk(name, s, [&](const FastTraceCounts& counts) {
+            EXPECT_GT(counts.packet_tiles, 0u) << name;
+            expect_lane_sun_pieces(name, s, counts, halved);
+        });
         if (s.lighting.shadows && s.render.shadow_technique == ShadowTechnique::Accurate) continue;  // its own bounds
         ReferenceOptions options;
         if (s.lighting.shadows) options.shadows = ReferenceShadows::PerSphere;
@@ -268,6 +282,7 @@ TEST(FastTracer, PacketWalkIsTheOneRayWalk) {
         EXPECT_EQ(d.pixels_over, 0u) << name << ": " << describe(d);
         EXPECT_GT(d.peak, 0.0) << name;
     }
+    EXPECT_GT(halved, 0u);
 }
 
 // Fog: a few dozen large spheres over a ground, each tile listing 9-64 of them that cover it, which the
@@ -299,7 +314,7 @@ NamedScenes fog_scenes() {
 }
 
 TEST(FastTracer, OrderedWalkIsTheOneRayWalk) {
-    std::uint64_t rays_alone = 0;
+    std::uint64_t rays_alone = 0, halved = 0;
     for (const auto& [name, s] : fog_scenes()) {
         expect_the_one_ray_walk(name, s, [&](const FastTraceCounts& counts) {
             // The scene is what it is meant to be: a third of its tiles or more walked in order (the
@@ -308,10 +323,12 @@ TEST(FastTracer, OrderedWalkIsTheOneRayWalk) {
                 << name << ": " << counts.ordered_tiles << " tiles in order, " << counts.one_ray_tiles << " by rays, "
                 << counts.packet_tiles << " by packets";
             rays_alone += counts.ordered_rays_alone;
+            expect_lane_sun_pieces(name, s, counts, halved);
         });
     }
     // Some rows' orders could not be put right, and their rays walked alone.
     EXPECT_GT(rays_alone, 0u);
+    EXPECT_GT(halved, 0u);
 }
 
 TEST(FastTracer, BitIdenticalForAnyThreadCount) {

@@ -637,6 +637,7 @@ private:
     void walk_spheres(const std::uint32_t* entries, std::size_t count, const std::vector<PixelRect>& rects, int x0,
                       int y0, Out& out) const {
         out.count = int(count);
+        out.emits = false;
         for (std::size_t n = 0; n < count; ++n) {
             const std::uint32_t k = entries[2 * n];
             const TileSphere& m = geometry_[k];
@@ -665,6 +666,7 @@ private:
             out.emission_r[rank] = lit.emission[1];
             out.emission_g[rank] = lit.emission[2];
             out.emission_b[rank] = lit.emission[3];
+            out.emits |= lit.emission[1] != 0.0f || lit.emission[2] != 0.0f || lit.emission[3] != 0.0f;
         }
     }
 

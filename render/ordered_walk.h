@@ -41,6 +41,7 @@ struct OrderedSpheres {
         sigma_b[kMaxOrderedSpheres];
     float sun_r[kMaxOrderedSpheres], sun_g[kMaxOrderedSpheres], sun_b[kMaxOrderedSpheres];
     float emission_r[kMaxOrderedSpheres], emission_g[kMaxOrderedSpheres], emission_b[kMaxOrderedSpheres];
+    bool emits = false;  // whether any of them has emission
 };
 
 // A row's events: per sphere n the lanes that meet it (`taken`) and the key bits of its entry and exit
@@ -198,7 +199,7 @@ template <Light kLight, class Gather>
         const std::uint32_t first_id = id[__builtin_ctz(unsigned(simd_mask(step)) | 0x100u) & 7];
         const bool uniform = !any(step & (Int8(id) != int(first_id)));
         const int first_rank = int(first_id >> 1u);
-        step_media<kLight>(media, inside, step, Int8(id & 1u), [&](Quantity q) {
+        step_media<kLight>(media, inside, step, Int8(id & 1u), spheres.emits, [&](Quantity q) {
             const float* table = media_table(spheres, q);
             return uniform ? zero + table[first_rank] : gather.one(table, rank);
         });

@@ -69,6 +69,7 @@ struct Spheres {
     Float8 sigma_t{}, sigma_r{}, sigma_g{}, sigma_b{};
     Float8 sun_r{}, sun_g{}, sun_b{};
     Float8 emission_r{}, emission_g{}, emission_b{};
+    bool emits = false;  // whether any of them has emission
 };
 
 // Eight rays, lane by lane: unit direction, the opaque surface's distance, L_ambient + L_sun P(theta),
@@ -193,9 +194,11 @@ template <Light kLight, class Lit>
 // Enter or leave the event's medium in the lanes of `step` (exit: 1 where it is an exit): the
 // one-ray walk's sums, lane by lane, each plus or minus value(quantity), the medium's in each lane.
 // Leaving clamps at 0; back in free space (inside, after the step, 0) the sums are exactly 0.
+// `emits`: whether any of the tile's spheres has emission; where none has, its sums stay 0 without
+// being stepped (three of the seven sums of a shadowed fog's step).
 template <Light kLight, class Value>
 [[gnu::always_inline]] inline void step_media(LaneMedia& m, Int8& inside, const Int8& step, const Int8& exit,
-                                              const Value& value) {
+                                              bool emits, const Value& value) {
     const Float8 zero{};
     const Int8 exit_mask = Int8{} - exit;
     inside = step ? inside + 1 - 2 * exit : inside;
@@ -216,7 +219,7 @@ template <Light kLight, class Value>
         advance(m.sun_g, Quantity::kSunG);
         advance(m.sun_b, Quantity::kSunB);
     }
-    if constexpr (kLight != Light::kPlain) {
+    if (kLight != Light::kPlain && emits) {
         advance(m.emission_r, Quantity::kEmissionR);
         advance(m.emission_g, Quantity::kEmissionG);
         advance(m.emission_b, Quantity::kEmissionB);
@@ -311,7 +314,7 @@ template <int P, Light kLight>
         const Int8 step = live & ~stops;
         t_prev = step ? t : t_prev;
         const Int8 rank = Int8(id[e] >> 1u);
-        step_media<kLight>(media, inside, step, Int8(id[e] & 1u),
+        step_media<kLight>(media, inside, step, Int8(id[e] & 1u), spheres.emits,
                            [&](Quantity q) { return simd::lookup8(media_table(spheres, q), rank); });
     }
     if constexpr (kLight == Light::kAccurate) lit_steps.steps = walked;

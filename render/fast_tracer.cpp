@@ -222,10 +222,9 @@ struct SunJobs {
     // A packet row's pieces, eight lanes at a time (FastTracer::lit_steps_light): each one [p, q] in the
     // lanes of `active`, of the row's lit segments at `step` (packet::LitSteps); its depth at q read at
     // point end_point, and at p from the lane's piece before where `shared` (it ended at p), else at
-    // point start_point.
-    // In arrays, not Float8 (load8, store8): compiled for any x86-64, alignof(Float8) is 16, so a
-    // std::vector of structs that hold one allocates at 16 bytes, where the AVX2 code's aligned moves
-    // fault.
+    // point start_point. In float arrays, not Float8 (load8, store8): compiled for any x86-64,
+    // alignof(Float8) is 16, so a std::vector of structs that hold one allocates at 16 bytes, where
+    // the AVX2 code's aligned moves fault.
     struct LanePiece {
         float p[8], q[8];
         std::int32_t active[8], shared[8];
@@ -584,7 +583,9 @@ public:
     }
 
     // The radiance of tile row `row`'s eight pixels by the packet walk, into sums (by tile pixel, as
-    // radiance of each would give it); `boxes`, `scratch` and `jobs` as radiance's. kLight:
+    // radiance of each would give it); `boxes`, `scratch` and `jobs` as radiance's; under the accurate
+    // technique the row's lit segments go through `lit_steps` to lit_steps_light (`gather` reads the sun
+    // map there, `counts` counts its pieces). kLight:
     // packet_light() (a template argument, so that each light's ray set-up is radiance's to the
     // operation: where L_sun P(theta) has no other use, its sum with L_ambient fuses).
     template <packet::Light kLight, class Gather>

@@ -30,8 +30,9 @@ constexpr int kMaxSpheres = 8;
 // Which light the walk integrates, as the one-ray walk's integrate(): kPlain, a scene without shadows
 // or emission (sigma_s L_s); kPerSphere, the per-sphere technique (the sun's light scattered by the
 // part of sigma_s that the sun lights at the spheres' centres), emission included, and any scene with
-// emission but no shadows; kAccurate, the accurate technique, whose sun light goes to the tile's jobs
-// (a Sink, one call per lit segment of a lane) and whose walk adds the ambient light and emission.
+// emission but no shadows; kAccurate, the accurate technique, whose lit segments the walk writes down
+// (LitSteps) for the tracer to take the sun's light over, and whose walk adds the ambient light and
+// emission.
 enum class Light { kPlain, kPerSphere, kAccurate };
 
 // The quantities of a medium that a walk sums per lane (LaneMedia), as its tables name them.

@@ -1130,11 +1130,28 @@ public:
         SunJobs::Pieces& halving = jobs.halving;
         halving.reserve(n);
         std::size_t to_refine = 0;
+        // A pixel's jobs mostly come one after another (a ray's pieces), so their light is summed in a
+        // register while the pixel stays the same: added to the pixel's sum in memory job by job, each
+        // addition waited for the one before to be stored and read back.
+        std::uint32_t pixel = jobs.pixel[0];
+        Double4 run{};  // lanes 1-3, as a job's light
+        const auto add_run = [&] {
+            dvec3& out = pixel_sums[pixel];
+            out.x += run[1];
+            out.y += run[2];
+            out.z += run[3];
+        };
         for (std::size_t i = 0; i < n; ++i) {
-            add_job_light(jobs, pixel_sums, i, integral[i]);
+            if (jobs.pixel[i] != pixel) {
+                add_run();
+                run = Double4{};
+                pixel = jobs.pixel[i];
+            }
+            run += __builtin_convertvector(jobs.light[i] * integral[i], Double4);
             halving.owner[to_refine] = std::uint32_t(i);
             to_refine -= std::size_t(std::int64_t(refine[i]));  // refine[i] is -1 or 0
         }
+        add_run();
         for (std::size_t r = 0; r < to_refine; ++r) copy_piece(jobs, halving.owner[r], halving, r, halving.owner[r]);
         refine_sun_jobs(jobs, to_refine, pixel_sums, gather);
     }

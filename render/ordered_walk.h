@@ -177,20 +177,8 @@ template <Light kLight, class Gather>
         // No lane has an event left: neither has it in a later slot.
         if (!any(live)) break;
         walked = k + 1;
-        const Float8 t = Float8(events.key[k]);
-        const Float8 len = t - t_prev;
-        const Int8 segment = live & (len > 0.0f) & (inside > 0);
-        Int8 stops{};
-        if constexpr (kLight == Light::kAccurate) lit_steps.lit[k] = segment;
-        if (any(segment)) {
-            const auto lit = [&](const Float8& light_r, const Float8& light_g, const Float8& light_b) {
-                lit_steps.record(k, segment, t_prev, t, media.sigma_t, out.transmittance, light_r, light_g, light_b);
-            };
-            stops = integrate_segment<kLight>(out, media, rays, segment, len, min_transmittance, lit);
-            stopped |= stops;
-        }
-        const Int8 step = live & ~stops;
-        t_prev = step ? t : t_prev;
+        const Int8 step = walk_segment<kLight>(k, Float8(events.key[k]), live, inside, media, rays, min_transmittance,
+                                               out, t_prev, stopped, lit_steps);
         // A lane past its events reads rank 0's media and keeps its sums (step is 0 there). Most steps
         // take one sphere in every lane that steps (where the lanes' orders agree and none skipped a
         // sphere the others meet): its media then by one load each, not by gathers.

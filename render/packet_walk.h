@@ -192,6 +192,31 @@ template <Light kLight, class Lit>
     return segment & (out.transmittance < min_transmittance);
 }
 
+// A walk's step k to its events at t, in the lanes of `live`: the segment since t_prev integrated
+// where a lane is in a medium (integrate_segment; kAccurate's lit segments written down as step k of
+// lit_steps), the lanes it stops added to `stopped`. Returns the lanes that step onto their events
+// (live and not stopped), t_prev moved to t there. One copy for the packet and ordered walks.
+template <Light kLight>
+[[gnu::always_inline]] inline Int8 walk_segment(int k, const Float8& t, const Int8& live, const Int8& inside,
+                                                const LaneMedia& media, const Rays& rays, float min_transmittance,
+                                                Result& out, Float8& t_prev, Int8& stopped, LitSteps& lit_steps) {
+    const Float8 len = t - t_prev;
+    const Int8 segment = live & (len > 0.0f) & (inside > 0);
+    Int8 stops{};
+    if constexpr (kLight == Light::kAccurate) lit_steps.lit[k] = segment;
+    // No lane in a medium (every ray's first event, a gap between spheres): nothing to integrate.
+    if (any(segment)) {
+        const auto lit = [&](const Float8& light_r, const Float8& light_g, const Float8& light_b) {
+            lit_steps.record(k, segment, t_prev, t, media.sigma_t, out.transmittance, light_r, light_g, light_b);
+        };
+        stops = integrate_segment<kLight>(out, media, rays, segment, len, min_transmittance, lit);
+        stopped |= stops;
+    }
+    const Int8 step = live & ~stops;
+    t_prev = step ? t : t_prev;
+    return step;
+}
+
 // Enter or leave the event's medium in the lanes of `step` (exit: 1 where it is an exit): the
 // one-ray walk's sums, lane by lane, each plus or minus value(quantity), the medium's in each lane.
 // Leaving clamps at 0; back in free space (inside, after the step, 0) the sums are exactly 0.
@@ -299,21 +324,8 @@ template <int P, Light kLight>
         // Every lane has no event left: the slots after this one hold none either.
         if (!any(live)) break;
         walked = e + 1;
-        const Float8 t = Float8(key[e]);
-        const Float8 len = t - t_prev;
-        const Int8 segment = live & (len > 0.0f) & (inside > 0);
-        Int8 stops{};
-        if constexpr (kLight == Light::kAccurate) lit_steps.lit[e] = segment;
-        // No lane in a medium (every ray's first event, a gap between spheres): nothing to integrate.
-        if (any(segment)) {
-            const auto lit = [&](const Float8& light_r, const Float8& light_g, const Float8& light_b) {
-                lit_steps.record(e, segment, t_prev, t, media.sigma_t, out.transmittance, light_r, light_g, light_b);
-            };
-            stops = integrate_segment<kLight>(out, media, rays, segment, len, min_transmittance, lit);
-            stopped |= stops;
-        }
-        const Int8 step = live & ~stops;
-        t_prev = step ? t : t_prev;
+        const Int8 step = walk_segment<kLight>(e, Float8(key[e]), live, inside, media, rays, min_transmittance, out,
+                                               t_prev, stopped, lit_steps);
         const Int8 rank = Int8(id[e] >> 1u);
         step_media<kLight>(media, inside, step, Int8(id[e] & 1u), spheres.emits,
                            [&](Quantity q) { return simd::lookup8(media_table(spheres, q), rank); });

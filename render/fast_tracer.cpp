@@ -989,7 +989,7 @@ private:
                 simd::store8(pieces.depth.data() + 8 * i,
                              sun_map_.optical_depth8(u0 + t * du, v0 + t * dv, s0 + t * ds, gather));
             }
-        // The integrals: piece_integrals' closed form and halving test, each lane's light times its
+        // The integrals: piece_integral8's closed form and halving test, each lane's light times its
         // integral added in double, as add_job_light adds a job's (its float product, then the sum).
         Float8 last_depth = zero;  // at each lane's last piece's end
         Double4 total[3][2] = {};
@@ -1003,13 +1003,9 @@ private:
             const Float8 od_p = shared ? last_depth : load8(pieces.depth.data() + 8 * piece.start_point);
             last_depth = active ? od_q : last_depth;
             const Float8 sigma_t = steps.sigma_t[k], weight = steps.transmittance[k];
-            const Float8 len = q - p, change = od_q - od_p;
-            const Float8 x = sigma_t * len + change;
-            const Float8 attenuation = sigma_t * (p - steps.a[k]);
-            const Float8 at_p = exp_minus8(attenuation + od_p);
-            const Float8 value = at_p * len * phi_signed8(x, exp_minus8(x));
-            const Float8 magnitude = Float8(Int8(change) & 0x7fffffff);
-            const Int8 halve = active & (weight * at_p * magnitude > kSunPieceDepthChange);
+            Int8 halve;
+            const Float8 value = piece_integral8(od_p, od_q, q - p, sigma_t, sigma_t * (p - steps.a[k]), weight, halve);
+            halve &= active;
             const Int8 take = active & ~halve;
             const auto add = [&](Double4 (&to)[2], const Float8& light) {
                 const Float8 v = take ? light * value : zero;
@@ -1190,16 +1186,27 @@ private:
                                                        const float* weight, std::size_t padded, float* integral,
                                                        std::int32_t* refine) {
         for (std::size_t i = 0; i < padded; i += 8) {
-            const Float8 op = load8(od_p + i), oq = load8(od_q + i), len = load8(length + i);
-            const Float8 change = oq - op;
-            const Float8 x = load8(sigma_t + i) * len + change;
-            // The integrand at p, exp(-sigma_t (p - a) - depth(p)); exp(-x) takes it to q.
-            const Float8 at_p = exp_minus8(load8(attenuation + i) + op);
-            const Float8 value = at_p * len * phi_signed8(x, exp_minus8(x));
-            const Float8 magnitude = Float8(Int8(change) & 0x7fffffff);
-            simd::store8(integral + i, value);
-            simd::store8(refine + i, load8(weight + i) * at_p * magnitude > kSunPieceDepthChange);
+            Int8 halve;
+            simd::store8(integral + i, piece_integral8(load8(od_p + i), load8(od_q + i), load8(length + i),
+                                                       load8(sigma_t + i), load8(attenuation + i), load8(weight + i),
+                                                       halve));
+            simd::store8(refine + i, halve);
         }
+    }
+
+    // Eight pieces' integrals, piece_integrals' closed form: depths od_p and od_q at the ends, length
+    // len, sigma_t, attenuation sigma_t (p - a), weight T(a); whether each calls for halving into
+    // `halve` (all ones, or 0).
+    [[gnu::always_inline]] static Float8 piece_integral8(const Float8& od_p, const Float8& od_q, const Float8& len,
+                                                         const Float8& sigma_t, const Float8& attenuation,
+                                                         const Float8& weight, Int8& halve) {
+        const Float8 change = od_q - od_p;
+        const Float8 x = sigma_t * len + change;
+        // The integrand at p, exp(-sigma_t (p - a) - depth(p)); exp(-x) takes it to q.
+        const Float8 at_p = exp_minus8(attenuation + od_p);
+        const Float8 magnitude = Float8(Int8(change) & 0x7fffffff);
+        halve = weight * at_p * magnitude > kSunPieceDepthChange;
+        return at_p * len * phi_signed8(x, exp_minus8(x));
     }
 
     // The refinement, where the depth changes fast: each of the `count` pieces in jobs.halving is

@@ -39,30 +39,13 @@ constexpr std::uint32_t kTile = 8;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// Four floats in one SSE register (a GCC and Clang vector extension): the running sums an event
-// changes, and the radiance they add, step together, one lane per sum, each lane rounding as the
-// scalar code it replaces did. Lane 0 holds sigma_t where a sum has it, and 0 elsewhere.
-using Float4 = float __attribute__((vector_size(16)));
-using Int4 = std::int32_t __attribute__((vector_size(16)));  // a lane mask: 0 or all ones
-
-// Four doubles in one AVX register, or two SSE registers (a GCC and Clang vector extension).
-using Double4 = double __attribute__((vector_size(32)));
-
-// The square root of each lane (>= 0), correctly rounded as std::sqrt: SSE2's, on any x86-64, a half
-// at a time (the halves taken apart and put together in registers: through memory, the 32-byte load
-// of two 16-byte stores stalled the store buffer).
-[[gnu::always_inline]] inline Double4 sqrt4(const Double4& v) {
-#if defined(__x86_64__) && defined(__GNUC__)
-    using Double2 = double __attribute__((vector_size(16)));
-    const Double2 lo = Double2(_mm_sqrt_pd(__m128d(__builtin_shufflevector(v, v, 0, 1))));
-    const Double2 hi = Double2(_mm_sqrt_pd(__m128d(__builtin_shufflevector(v, v, 2, 3))));
-    return __builtin_shufflevector(lo, hi, 0, 1, 2, 3);
-#else
-    Double4 r;
-    for (int l = 0; l < 4; ++l) r[l] = std::sqrt(v[l]);
-    return r;
-#endif
-}
+// Four floats in one SSE register (render/simd8.h): the running sums an event changes, and the
+// radiance they add, step together, one lane per sum, each lane rounding as the scalar code it
+// replaces did. Lane 0 holds sigma_t where a sum has it, and 0 elsewhere.
+using simd::Float4;
+using simd::Int4;  // a lane mask: 0 or all ones
+using simd::Double4;
+using simd::sqrt4;
 
 // What a sphere's events add and remove beyond {tau, tau * albedo} (sigma_t and sigma_s, kept apart:
 // all a scene without shadows or emission reads, 16 bytes a sphere, so that a large scene's random

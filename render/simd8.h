@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cmath>
 #include <cstring>
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -30,6 +31,40 @@ using Int8 = std::int32_t __attribute__((vector_size(32)));
     std::memcpy(&v, p, sizeof v);
     return v;
 }
+// Four floats or ints in one SSE register; four doubles in one AVX register, or two SSE registers.
+using Float4 = float __attribute__((vector_size(16)));
+using Int4 = std::int32_t __attribute__((vector_size(16)));
+using Double4 = double __attribute__((vector_size(32)));
+
+// The square root of each lane (>= 0), correctly rounded as std::sqrt: SSE2's, on any x86-64, a half
+// at a time (the halves taken apart and put together in registers: through memory, the 32-byte load
+// of two 16-byte stores stalled the store buffer).
+[[gnu::always_inline]] inline Double4 sqrt4(const Double4& v) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    using Double2 = double __attribute__((vector_size(16)));
+    const Double2 lo = Double2(_mm_sqrt_pd(__m128d(__builtin_shufflevector(v, v, 0, 1))));
+    const Double2 hi = Double2(_mm_sqrt_pd(__m128d(__builtin_shufflevector(v, v, 2, 3))));
+    return __builtin_shufflevector(lo, hi, 0, 1, 2, 3);
+#else
+    Double4 r;
+    for (int l = 0; l < 4; ++l) r[l] = std::sqrt(v[l]);
+    return r;
+#endif
+}
+
+// The eight lanes of a Float8 widened into two Double4 (low_half, high_half), for sums in double that
+// to_float8 rounds back.
+[[gnu::always_inline]] inline Double4 low_half(const Float8& v) {
+    return __builtin_convertvector(Float4{v[0], v[1], v[2], v[3]}, Double4);
+}
+[[gnu::always_inline]] inline Double4 high_half(const Float8& v) {
+    return __builtin_convertvector(Float4{v[4], v[5], v[6], v[7]}, Double4);
+}
+[[gnu::always_inline]] inline Float8 to_float8(const Double4& lo, const Double4& hi) {
+    const Float4 a = __builtin_convertvector(lo, Float4), b = __builtin_convertvector(hi, Float4);
+    return Float8{a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]};
+}
+
 [[gnu::always_inline]] inline void store8(float* p, const Float8& v) { std::memcpy(p, &v, sizeof v); }
 [[gnu::always_inline]] inline void store8(std::int32_t* p, const Int8& v) { std::memcpy(p, &v, sizeof v); }
 

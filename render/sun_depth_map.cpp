@@ -1,5 +1,6 @@
 #include "render/sun_depth_map.h"
 
+#include "render/simd8.h"
 #include "sim/parallel_for.h"
 
 #include <glm/geometric.hpp>
@@ -148,7 +149,11 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
     }
 
     const std::size_t column = std::size_t(ns);
-    const std::size_t band_columns = std::size_t(kBandRows) * std::size_t(nu);
+    // The workers' scratch is laid out cell by cell: cell k of every column of the band side by side
+    // (k * band_columns + local column), each row of columns padded to whole groups of
+    // kColumnsAtOnce, so that the sums below take a group's eight columns as one vector.
+    const std::size_t row_columns = (std::size_t(nu) + kColumnsAtOnce - 1) / kColumnsAtOnce * kColumnsAtOnce;
+    const std::size_t band_columns = std::size_t(kBandRows) * row_columns;
     // The workers' scratch (BandScratch), kept from the last build: a build leaves it all zero, every
     // column "none", which holds for any shape of the columns but for `bottom`'s none (ns), put right
     // when ns changes. It grows where this shape needs more (in playback the shape changes nearly
@@ -160,6 +165,12 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
         scratch_ns_ = ns;
     }
     std::vector<BandScratch>& scratch = band_scratch_;
+    // Each column's u and each cell's floor s, as the splat's arithmetic takes them (u_lo + i cell,
+    // s_lo + k cell), once: a load where each column took a conversion, a product and a sum three times.
+    column_u_.resize(std::size_t(nu));
+    for (int i = 0; i < nu; ++i) column_u_[std::size_t(i)] = u_lo_ + double(i) * cell;
+    cell_floor_.resize(std::size_t(ns));
+    for (int k = 0; k < ns; ++k) cell_floor_[std::size_t(k)] = s_lo_ + double(k) * cell;
     const auto splat_and_sum = [&](std::size_t band, int worker) {
         // A vertex's depth is the sum over the lattice cells above it of each cell's share of the chords:
         // depth(k) = sum over cells c >= k of inc(c), cell c = [s_c, s_c+1], inc(c) = sum tau |cell ∩ chord|.
@@ -177,102 +188,105 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
             w.bottom.resize(band_columns, ns);
         }
         const int row0 = int(band) * kBandRows, row1 = std::min(row0 + kBandRows, nv);
-        const int top_cell = ns - 2;  // cells 0 .. ns - 2 lie between the ns vertices
+        // What the loops below read, as locals: through the captures, the compiler read each again after
+        // every store into the scratch, which it could not prove did not alias them.
+        const double first_s = s_lo_, first_u = u_lo_, first_v = v_lo_, inverse_cell = 1.0 / cell;
+        const double last_cell = double(ns - 2);  // cells 0 .. ns - 2 lie between the ns vertices
+        const std::size_t stride = band_columns;
+        float* const ends = w.ends.data();
+        float* const runs = w.runs.data();
+        int* const highest_cell = w.top.data();
+        int* const lowest_cell = w.bottom.data();
         // The cell an end lies in; by the inverse spacing (a product, not a quotient: two per column). An
         // end on a cell's boundary may land in either neighbour, which changes no sum: the fraction
-        // added below is measured from the cell's own bounds.
-        // Clamped first, then truncated: within [0, top_cell] truncation is floor, without a libm call.
-        const double inverse_cell = 1.0 / cell;
-        const auto cell_of = [&](double s) { return int(std::clamp((s - s_lo_) * inverse_cell, 0.0, double(top_cell))); };
+        // added below is measured from the cell's own bounds. Clamped first (max and min, not branches),
+        // then truncated: within [0, last_cell] truncation is floor, without a libm call.
+        const auto cell_of = [=](double s) { return int(std::min(std::max(0.0, (s - first_s) * inverse_cell), last_cell)); };
+        const double* const column_u = column_u_.data();
+        const double* const cell_floor = cell_floor_.data();
         for (std::uint32_t n = band_first[band]; n < band_first[band + 1]; ++n) {
             const Projected& p = spheres[band_items[n]];
             int j0, j1;
             row_range(p, j0, j1);
             j0 = std::max(j0, row0);
             j1 = std::min(j1, row1 - 1);
-            const int i0 = std::clamp(int(std::ceil((p.u - p.r - u_lo_) / cell)), 0, nu - 1);
-            const int i1 = std::clamp(int(std::floor((p.u + p.r - u_lo_) / cell)), 0, nu - 1);
-            const double r2 = p.r * p.r;
-            const float whole_cell = float(p.tau * cell);
+            const int i0 = std::clamp(int(std::ceil((p.u - p.r - first_u) / cell)), 0, nu - 1);
+            const int i1 = std::clamp(int(std::floor((p.u + p.r - first_u) / cell)), 0, nu - 1);
+            const double r2 = p.r * p.r, pu = p.u, ps = p.s, tau = p.tau;
+            const float whole_cell = float(tau * cell);
             for (int j = j0; j <= j1; ++j) {
-                const double dv = v_lo_ + double(j) * cell - p.v;
+                const double dv = first_v + double(j) * cell - p.v;
+                const std::size_t row_local = std::size_t(j - row0) * row_columns;
                 for (int i = i0; i <= i1; ++i) {
-                    const double du = u_lo_ + double(i) * cell - p.u;
+                    const double du = column_u[i] - pu;
                     const double h2 = r2 - (du * du + dv * dv);
                     if (!(h2 > 0.0)) continue;
                     const double half = std::sqrt(h2);
-                    const double top = p.s + half, bottom = p.s - half;
-                    const std::size_t local_column = std::size_t(j - row0) * std::size_t(nu) + std::size_t(i);
-                    const std::size_t local = local_column * column;
-                    float* inc = w.ends.data() + local;
+                    const double top = ps + half, bottom = ps - half;
+                    const std::size_t local_column = row_local + std::size_t(i);
                     const int cb = cell_of(bottom), ct = cell_of(top);
-                    w.top[local_column] = std::max(w.top[local_column], ct);
-                    w.bottom[local_column] = std::min(w.bottom[local_column], cb);
+                    highest_cell[local_column] = std::max(highest_cell[local_column], ct);
+                    lowest_cell[local_column] = std::min(lowest_cell[local_column], cb);
+                    float* const end_b = ends + (std::size_t(cb) * stride + local_column);
                     if (cb == ct) {
-                        inc[cb] += float(p.tau * (top - bottom));
+                        *end_b += float(tau * (top - bottom));
                         continue;
                     }
-                    inc[cb] += float(p.tau * (s_lo_ + double(cb + 1) * cell - bottom));
-                    inc[ct] += float(p.tau * (top - (s_lo_ + double(ct) * cell)));
+                    *end_b += float(tau * (cell_floor[cb + 1] - bottom));
+                    ends[std::size_t(ct) * stride + local_column] += float(tau * (top - cell_floor[ct]));
                     if (ct - 1 > cb) {  // whole cells cb + 1 .. ct - 1
-                        w.runs[local + std::size_t(ct - 1)] += whole_cell;
-                        w.runs[local + std::size_t(cb)] -= whole_cell;
+                        runs[std::size_t(ct - 1) * stride + local_column] += whole_cell;
+                        runs[std::size_t(cb) * stride + local_column] -= whole_cell;
                     }
                 }
             }
         }
         // Every vertex of the band's rows, written once: 0 above a column's highest chord (and in a
-        // column no chord reached), then the suffix sums from there down, kColumnsAtOnce columns side by
-        // side: each column's sum is one chain of dependent additions, so taking several at each step
-        // keeps the adder busy (the same sums in the same order: the values do not depend on how the
-        // columns are grouped).
+        // column no chord reached), then the suffix sums from there down, a group of kColumnsAtOnce
+        // columns at a time in SIMD lanes: each column's sum is one chain of dependent additions, and
+        // the group's cells lie side by side in the scratch (the same sums in the same order, lane by
+        // lane: the values do not depend on how the columns are grouped).
         for (int j = row0; j < row1; ++j)
             for (int i = 0; i < nu; i += kColumnsAtOnce) {
-                int ids[kColumnsAtOnce];
-                int n = 0, highest = -1, lowest = ns;
-                for (int c = i; c < std::min(i + kColumnsAtOnce, nu); ++c) {
-                    const std::size_t local_column = std::size_t(j - row0) * std::size_t(nu) + std::size_t(c);
-                    const int top = w.top[local_column];
-                    if (top < 0) {  // no chord: every vertex 0
-                        float* out = depth_.get() + (std::size_t(j) * std::size_t(nu) + std::size_t(c)) * column;
-                        std::fill(out, out + ns, 0.0f);
-                        continue;
-                    }
-                    ids[n++] = c;
-                    highest = std::max(highest, top);
+                const int group = std::min(kColumnsAtOnce, nu - i);
+                const std::size_t first_local = std::size_t(j - row0) * row_columns + std::size_t(i);
+                int highest = -1, lowest = ns;
+                for (int c = 0; c < group; ++c) {
+                    const std::size_t local_column = first_local + std::size_t(c);
+                    highest = std::max(highest, w.top[local_column]);
                     lowest = std::min(lowest, w.bottom[local_column]);
-                }
-                if (n == 0) continue;
-                float* end[kColumnsAtOnce];
-                float* run[kColumnsAtOnce];
-                float* out[kColumnsAtOnce];
-                double whole[kColumnsAtOnce], depth[kColumnsAtOnce];
-                for (int c = 0; c < n; ++c) {
-                    const std::size_t local_column = std::size_t(j - row0) * std::size_t(nu) + std::size_t(ids[c]);
-                    end[c] = w.ends.data() + local_column * column;
-                    run[c] = w.runs.data() + local_column * column;
-                    out[c] = depth_.get() + (std::size_t(j) * std::size_t(nu) + std::size_t(ids[c])) * column;
-                    std::fill(out[c] + (highest + 1), out[c] + ns, 0.0f);  // above the group's highest chord
                     w.top[local_column] = -1;
                     w.bottom[local_column] = ns;
-                    whole[c] = 0.0;
-                    depth[c] = 0.0;
                 }
+                float* out[kColumnsAtOnce];
+                for (int c = 0; c < group; ++c) {
+                    out[c] = depth_.get() + (std::size_t(j) * std::size_t(nu) + std::size_t(i + c)) * column;
+                    std::fill(out[c] + (highest + 1), out[c] + ns, 0.0f);  // above the group's highest chord
+                }
+                if (highest < 0) continue;  // no chord in the group: every vertex 0
                 // Down from the group's highest chord to its lowest: a column whose own chords end
-                // lower adds zeros (its scratch is 0 there) and writes the 0 its vertices hold, without
-                // a branch. Below every chord's bottom cell nothing ends and every run has closed, so a
-                // column's depth is its whole column's: stored, not summed (summing on would add, cell
-                // after cell, what float rounding left of the runs' cancellation where two chords
-                // shared a cell: about 1e-7 of a chord each; the presets' images came out the same).
-                for (int k = highest; k >= lowest; --k)
-                    for (int c = 0; c < n; ++c) {
-                        whole[c] += double(run[c][k]);
-                        depth[c] += double(end[c][k]) + whole[c];
-                        out[c][k] = float(depth[c]);
-                        run[c][k] = 0.0f;
-                        end[c][k] = 0.0f;
-                    }
-                for (int c = 0; c < n; ++c) std::fill(out[c], out[c] + lowest, float(depth[c]));
+                // lower (or that has none) adds zeros (its scratch is 0 there) and writes the 0 its
+                // vertices hold, without a branch. Below every chord's bottom cell nothing ends and
+                // every run has closed, so a column's depth is its whole column's: stored, not summed
+                // (summing on would add, cell after cell, what float rounding left of the runs'
+                // cancellation where two chords shared a cell: about 1e-7 of a chord each; the
+                // presets' images came out the same).
+                simd::Double4 whole_lo{}, whole_hi{}, depth_lo{}, depth_hi{};
+                for (int k = highest; k >= lowest; --k) {
+                    float* const run = runs + (std::size_t(k) * band_columns + first_local);
+                    float* const end = ends + (std::size_t(k) * band_columns + first_local);
+                    const simd::Float8 r = simd::load8(run), e = simd::load8(end);
+                    whole_lo += simd::low_half(r);
+                    whole_hi += simd::high_half(r);
+                    depth_lo += simd::low_half(e) + whole_lo;
+                    depth_hi += simd::high_half(e) + whole_hi;
+                    simd::store8(run, simd::Float8{});
+                    simd::store8(end, simd::Float8{});
+                    const simd::Float8 depth = simd::to_float8(depth_lo, depth_hi);
+                    for (int c = 0; c < group; ++c) out[c][k] = depth[c];
+                }
+                const simd::Float8 total = simd::to_float8(depth_lo, depth_hi);
+                for (int c = 0; c < group; ++c) std::fill(out[c], out[c] + lowest, total[c]);
             }
     };
     try {

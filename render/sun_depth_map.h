@@ -155,6 +155,7 @@ private:
         std::vector<int> top, bottom;
     };
     std::vector<BandScratch> band_scratch_;
+    std::vector<double> column_u_, cell_floor_;  // a build's u of each column and s of each cell's floor
     int scratch_ns_ = 0;
 };
 

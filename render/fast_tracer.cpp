@@ -251,6 +251,12 @@ struct SunJobs {
     }
     // Room for one more job and its two points.
     void make_room() {
+        if (count + 8 >= job_room || points + 10 >= point_room) grow();
+    }
+    // The arrays' room, kept apart from their sizes: make_room's two tests per job then read two
+    // members, not four pointers.
+    std::size_t job_room = 0, point_room = 0;
+    void grow() {
         if (count + 8 >= p.size()) {
             const std::size_t size = std::max<std::size_t>(256, 2 * p.size());
             for (std::vector<float>* v : {&p, &length, &sigma_t, &attenuation, &weight, &od_p, &od_q, &integral})
@@ -263,6 +269,8 @@ struct SunJobs {
             const std::size_t size = std::max<std::size_t>(512, 2 * gu.size());
             for (std::vector<float>* v : {&gu, &gv, &gs, &depth}) v->resize(size);
         }
+        job_room = p.size();
+        point_room = gu.size();
     }
     void add_point(const SunDepthMap::Ray& r, float t) {
         gu[points] = r.u0 + t * r.du;
@@ -1040,6 +1048,12 @@ private:
     void add_sun_pieces(State& st, const Ray& ray, float a, float b, float sigma_t, const Float4& light) const {
         const float max_piece = kSunPieceCells * sun_map_.cell();
         ready_box_shadows(st, ray);
+        // Most segments (a few cells long, with no box shadow left ahead on their ray) are one piece:
+        // the loop below would make the same one.
+        if (st.shadow_next >= st.shadow_count && a + max_piece >= b) {
+            if (a < b) add_sun_job(st, ray, a, b, a, sigma_t, light);
+            return;
+        }
         float p = a;
         while (p < b) {
             while (st.shadow_next < st.shadow_count && st.shadows[2 * st.shadow_next + 1] <= p) ++st.shadow_next;

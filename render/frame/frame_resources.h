@@ -48,6 +48,8 @@ public:
     gpu::FrameUniforms& uniforms() { return *uniform_buffer_.as<gpu::FrameUniforms>(); }
     VkExtent2D extent() const { return extent_; }
     std::uint32_t sphere_count() const { return sphere_count_; }
+    // The scene's sun (render/sun_light.h) as upload() built it, for a CPU tracer to reuse.
+    const SunLight& sun_light() const { return *sun_light_; }
 
     // Clears the opaque image to (background, +inf) and draws the boxes into it.
     void record_opaque_pass(VkCommandBuffer cmd) const;

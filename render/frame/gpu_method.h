@@ -43,6 +43,8 @@ public:
     const Scene& scene() const { return scene_; }
     VkExtent2D extent() const { return frame_.extent(); }
     std::uint32_t sphere_count() const { return frame_.sphere_count(); }
+    // The scene's sun, built once a frame by the frame's upload (render/sun_light.h).
+    const SunLight& sun_light() const { return frame_.sun_light(); }
     // The frame's uniforms, written from the scene; a method sets `pool` and `params` in prepare().
     gpu::FrameUniforms& uniforms() { return frame_.uniforms(); }
     // Builds and uploads the accurate shadow technique's light-space depth map (render/sun_depth_map.h)

@@ -36,6 +36,7 @@ void CpuTracePass::prepare(FrameContext& ctx) {
         FastTraceOptions options;
         options.threads = threads_;
         options.scratch = &trace_scratch_;  // the last frame's memory
+        options.sun = &ctx.sun_light();     // the frame's, built once
         render_fast_trace_rgba(ctx.scene(), options, out);  // straight into the upload buffer
     }
     trace_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -242,6 +242,7 @@ struct SunJobs {
     };
     LanePieces lanes;
     std::vector<float> mid_u, mid_v, mid_s, mid_depth;  // the halving pieces' midpoints
+    std::vector<std::uint32_t> listed_halves;          // a round's halves to halve next, by index
 
     // The arrays are kept at their largest (a tile's jobs are written by index, not appended: one test
     // of room per job rather than one per array), with room for the padding to a multiple of 8.
@@ -1225,6 +1226,7 @@ private:
                 for (std::vector<float>* v : {&jobs.mid_u, &jobs.mid_v, &jobs.mid_s, &jobs.mid_depth})
                     v->resize(std::max(padded_mid, 2 * v->size()));
             halves.reserve(2 * count);
+            if (jobs.listed_halves.size() < 2 * count) jobs.listed_halves.resize(2 * std::max(count, jobs.listed_halves.size()));
             for (std::size_t r = 0; r < count; ++r) {
                 const std::uint32_t owner = halving.owner[r];
                 const float p = halving.p[r], q = p + halving.length[r], mid = 0.5f * (p + q);
@@ -1263,13 +1265,17 @@ private:
                 add_job_light(jobs, pixel_sums, halving.owner[r],
                               halves.integral[2 * r] + halves.integral[2 * r + 1] - halving.integral[r]);
             if (level == kSunPieceSplits) break;
-            // The halves to halve next round, listed without a branch.
+            // The halves to halve next round: listed by index without a branch (which they are, the
+            // branch predictor could not know), then only those copied (copying every half, the list
+            // advancing past those to halve, moved nine fields a half where most are not halved).
             halving.reserve(n);
+            std::uint32_t* const listed = jobs.listed_halves.data();
             std::size_t next = 0;
             for (std::size_t h = 0; h < n; ++h) {
-                copy_piece(halves, h, halving, next, halves.owner[h]);
+                listed[next] = std::uint32_t(h);
                 next -= std::size_t(std::int64_t(halves.refine[h]));
             }
+            for (std::size_t r = 0; r < next; ++r) copy_piece(halves, listed[r], halving, r, halves.owner[listed[r]]);
             count = next;
         }
     }

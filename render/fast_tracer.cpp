@@ -325,7 +325,8 @@ public:
 
     // `sun_map` is built again here when the scene takes accurate shadows (in its own memory). `sun`, where
     // given, is the scene's (the frame path's, built for the GPU methods); else the tracer makes its own.
-    FastTracer(const Scene& scene, int threads, SunDepthMap& sun_map, const SunLight* sun)
+    FastTracer(const Scene& scene, int threads, SunDepthMap& sun_map, const SunLight* sun,
+               MapInstructions map_instructions)
         : own_sun_(sun ? std::nullopt : std::optional<SunLight>(std::in_place, scene)),
           sun_(sun ? *sun : *own_sun_),
           opaque_(scene, sun_),
@@ -338,7 +339,7 @@ public:
                                                    : std::vector<double>(scene.spheres.size(), 1.0);
         plain_ = !sun_.shadows();
         if (accurate_shadows_) {
-            sun_map_.build(scene, sun_, eye_, threads);
+            sun_map_.build(scene, sun_, eye_, threads, SunDepthMap::kDefaultMaxVertices, map_instructions);
             // Only the boxes whose shadow reaches the media: a shadow elsewhere (the ground's, below it)
             // falls where no view segment has anything to light.
             dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
@@ -1599,7 +1600,9 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     // The frame's serial part, spread over the threads where it can be: at 1,000,000 spheres it took
     // 570 ms of a 1,970 ms frame (the rectangles twice, 165 ms, and the sort by bound, 138 ms).
     SunDepthMap own_map;
-    const FastTracer tracer(scene, options.threads, options.scratch ? options.scratch->sun_map : own_map, options.sun);
+    const FastTracer tracer(scene, options.threads, options.scratch ? options.scratch->sun_map : own_map, options.sun,
+                            options.instructions == TraceInstructions::Best ? MapInstructions::Best
+                                                                             : MapInstructions::Portable);
     std::vector<double> bound;
     nearest_event_bounds(scene, bound, options.threads);
     const std::vector<std::uint32_t> order = near_to_far(bound, options.threads);

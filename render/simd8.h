@@ -52,6 +52,19 @@ using Double4 = double __attribute__((vector_size(32)));
 #endif
 }
 
+// Bit l set where lane l of a Float8 comparison is true: SSE's sign-bit masks of the two halves.
+[[gnu::always_inline]] inline int mask8(const Int8& m) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    const __m128 lo = _mm_castsi128_ps(__m128i(__builtin_shufflevector(m, m, 0, 1, 2, 3)));
+    const __m128 hi = _mm_castsi128_ps(__m128i(__builtin_shufflevector(m, m, 4, 5, 6, 7)));
+    return _mm_movemask_ps(lo) | (_mm_movemask_ps(hi) << 4);
+#else
+    int bits = 0;
+    for (int l = 0; l < 8; ++l) bits |= (m[l] != 0) << l;
+    return bits;
+#endif
+}
+
 // The eight lanes of a Float8 widened into two Double4 (low_half, high_half), for sums in double that
 // to_float8 rounds back.
 [[gnu::always_inline]] inline Double4 low_half(const Float8& v) {
@@ -86,6 +99,19 @@ struct GatherByLanes {
 };
 
 #if defined(__x86_64__) && defined(__GNUC__)
+// The square root of each lane (>= 0), correctly rounded: SSE's, a half at a time, for any x86-64; AVX's
+// in one instruction, for code compiled for AVX2. The same values.
+struct SqrtSse {
+    [[gnu::always_inline]] Float8 operator()(const Float8& v) const {
+        const __m128 lo = _mm_sqrt_ps(__m128(__builtin_shufflevector(v, v, 0, 1, 2, 3)));
+        const __m128 hi = _mm_sqrt_ps(__m128(__builtin_shufflevector(v, v, 4, 5, 6, 7)));
+        return Float8(__builtin_shufflevector(Float4(lo), Float4(hi), 0, 1, 2, 3, 4, 5, 6, 7));
+    }
+};
+struct SqrtAvx {
+    [[gnu::target("avx2")]] Float8 operator()(const Float8& v) const { return Float8(_mm256_sqrt_ps(__m256(v))); }
+};
+
 // The same by AVX2's gather instruction: only for code compiled for AVX2 (inlined into a function with
 // target("avx2")); on fog-bank the loads one lane at a time were a tenth of the frame. The pair is one
 // 8-byte read per lane: two gathers of four 8-byte lanes, half the elements of two gathers of eight

@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -27,15 +28,118 @@ struct Projected {
     double u, v, s, r, tau;
 };
 
+// A sphere as the splat takes it: in lattice units (cells), relative to the lattice's first vertex;
+// its rows and columns; what a whole cell of its chord adds, tau * cell.
+struct SplatSphere {
+    double u, v, s, r2;
+    int i0, i1, j0, j1;
+    float depth_per_cell;
+};
+
+// Where a band's splat writes (render/sun_depth_map.h BandScratch, cell by cell).
+struct SplatScratch {
+    float* ends;
+    float* runs;
+    int* highest;  // per local column, the highest and lowest cell a chord reached
+    int* lowest;
+    std::size_t stride;       // columns of the band: from one cell to the next
+    std::size_t row_columns;  // from one row of the band to the next
+    int row0;                 // the band's first row
+    int last_cell;            // ns - 2
+};
+
+// One sphere's chords through the band's columns, eight columns of a row at a time in SIMD lanes:
+// each column's chord [bottom, top] (in cells: s +- sqrt(r^2 - du^2 - dv^2)), the cells its ends lie in
+// and what they add, in float, relative to the cell of the sphere's centre (so the lanes' values stay
+// small and keep float's precision); then each column the chord crosses adds its share into the
+// scratch, one at a time. `sqrt8` as simd::SqrtSse or SqrtAvx.
+template <class Sqrt>
+[[gnu::always_inline]] inline void splat_sphere(const SplatSphere& p, const SplatScratch& out, const Sqrt& sqrt8) {
+    using simd::Float8;
+    using simd::Int8;
+    const Float8 lane{0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f};
+    const int centre_cell = int(std::floor(p.s));
+    const float centre = float(p.s - double(centre_cell));  // in [0, 1)
+    // The chord's ends lie within r of the centre: an offset of more cells than that keeps them
+    // positive, where truncation is floor.
+    const int offset = int(std::ceil(std::sqrt(p.r2))) + 2;
+    const Float8 zero{}, depth_per_cell = zero + p.depth_per_cell;
+    const Int8 lowest_cell = Int8{} - centre_cell, highest_cell = Int8{} + (out.last_cell - centre_cell);
+    for (int j = p.j0; j <= p.j1; ++j) {
+        const double dv = double(j) - p.v;
+        const float across = float(p.r2 - dv * dv);  // r^2 - dv^2: what is left for du^2 and the chord
+        if (!(across > 0.0f)) continue;
+        const std::size_t row_local = std::size_t(j - out.row0) * out.row_columns;
+        for (int i = p.i0; i <= p.i1; i += 8) {
+            const Float8 du = float(double(i) - p.u) + lane;
+            const Float8 h2 = across - du * du;
+            int crossed = simd::mask8(h2 > 0.0f) & ((1 << std::min(8, p.i1 - i + 1)) - 1);
+            if (crossed == 0) continue;
+            const Float8 half = sqrt8(h2 > 0.0f ? h2 : zero);
+            const Float8 top = centre + half, bottom = centre - half;
+            // Cells relative to the centre's, clamped to the lattice's.
+            Int8 ct = __builtin_convertvector(top + float(offset), Int8) - offset;
+            Int8 cb = __builtin_convertvector(bottom + float(offset), Int8) - offset;
+            ct = ct < lowest_cell ? lowest_cell : ct;
+            ct = ct > highest_cell ? highest_cell : ct;
+            cb = cb < lowest_cell ? lowest_cell : cb;
+            cb = cb > highest_cell ? highest_cell : cb;
+            // What each end adds, measured from its own cell's bounds, and the whole chord where both
+            // ends share a cell.
+            alignas(32) float bottom_part[8], top_part[8], chord[8];
+            alignas(32) std::int32_t cell_bottom[8], cell_top[8];
+            simd::store8(bottom_part, depth_per_cell * (__builtin_convertvector(cb + 1, Float8) - bottom));
+            simd::store8(top_part, depth_per_cell * (top - __builtin_convertvector(ct, Float8)));
+            simd::store8(chord, depth_per_cell * (half + half));
+            simd::store8(cell_bottom, cb + centre_cell);
+            simd::store8(cell_top, ct + centre_cell);
+            for (; crossed != 0; crossed &= crossed - 1) {
+                const int l = std::countr_zero(unsigned(crossed));
+                const std::size_t column = row_local + std::size_t(i + l);
+                const int b = cell_bottom[l], t = cell_top[l];
+                out.highest[column] = std::max(out.highest[column], t);
+                out.lowest[column] = std::min(out.lowest[column], b);
+                float* const end_b = out.ends + (std::size_t(b) * out.stride + column);
+                if (b == t) {
+                    *end_b += chord[l];
+                    continue;
+                }
+                *end_b += bottom_part[l];
+                out.ends[std::size_t(t) * out.stride + column] += top_part[l];
+                if (t - 1 > b) {  // whole cells b + 1 .. t - 1
+                    out.runs[std::size_t(t - 1) * out.stride + column] += p.depth_per_cell;
+                    out.runs[std::size_t(b) * out.stride + column] -= p.depth_per_cell;
+                }
+            }
+        }
+    }
+}
+
+// The band's spheres, splatted: compiled for any x86-64, and for AVX2 where the CPU has it (the same
+// operations on the same floats, so the same map; 8 lanes in one register rather than two).
+[[gnu::flatten]] void splat_portable(const SplatSphere* spheres, std::size_t count, const SplatScratch& out) {
+    for (std::size_t n = 0; n < count; ++n) splat_sphere(spheres[n], out, simd::SqrtSse{});
+}
+#if defined(__x86_64__) && defined(__GNUC__)
+[[gnu::target("avx2"), gnu::flatten]] void splat_avx2(const SplatSphere* spheres, std::size_t count,
+                                                      const SplatScratch& out) {
+    for (std::size_t n = 0; n < count; ++n) splat_sphere(spheres[n], out, simd::SqrtAvx{});
+}
+bool cpu_has_avx2() {
+    static const bool has = __builtin_cpu_supports("avx2");
+    return has;
+}
+#endif
+
 }  // namespace
 
 SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
-                         std::size_t max_vertices) {
-    build(scene, sun, origin, threads, max_vertices);
+                         std::size_t max_vertices, MapInstructions instructions) {
+    build(scene, sun, origin, threads, max_vertices, instructions);
 }
 
 void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
-                        std::size_t max_vertices) {
+                        std::size_t max_vertices, MapInstructions instructions) {
     make_empty();  // until the lattice is known; the vertices' memory and the workers' scratch stay
     if (!sun.shadows() || scene.spheres.empty()) return;
     max_vertices = std::min(max_vertices, kMaxVertices);
@@ -165,12 +269,8 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
         scratch_ns_ = ns;
     }
     std::vector<BandScratch>& scratch = band_scratch_;
-    // Each column's u and each cell's floor s, as the splat's arithmetic takes them (u_lo + i cell,
-    // s_lo + k cell), once: a load where each column took a conversion, a product and a sum three times.
-    column_u_.resize(std::size_t(nu));
-    for (int i = 0; i < nu; ++i) column_u_[std::size_t(i)] = u_lo_ + double(i) * cell;
-    cell_floor_.resize(std::size_t(ns));
-    for (int k = 0; k < ns; ++k) cell_floor_[std::size_t(k)] = s_lo_ + double(k) * cell;
+    // Each worker's spheres of the band it splats (SplatSphere), reused from band to band.
+    std::vector<std::vector<SplatSphere>> worker_spheres(workers);
     const auto splat_and_sum = [&](std::size_t band, int worker) {
         // A vertex's depth is the sum over the lattice cells above it of each cell's share of the chords:
         // depth(k) = sum over cells c >= k of inc(c), cell c = [s_c, s_c+1], inc(c) = sum tau |cell ∩ chord|.
@@ -188,59 +288,33 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
             w.bottom.resize(band_columns, ns);
         }
         const int row0 = int(band) * kBandRows, row1 = std::min(row0 + kBandRows, nv);
-        // What the loops below read, as locals: through the captures, the compiler read each again after
-        // every store into the scratch, which it could not prove did not alias them.
-        const double first_s = s_lo_, first_u = u_lo_, first_v = v_lo_, inverse_cell = 1.0 / cell;
-        const double last_cell = double(ns - 2);  // cells 0 .. ns - 2 lie between the ns vertices
-        const std::size_t stride = band_columns;
-        float* const ends = w.ends.data();
-        float* const runs = w.runs.data();
-        int* const highest_cell = w.top.data();
-        int* const lowest_cell = w.bottom.data();
-        // The cell an end lies in; by the inverse spacing (a product, not a quotient: two per column). An
-        // end on a cell's boundary may land in either neighbour, which changes no sum: the fraction
-        // added below is measured from the cell's own bounds. Clamped first (max and min, not branches),
-        // then truncated: within [0, last_cell] truncation is floor, without a libm call.
-        const auto cell_of = [=](double s) { return int(std::min(std::max(0.0, (s - first_s) * inverse_cell), last_cell)); };
-        const double* const column_u = column_u_.data();
-        const double* const cell_floor = cell_floor_.data();
+        // The band's spheres in lattice units, clipped to its rows, then splatted.
+        std::vector<SplatSphere>& band_spheres = worker_spheres[std::size_t(worker)];
+        band_spheres.clear();
+        const double inverse_cell = 1.0 / cell;
         for (std::uint32_t n = band_first[band]; n < band_first[band + 1]; ++n) {
             const Projected& p = spheres[band_items[n]];
             int j0, j1;
             row_range(p, j0, j1);
-            j0 = std::max(j0, row0);
-            j1 = std::min(j1, row1 - 1);
-            const int i0 = std::clamp(int(std::ceil((p.u - p.r - first_u) / cell)), 0, nu - 1);
-            const int i1 = std::clamp(int(std::floor((p.u + p.r - first_u) / cell)), 0, nu - 1);
-            const double r2 = p.r * p.r, pu = p.u, ps = p.s, tau = p.tau;
-            const float whole_cell = float(tau * cell);
-            for (int j = j0; j <= j1; ++j) {
-                const double dv = first_v + double(j) * cell - p.v;
-                const std::size_t row_local = std::size_t(j - row0) * row_columns;
-                for (int i = i0; i <= i1; ++i) {
-                    const double du = column_u[i] - pu;
-                    const double h2 = r2 - (du * du + dv * dv);
-                    if (!(h2 > 0.0)) continue;
-                    const double half = std::sqrt(h2);
-                    const double top = ps + half, bottom = ps - half;
-                    const std::size_t local_column = row_local + std::size_t(i);
-                    const int cb = cell_of(bottom), ct = cell_of(top);
-                    highest_cell[local_column] = std::max(highest_cell[local_column], ct);
-                    lowest_cell[local_column] = std::min(lowest_cell[local_column], cb);
-                    float* const end_b = ends + (std::size_t(cb) * stride + local_column);
-                    if (cb == ct) {
-                        *end_b += float(tau * (top - bottom));
-                        continue;
-                    }
-                    *end_b += float(tau * (cell_floor[cb + 1] - bottom));
-                    ends[std::size_t(ct) * stride + local_column] += float(tau * (top - cell_floor[ct]));
-                    if (ct - 1 > cb) {  // whole cells cb + 1 .. ct - 1
-                        runs[std::size_t(ct - 1) * stride + local_column] += whole_cell;
-                        runs[std::size_t(cb) * stride + local_column] -= whole_cell;
-                    }
-                }
-            }
+            const double r = p.r * inverse_cell;
+            band_spheres.push_back(SplatSphere{
+                (p.u - u_lo_) * inverse_cell, (p.v - v_lo_) * inverse_cell, (p.s - s_lo_) * inverse_cell, r * r,
+                std::clamp(int(std::ceil((p.u - p.r - u_lo_) / cell)), 0, nu - 1),
+                std::clamp(int(std::floor((p.u + p.r - u_lo_) / cell)), 0, nu - 1), std::max(j0, row0),
+                std::min(j1, row1 - 1), float(p.tau * cell)});
         }
+        const SplatScratch target{w.ends.data(), w.runs.data(), w.top.data(), w.bottom.data(), band_columns,
+                                  row_columns, row0, ns - 2};
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (instructions == MapInstructions::Best && cpu_has_avx2()) {
+            splat_avx2(band_spheres.data(), band_spheres.size(), target);
+        } else {
+            splat_portable(band_spheres.data(), band_spheres.size(), target);
+        }
+#else
+        (void)instructions;
+        splat_portable(band_spheres.data(), band_spheres.size(), target);
+#endif
         // Every vertex of the band's rows, written once: 0 above a column's highest chord (and in a
         // column no chord reached), then the suffix sums from there down, a group of kColumnsAtOnce
         // columns at a time in SIMD lanes: each column's sum is one chain of dependent additions, and
@@ -273,8 +347,8 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
                 // presets' images came out the same).
                 simd::Double4 whole_lo{}, whole_hi{}, depth_lo{}, depth_hi{};
                 for (int k = highest; k >= lowest; --k) {
-                    float* const run = runs + (std::size_t(k) * band_columns + first_local);
-                    float* const end = ends + (std::size_t(k) * band_columns + first_local);
+                    float* const run = w.runs.data() + (std::size_t(k) * band_columns + first_local);
+                    float* const end = w.ends.data() + (std::size_t(k) * band_columns + first_local);
                     const simd::Float8 r = simd::load8(run), e = simd::load8(end);
                     whole_lo += simd::low_half(r);
                     whole_hi += simd::high_half(r);

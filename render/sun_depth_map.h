@@ -28,6 +28,10 @@
 
 namespace brume {
 
+// The instructions a build's splat runs on: Best takes AVX2 where the CPU has it, Portable any x86-64's.
+// The same float operations either way, so the same map bit for bit (tests/test_sun_depth_map.cpp).
+enum class MapInstructions { Best, Portable };
+
 class SunDepthMap {
 public:
     SunDepthMap() = default;  // empty
@@ -35,11 +39,11 @@ public:
     // points: the spacing is the larger of a fraction of the spheres' mean radius and what that budget
     // allows. `threads` as parallel_for's.
     SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
-                std::size_t max_vertices = kDefaultMaxVertices);
+                std::size_t max_vertices = kDefaultMaxVertices, MapInstructions instructions = MapInstructions::Best);
     // The map of this frame, built again in place: an owner that keeps its map from frame to frame
     // (render/fast_tracer.h FastTraceScratch, the frame path's resources) reuses its memory.
     void build(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
-               std::size_t max_vertices = kDefaultMaxVertices);
+               std::size_t max_vertices = kDefaultMaxVertices, MapInstructions instructions = MapInstructions::Best);
 
     static constexpr std::size_t kDefaultMaxVertices = std::size_t(8) << 20;  // 32 MiB of floats
     // The most any budget allows: a vertex's index stays an int.
@@ -155,7 +159,6 @@ private:
         std::vector<int> top, bottom;
     };
     std::vector<BandScratch> band_scratch_;
-    std::vector<double> column_u_, cell_floor_;  // a build's u of each column and s of each cell's floor
     int scratch_ns_ = 0;
 };
 

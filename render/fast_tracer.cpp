@@ -1572,16 +1572,6 @@ template <bool kOrdered, class Store>
 }
 #endif
 
-// Whether this machine runs trace_tile_avx2.
-bool cpu_has_avx2_fma() {
-#if defined(__x86_64__) && defined(__GNUC__)
-    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-    return has;
-#else
-    return false;
-#endif
-}
-
 // The frame, each pixel handed to store(i, j, value) once (from the worker that traced it).
 template <class Store>
 void trace_frame(const Scene& scene, const FastTraceOptions& options, const Store& store) {
@@ -1616,7 +1606,7 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     const FrameTiles frame{tracer, bins, rects, rays, ndc_x, width, height, k, tracer.plain(), options.packets};
     const std::size_t tiles = bins.tile_count();
     std::vector<TileScratch> scratch(std::size_t(worker_count(options.threads, tiles)));
-    const bool avx2 = options.instructions == TraceInstructions::Best && cpu_has_avx2_fma();
+    const bool avx2 = options.instructions == TraceInstructions::Best && simd::cpu_has_avx2_fma();
     parallel_for(tiles, options.threads, [&](std::size_t t, int worker) {
         TileScratch& w = scratch[std::size_t(worker)];
         const bool ordered = takes_ordered_walk(frame, t);
@@ -1643,7 +1633,7 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
 }  // namespace
 
 const char* fast_trace_instructions(const FastTraceOptions& options) {
-    return options.instructions == TraceInstructions::Best && cpu_has_avx2_fma() ? "AVX2+FMA" : "portable";
+    return options.instructions == TraceInstructions::Best && simd::cpu_has_avx2_fma() ? "AVX2+FMA" : "portable";
 }
 
 Image render_fast_trace(const Scene& scene, const FastTraceOptions& options) {

@@ -98,6 +98,25 @@ struct GatherByLanes {
     }
 };
 
+// Whether this CPU runs AVX2 (and FMA): what picks the code compiled for it (trace's tiles, the sun
+// map's splat). Asked once.
+inline bool cpu_has_avx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool has = __builtin_cpu_supports("avx2");
+    return has;
+#else
+    return false;
+#endif
+}
+inline bool cpu_has_avx2_fma() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return has;
+#else
+    return false;
+#endif
+}
+
 #if defined(__x86_64__) && defined(__GNUC__)
 // The square root of each lane (>= 0), correctly rounded: SSE's, a half at a time, for any x86-64; AVX's
 // in one instruction, for code compiled for AVX2. The same values.

@@ -125,10 +125,6 @@ template <class Sqrt>
                                                       const SplatScratch& out) {
     for (std::size_t n = 0; n < count; ++n) splat_sphere(spheres[n], out, simd::SqrtAvx{});
 }
-bool cpu_has_avx2() {
-    static const bool has = __builtin_cpu_supports("avx2");
-    return has;
-}
 #endif
 
 }  // namespace
@@ -306,7 +302,7 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
         const SplatScratch target{w.ends.data(), w.runs.data(), w.top.data(), w.bottom.data(), band_columns,
                                   row_columns, row0, ns - 2};
 #if defined(__x86_64__) && defined(__GNUC__)
-        if (instructions == MapInstructions::Best && cpu_has_avx2()) {
+        if (instructions == MapInstructions::Best && simd::cpu_has_avx2()) {
             splat_avx2(band_spheres.data(), band_spheres.size(), target);
         } else {
             splat_portable(band_spheres.data(), band_spheres.size(), target);

@@ -4,7 +4,8 @@
 // over the spheres above x, costs 10-30 times as much.
 //
 // The lattice: axes u, v across the sun's rays and s = dot(x, l) along them (l toward the sun), one
-// spacing `cell` on all three. Each vertex holds the exact optical depth of its point: a sphere adds
+// spacing `cell` on all three. Each vertex holds the exact optical depth of its point, to float
+// rounding (the chords are splatted in float, relative to each sphere's centre cell): a sphere adds
 // tau (top - max(s, bottom)) to a column's vertices at s below the top of its chord, so a vertex value
 // is exact, and between vertices the error is the interpolation's. The column margins hold 0 (outside
 // every shadow cylinder) and the lowest vertex lies below every sphere, so clamping there is exact.

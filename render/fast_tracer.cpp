@@ -151,9 +151,17 @@ using simd::phi_signed8;
 // and 7.53e-3 (with the 0.09 map); refined from 4 cells (4 splits) 9.01e-3 and 7.61e-3 for 10-33%
 // fewer lookups than that (low-sun, fog-bank: long smooth fog); from 8 cells explosion rises to 8.8e-3
 // and low-sun's 2.3e-3 to 3.9e-3.
+// The light a piece may carry is its view transmittance times the sun integrand at its start, times the
+// share of that light the piece's own media scatter: 1 - exp(-sigma_t len) at most, taken as
+// min(1, sigma_t len / kSunPieceThinDepth). Without that share, thin fog's pieces were halved for a change
+// of depth that they hardly light (fog-bank frame 56 at 640x360: 573 k halvings, 37 k with it; ground-fog
+// 422 k to 157 k), and a tenth of fog-bank's frame went into halving them; with a share of sigma_t len
+// itself (kSunPieceThinDepth 1), plume's p99.9 at 128x96 rose from 9.01e-3 to 1.02e-2, at 0.25 to 9.36e-3
+// (docs/accuracy.md).
 constexpr float kSunPieceCells = 4.0f;
 constexpr int kSunPieceSplits = 4;
 constexpr float kSunPieceDepthChange = 0.1f;
+constexpr float kSunPieceThinDepth = 0.25f;
 // A ray integrates its final events at every kFlushEvery-th sphere it lists, not at each (radiance):
 // how many are final at a sphere is what the branch predictor cannot know. bench scale, ms at 1,000 /
 // 10,000 / 100,000 spheres: 8 gave 72-77 / 183-184 / 489-494 and 16 gave 82-83 / 180-183 / 491-494 in
@@ -1207,7 +1215,9 @@ private:
         // The integrand at p, exp(-sigma_t (p - a) - depth(p)); exp(-x) takes it to q.
         const Float8 at_p = exp_minus8(attenuation + od_p);
         const Float8 magnitude = Float8(Int8(change) & 0x7fffffff);
-        halve = weight * at_p * magnitude > kSunPieceDepthChange;
+        const Float8 thin = sigma_t * len * (1.0f / kSunPieceThinDepth);
+        const Float8 share = thin < 1.0f ? thin : Float8{} + 1.0f;  // of the light, the piece's media scatter
+        halve = weight * at_p * share * magnitude > kSunPieceDepthChange;
         return at_p * len * phi_signed8(x, exp_minus8(x));
     }
 

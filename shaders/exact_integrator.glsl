@@ -114,7 +114,8 @@ float sun_depth_along(vec3 from_eye, vec3 dir, float t) {
 // pieces of a whole tile together after its rays, not one segment at a time): T_sun is 0 inside the ray's box
 // shadows (find_sun_box_spans, exact) and exp(-depth) elsewhere, the depth read from the map at the
 // ends of pieces no longer than SUN_PIECE_CELLS map cells (halved, up to SUN_PIECE_SPLITS times,
-// where the light the piece may carry times its change of depth exceeds SUN_PIECE_DEPTH_CHANGE) and
+// where the light the piece may carry, times the share its media scatter, min(1, sigma_t len /
+// SUN_PIECE_THIN_DEPTH), times its change of depth exceeds SUN_PIECE_DEPTH_CHANGE) and
 // linear between, where the integral has a closed form. The depth and the sun's transmittance at b
 // stay in the integrator for the next segment: one lookup per event and one per piece, one
 // exponential each, where a 3-point rule took three of each. A segment takes at most
@@ -125,6 +126,7 @@ float sun_depth_along(vec3 from_eye, vec3 dir, float t) {
 const float SUN_PIECE_CELLS = 4.0;
 const int SUN_PIECE_SPLITS = 4;
 const float SUN_PIECE_DEPTH_CHANGE = 0.1;
+const float SUN_PIECE_THIN_DEPTH = 0.25;  // render/fast_tracer.cpp kSunPieceThinDepth
 const float SUN_MAX_PIECES = 256.0;
 const float SUN_DIVISIBLE_TRANSMITTANCE = 1e-20;
 float sun_segment_integral(inout Integrator it, float a, float b, float sigma_t, float segment_transmittance) {
@@ -159,7 +161,8 @@ float sun_segment_integral(inout Integrator it, float a, float b, float sigma_t,
         int waiting = 0, level = 0;
         float r = q, od_r = od_q;
         for (;;) {
-            if (!shadowed && level < SUN_PIECE_SPLITS && weight * at_p * abs(od_r - od_p) > SUN_PIECE_DEPTH_CHANGE) {
+            float share = min(sigma_t * (r - p) * (1.0 / SUN_PIECE_THIN_DEPTH), 1.0);
+            if (!shadowed && level < SUN_PIECE_SPLITS && weight * at_p * share * abs(od_r - od_p) > SUN_PIECE_DEPTH_CHANGE) {
                 wait_t[waiting] = r;
                 wait_od[waiting] = od_r;
                 wait_level[waiting] = level + 1;

@@ -26,11 +26,13 @@ public:
     int plane_count() const { return count_; }
 
 private:
-    struct Plane {
-        float nx, ny, nz, h;  // inside: n . (x - origin) <= h
-    };
+    // The planes, inside where n . (x - origin) <= h, by component, so that interval() takes four at a
+    // time in SIMD lanes (a plane a time, its branches and divisions were 7% of low-sun's shadowed frame).
+    // Past count_ up to a whole group of four: n = 0 and h = 1, inside for every ray.
     static constexpr int kMaxPlanes = 18;  // 6 faces and 12 edges, at most
-    Plane planes_[kMaxPlanes];
+    static constexpr int kLanes = 4;
+    static constexpr int kRoom = (kMaxPlanes + kLanes - 1) / kLanes * kLanes;
+    alignas(16) float nx_[kRoom], ny_[kRoom], nz_[kRoom], h_[kRoom];
     int count_ = 0;
 };
 

@@ -35,6 +35,11 @@ using Int8 = std::int32_t __attribute__((vector_size(32)));
 using Float4 = float __attribute__((vector_size(16)));
 using Int4 = std::int32_t __attribute__((vector_size(16)));
 using Double4 = double __attribute__((vector_size(32)));
+[[gnu::always_inline]] inline Float4 load4(const float* p) {
+    Float4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
 
 // The square root of each lane (>= 0), correctly rounded as std::sqrt: SSE2's, on any x86-64, a half
 // at a time (the halves taken apart and put together in registers: through memory, the 32-byte load

@@ -10,30 +10,24 @@
 
 namespace brume {
 
-BoxShadowVolume::BoxShadowVolume(const Box& box, const glm::dvec3& toward_sun, const glm::dvec3& origin) {
-    const glm::dvec3 l = glm::normalize(toward_sun);
+namespace {
+
+// Each plane of the shadow volume of `box` (l unit, toward the sun), relative to `origin`: inside where
+// n . (x - origin) <= h. `side` is true for the planes that hold l (the sweep's sides, a grazed face's
+// included) and false for the faces the sun reaches, which are the box's own surface.
+template <class Plane>
+void for_each_shadow_plane(const Box& box, const glm::dvec3& l, const glm::dvec3& origin, const Plane& plane) {
     const glm::dvec3 lo = box.min - origin, hi = box.max - origin;
     glm::dvec3 corners[8];
     for (int c = 0; c < 8; ++c)
         corners[c] = glm::dvec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
-    for (int n = 0; n < kRoom; ++n) {
-        nx_[n] = ny_[n] = nz_[n] = 0.0f;
-        h_[n] = 1.0f;
-    }
-    const auto add = [&](const glm::dvec3& n, double h) {
-        nx_[count_] = float(n.x);
-        ny_[count_] = float(n.y);
-        nz_[count_] = float(n.z);
-        h_[count_] = float(h);
-        ++count_;
-    };
     // The faces the sun reaches or grazes bound the sweep (n . (x - s l) <= n . x for s >= 0); the
     // faces turned away from it do not.
     for (int a = 0; a < 3; ++a) {
         glm::dvec3 n(0.0);
         n[a] = 1.0;
-        if (l[a] >= 0.0) add(n, hi[a]);
-        if (l[a] <= 0.0) add(-n, -lo[a]);
+        if (l[a] >= 0.0) plane(n, hi[a], l[a] == 0.0);
+        if (l[a] <= 0.0) plane(-n, -lo[a], l[a] == 0.0);
     }
     // The planes through an edge that hold l: a face of the sweep where the whole box lies on one side
     // (a silhouette edge). The box's size sets what "on the plane" means for the other corners.
@@ -58,10 +52,54 @@ BoxShadowVolume::BoxShadowVolume(const Box& box, const glm::dvec3& toward_sun, c
                 above = std::max(above, v);
                 below = std::min(below, v);
             }
-            if (above <= tolerance) add(m, h);
-            else if (below >= -tolerance) add(-m, -h);
+            if (above <= tolerance) plane(m, h, true);
+            else if (below >= -tolerance) plane(-m, -h, true);
         }
     }
+}
+
+}  // namespace
+
+BoxShadowVolume::BoxShadowVolume(const Box& box, const glm::dvec3& toward_sun, const glm::dvec3& origin) {
+    for (int n = 0; n < kRoom; ++n) {
+        nx_[n] = ny_[n] = nz_[n] = 0.0f;
+        h_[n] = 1.0f;
+    }
+    for_each_shadow_plane(box, glm::normalize(toward_sun), origin, [&](const glm::dvec3& n, double h, bool) {
+        nx_[count_] = float(n.x);
+        ny_[count_] = float(n.y);
+        nz_[count_] = float(n.z);
+        h_[count_] = float(h);
+        ++count_;
+    });
+}
+
+bool BoxShadowVolume::hidden_behind_box(const Box& box, const glm::dvec3& toward_sun, const glm::dvec3& eye,
+                                        const glm::dvec3& lo, const glm::dvec3& hi) {
+    // The volume is convex, so a segment from an eye outside it to a point P inside enters it once,
+    // through its boundary: through a face the sun reaches, which is the box's surface (the view ray
+    // stops there, at or before P), or through a side. So where the eye is outside and no side's plane
+    // meets the region of the eye and `lo`-`hi` (which holds every such segment), no view ray meets
+    // the shadow there before the box. Each test keeps the box where rounding could decide it.
+    const glm::dvec3 region_lo = glm::min(lo, eye) - eye, region_hi = glm::max(hi, eye) - eye;
+    const double scale = std::max({glm::length(region_lo), glm::length(region_hi), glm::length(box.min - eye),
+                                   glm::length(box.max - eye)});
+    const double tolerance = 1e-9 * scale;
+    bool eye_outside = false, side_meets_region = false;
+    for_each_shadow_plane(box, glm::normalize(toward_sun), eye, [&](const glm::dvec3& n, double h, bool side) {
+        if (h < -tolerance) eye_outside = true;  // the eye, at 0, is on the outer side of this plane
+        if (!side) return;
+        double least = std::numeric_limits<double>::infinity(), most = -least;
+        for (int c = 0; c < 8; ++c) {
+            const glm::dvec3 corner((c & 1) ? region_hi.x : region_lo.x, (c & 2) ? region_hi.y : region_lo.y,
+                                    (c & 4) ? region_hi.z : region_lo.z);
+            const double v = glm::dot(n, corner) - h;
+            least = std::min(least, v);
+            most = std::max(most, v);
+        }
+        if (least <= tolerance && most >= -tolerance) side_meets_region = true;
+    });
+    return eye_outside && !side_meets_region;
 }
 
 bool BoxShadowVolume::interval(float dx, float dy, float dz, float& t_lo, float& t_hi) const {

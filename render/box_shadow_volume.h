@@ -25,6 +25,13 @@ public:
 
     int plane_count() const { return count_; }
 
+    // True when no view ray from `eye` can meet the shadow volume inside the region [lo, hi] (the
+    // media's bounds) other than where the ray has reached the box itself and stops: the ground's
+    // shadow, below it, is met only through the ground. Such a box's shadow is left out of trace's
+    // intervals (every lit ray tested the ground's, for nothing).
+    static bool hidden_behind_box(const Box& box, const glm::dvec3& toward_sun, const glm::dvec3& eye,
+                                  const glm::dvec3& lo, const glm::dvec3& hi);
+
 private:
     // The planes, inside where n . (x - origin) <= h, by component, so that interval() takes four at a
     // time in SIMD lanes (a plane a time, its branches and divisions were 7% of low-sun's shadowed frame).

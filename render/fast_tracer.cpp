@@ -359,6 +359,9 @@ public:
             for (const Box& box : scene.boxes) {
                 double s_from, s_to;
                 if (!shadow_reaches(box, l, lo, hi, s_from, s_to)) continue;
+                // Nor those whose shadow in the media is met only through the box (the ground's,
+                // where smoke dips below it): a view ray stops at the box first.
+                if (BoxShadowVolume::hidden_behind_box(box, l, eye_, lo, hi)) continue;
                 // Where in the image its rays may meet the shadow within the media's bounds: the box
                 // swept from s_from to s_to, the hull of its two ends (a tile whose rays all miss it
                 // skips its intervals: on fog-bank, 5 boxes, they were 4% of the frame).

@@ -3,6 +3,7 @@
 // boxes, suns and rays, the sun on an axis and slanted, the eye inside the shadow and outside; and the
 // faces a box's sweep has. CPU only.
 #include "render/box_shadow_volume.h"
+#include "render/ray_box.h"
 #include "render/sun_light.h"
 
 #include <gtest/gtest.h>
@@ -95,6 +96,66 @@ TEST(BoxShadowVolume, ARayStraightDownUnderTheBoxIsShadowedUpToItsTop) {
     // Beside it: no shadow.
     const BoxShadowVolume beside(box, {0.0, 1.0, 0.0}, {1.5, -1.0, 0.0});
     EXPECT_FALSE(beside.interval(0.0f, 1.0f, 0.0f, lo, hi));
+}
+
+// A box whose shadow hidden_behind_box calls hidden: every point of the region that lies in the shadow
+// (the closed form) is behind the box as the eye sees it, so a view ray meets the box first.
+TEST(BoxShadowVolume, AHiddenShadowIsMetOnlyThroughTheBox) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+    int hidden = 0, shown = 0, points_in_shadow = 0;
+    for (int trial = 0; trial < 600; ++trial) {
+        // Half ground-like slabs (wide, under smoke that dips into and below them), half small boxes.
+        Box box;
+        if (trial % 2 == 0) {
+            const double half = 20.0 + 2000.0 * unit(rng), top = u(rng);
+            box = Box{{-half + 5.0 * u(rng), top - 1.0, -half + 5.0 * u(rng)}, {half, top, half}};
+        } else {
+            const glm::dvec3 lo(3.0 * u(rng), 3.0 * u(rng), 3.0 * u(rng));
+            box = Box{lo, lo + glm::dvec3(0.2 + 2.0 * unit(rng), 0.2 + 2.0 * unit(rng), 0.2 + 2.0 * unit(rng))};
+        }
+        const glm::dvec3 l = glm::normalize(glm::dvec3(u(rng), 0.05 + unit(rng), u(rng)));
+        const glm::dvec3 eye(8.0 * u(rng), 2.0 + 6.0 * unit(rng), 8.0 * u(rng));
+        const glm::dvec3 centre(4.0 * u(rng), 2.0 * u(rng), 4.0 * u(rng));
+        const glm::dvec3 half_size(0.5 + 4.0 * unit(rng), 0.5 + 3.0 * unit(rng), 0.5 + 4.0 * unit(rng));
+        const glm::dvec3 lo = centre - half_size, hi = centre + half_size;
+        if (!BoxShadowVolume::hidden_behind_box(box, l, eye, lo, hi)) {
+            ++shown;
+            continue;
+        }
+        ++hidden;
+        for (int k = 0; k < 200; ++k) {
+            const glm::dvec3 p = lo + glm::dvec3(unit(rng), unit(rng), unit(rng)) * (hi - lo);
+            const double distance = glm::length(p - eye);
+            const glm::dvec3 d = (p - eye) / distance;
+            double t_lo = 0.0, t_hi = 0.0;
+            if (!box_shadow_interval(box, l, eye, d, t_lo, t_hi) || distance < t_lo || distance > t_hi) continue;
+            ++points_in_shadow;
+            EXPECT_LE(ray_box_distance(box, eye, d), distance * (1.0 + 1e-9))
+                << "trial " << trial << ": a point of the shadow the eye sees without the box in front";
+            if (HasFailure()) return;
+        }
+    }
+    // Neither answer may be all there is, and the hidden shadows must hold points to check.
+    EXPECT_GT(hidden, 100);
+    EXPECT_GT(shown, 100);
+    EXPECT_GT(points_in_shadow, 1000);
+}
+
+TEST(BoxShadowVolume, TheGroundHidesItsShadowAPostDoesNot) {
+    const glm::dvec3 l = glm::normalize(glm::dvec3(-0.9, 0.2, 0.3));  // a low sun
+    const glm::dvec3 eye(0.0, 1.6, 9.0);
+    const glm::dvec3 lo(-5.0, -0.8, -4.0), hi(5.0, 2.6, 4.0);  // smoke that dips below the ground's top
+    const Box ground{{-2000.0, -1.0, -2000.0}, {2000.0, 0.0, 2000.0}};
+    EXPECT_TRUE(BoxShadowVolume::hidden_behind_box(ground, l, eye, lo, hi));
+    // A post in the smoke casts its shadow across it, where rays meet it in the open.
+    const Box post{{1.4, 0.0, -3.6}, {1.6, 1.4, -3.4}};
+    EXPECT_FALSE(BoxShadowVolume::hidden_behind_box(post, l, eye, lo, hi));
+    // An eye inside the ground's shadow (under the ground) is not outside it.
+    EXPECT_FALSE(BoxShadowVolume::hidden_behind_box(ground, l, {0.0, -3.0, 0.0}, lo, hi));
+    // A ground only a little wider than the smoke: its sides' planes cross it, so it is kept.
+    const Box small_ground{{-6.0, -1.0, -5.0}, {6.0, 0.0, 5.0}};
+    EXPECT_FALSE(BoxShadowVolume::hidden_behind_box(small_ground, l, eye, lo, hi));
 }
 
 }  // namespace

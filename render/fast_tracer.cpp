@@ -418,7 +418,8 @@ public:
             for (std::size_t k = chunk * kChunk; k < std::min(n, (chunk + 1) * kChunk); ++k)
                 if (take(k)) emits[chunk] = 1;
         });
-        if (std::find(emits.begin(), emits.end(), 1) != emits.end()) plain_ = false;
+        emits_ = std::find(emits.begin(), emits.end(), 1) != emits.end();
+        if (emits_) plain_ = false;
         const Lighting& l = scene.lighting;
         const double sun_len = glm::length(l.sun_direction);
         sun_unit_ = sun_len > 0.0 ? l.sun_direction / sun_len : dvec3(0.0);
@@ -1344,9 +1345,12 @@ private:
         };
         st.sigma = step(st.sigma, extinction_scatter_[k]);
         if (!kPlain) {
+            // Only what the light reads: the accurate technique never reads sigma_sun, and where no
+            // sphere emits sigma_e stays 0 (branches the predictor always gets right). The same images
+            // bit for bit; vdb-cloud's frame, whose one-ray walk steps every event here, 0.96-1.00x.
             const LitMedium& m = lit_media_[k];
-            st.sigma_sun = step(st.sigma_sun, m.sun_scatter);
-            st.sigma_e = step(st.sigma_e, m.emission);
+            if (!accurate_shadows_) st.sigma_sun = step(st.sigma_sun, m.sun_scatter);
+            if (emits_) st.sigma_e = step(st.sigma_e, m.emission);
         }
         return true;
     }
@@ -1362,6 +1366,7 @@ private:
     float min_transmittance_;
     bool accurate_shadows_;
     bool plain_ = true;
+    bool emits_ = false;  // whether any sphere emits
     std::vector<Float4> extinction_scatter_;  // per sphere, {tau, tau * albedo}
     std::vector<LitMedium> lit_media_;        // per sphere, the rest its events add and remove
     std::vector<TileSphere> geometry_;        // per sphere, what list_tile copies (bound_bits 0)

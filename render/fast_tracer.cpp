@@ -1,6 +1,7 @@
 #include "render/fast_tracer.h"
 
 #include "render/box_shadow_volume.h"
+#include "render/float_sun_depth.h"
 #include "render/nearest_bounds.h"
 #include "render/opaque_surfaces.h"
 #include "render/ordered_walk.h"
@@ -337,7 +338,8 @@ public:
                MapInstructions map_instructions)
         : own_sun_(sun ? std::nullopt : std::optional<SunLight>(std::in_place, scene)),
           sun_(sun ? *sun : *own_sun_),
-          opaque_(scene, sun_),
+          float_depth_(lit_boxes(scene) ? FloatSunDepth(scene, sun_, map_instructions) : FloatSunDepth()),
+          opaque_(scene, sun_, &float_depth_),
           sun_map_(sun_map),
           eye_(scene.camera.position),
           min_transmittance_(float(scene.render.min_transmittance)),
@@ -564,6 +566,11 @@ public:
     }
 
     bool plain() const { return plain_; }
+
+    // Whether the scene has a box whose faces reflect light (the lit ground): FloatSunDepth serves them.
+    static bool lit_boxes(const Scene& scene) {
+        return std::any_of(scene.boxes.begin(), scene.boxes.end(), [](const Box& b) { return b.diffuse != dvec3(0.0); });
+    }
 
     // The packet walk (render/packet_walk.h), for a tile whose rays are one per pixel and whose spheres
     // are at most packet::kMaxSpheres: the tile's spheres as it reads them, from its
@@ -1357,7 +1364,8 @@ private:
 
     std::optional<SunLight> own_sun_;  // where the caller gave none
     const SunLight& sun_;
-    OpaqueSurfaces opaque_;  // after sun_, which it reads
+    FloatSunDepth float_depth_;  // T_sun's depth at a lit box (a scene with none: empty)
+    OpaqueSurfaces opaque_;  // after sun_ and float_depth_, which it reads
     SunDepthMap& sun_map_;   // the accurate technique's optical depth toward the sun
     std::vector<BoxShadowVolume> shadow_volumes_;  // the accurate technique's box shadows, those that reach the media
     std::vector<PixelRect> shadow_rects_;          // and the pixels whose rays may meet them there

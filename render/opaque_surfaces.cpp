@@ -4,12 +4,13 @@
 
 #include <glm/geometric.hpp>
 
+#include <cmath>
 #include <limits>
 
 namespace brume {
 
-OpaqueSurfaces::OpaqueSurfaces(const Scene& scene, const SunLight& sun)
-    : boxes_(scene.boxes), lighting_(scene.lighting), sun_(sun) {}
+OpaqueSurfaces::OpaqueSurfaces(const Scene& scene, const SunLight& sun, const FloatSunDepth* float_depth)
+    : boxes_(scene.boxes), lighting_(scene.lighting), sun_(sun), float_depth_(float_depth) {}
 
 double OpaqueSurfaces::hit(const glm::dvec3& o, const glm::dvec3& d, glm::dvec3& behind) const {
     const Hit h = nearest(o, d);
@@ -46,7 +47,14 @@ glm::dvec3 OpaqueSurfaces::box_radiance(int k, int axis, const glm::dvec3& o, co
         // The face met is the one whose outward normal opposes the ray along that axis.
         const double toward_sun = -lighting_.sun_direction[axis] / glm::length(lighting_.sun_direction);
         const double n_dot_l = d[axis] > 0.0 ? -toward_sun : toward_sun;
-        if (n_dot_l > 0.0) irradiance += lighting_.sun * (n_dot_l * sun_.transmittance(o + t * d, k));
+        if (n_dot_l > 0.0) {
+            const glm::dvec3 x = o + t * d;
+            const double sun = float_depth_ == nullptr ? sun_.transmittance(x, k)
+                               : !sun_.shadows()      ? 1.0
+                               : sun_.box_blocks(x, k) ? 0.0
+                                                       : std::exp(-float_depth_->optical_depth(x));
+            irradiance += lighting_.sun * (n_dot_l * sun);
+        }
     }
     return box.radiance + box.diffuse * irradiance;
 }

@@ -1,9 +1,11 @@
 // What a ray meets behind the media: the nearest box (solid, axis aligned) or the background, and the
 // radiance it sends back (docs/accuracy.md): radiance + diffuse * (L_ambient + L_sun max(0, n . l) T_sun(hit)).
 // In double precision, shared by the CPU tracers (render/reference.h, render/fast_tracer.h), so both see
-// the same opaque surfaces to the bit.
+// the same boxes to the bit; trace sums a lit face's optical depth toward the sun in float
+// (render/float_sun_depth.h), as the GPU's opaque pass does.
 #pragma once
 
+#include "render/float_sun_depth.h"
 #include "render/sun_light.h"
 #include "sim/scene.h"
 
@@ -16,8 +18,9 @@ namespace brume {
 
 class OpaqueSurfaces {
 public:
-    // `sun` gives T_sun at a lit face; it must outlive this object.
-    OpaqueSurfaces(const Scene& scene, const SunLight& sun);
+    // `sun` gives T_sun at a lit face; it must outlive this object. Where `float_depth` is given (it must
+    // be made from `sun` and outlive this object too), a lit face's optical depth comes from it.
+    OpaqueSurfaces(const Scene& scene, const SunLight& sun, const FloatSunDepth* float_depth = nullptr);
 
     // The distance to the nearest box along o + t d (d unit; +inf if none), and in `behind` the radiance
     // that reaches the eye from there (the background where no box is met).
@@ -45,6 +48,7 @@ private:
     std::vector<Box> boxes_;
     Lighting lighting_;
     const SunLight& sun_;
+    const FloatSunDepth* float_depth_;
 };
 
 }  // namespace brume

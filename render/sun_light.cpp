@@ -35,6 +35,26 @@ SunLight::SunLight(const Scene& scene) : shadows_(scene.lighting.shadows), boxes
     u_ = glm::normalize(glm::cross(l_, helper));
     v_ = glm::cross(l_, u_);
 
+    // Each box's light-space bounds, a sliver wider than its corners' (box_blocks' quick rejection).
+    for (const Box& b : boxes_) {
+        BoxReach r{kInf, -kInf, kInf, -kInf, -kInf};
+        for (int c = 0; c < 8; ++c) {
+            const dvec3 p((c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y, (c & 4) ? b.max.z : b.min.z);
+            const double pu = glm::dot(p, u_), pv = glm::dot(p, v_), ps = glm::dot(p, l_);
+            r.u_lo = std::min(r.u_lo, pu);
+            r.u_hi = std::max(r.u_hi, pu);
+            r.v_lo = std::min(r.v_lo, pv);
+            r.v_hi = std::max(r.v_hi, pv);
+            r.s_hi = std::max(r.s_hi, ps);
+        }
+        const double sliver = 1e-9 * (1.0 + glm::length(b.min) + glm::length(b.max));
+        r.u_lo -= sliver;
+        r.u_hi += sliver;
+        r.v_lo -= sliver;
+        r.v_hi += sliver;
+        r.s_hi += sliver;
+        box_reach_.push_back(r);
+    }
     discs_.reserve(scene.spheres.size());
     double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf;
     for (const Sphere& s : scene.spheres) {
@@ -138,8 +158,20 @@ double SunLight::optical_depth(const dvec3& x) const {
 }
 
 bool SunLight::box_blocks(const dvec3& x, int skip_box) const {
-    for (std::size_t k = 0; k < boxes_.size(); ++k)
-        if (int(k) != skip_box && ray_box_distance(boxes_[k], x, l_, inverse_l_) < kInf) return true;
+    if (boxes_.empty()) return false;
+    // A box the ray meets holds a point of the same u and v as x, further toward the sun: outside the
+    // box's light-space bounds (a sliver wider) the exact test below would find no hit.
+    const bool bounded = box_reach_.size() == boxes_.size();
+    const double xu = bounded ? glm::dot(x, u_) : 0.0, xv = bounded ? glm::dot(x, v_) : 0.0;
+    const double xs = bounded ? glm::dot(x, l_) : 0.0;
+    for (std::size_t k = 0; k < boxes_.size(); ++k) {
+        if (int(k) == skip_box) continue;
+        if (bounded) {
+            const BoxReach& r = box_reach_[k];
+            if (xu < r.u_lo || xu > r.u_hi || xv < r.v_lo || xv > r.v_hi || xs > r.s_hi) continue;
+        }
+        if (ray_box_distance(boxes_[k], x, l_, inverse_l_) < kInf) return true;
+    }
     return false;
 }
 

@@ -75,6 +75,12 @@ private:
     glm::dvec3 u_{0.0}, v_{0.0};  // a basis of the plane perpendicular to l
     std::vector<Disc> discs_;     // the spheres, as the light sees them
     std::vector<Box> boxes_;
+    // Per box, the bounds of its corners in light space (u, v, and s's largest), a sliver wider: a
+    // point outside them is not in its shadow (box_blocks). Empty without shadows.
+    struct BoxReach {
+        double u_lo, u_hi, v_lo, v_hi, s_hi;
+    };
+    std::vector<BoxReach> box_reach_;
     // A uniform grid over the light-space plane: cell (i, j) lists the spheres whose shadow disc
     // overlaps it, so a T_sun query tests only the spheres whose shadow cylinder can contain x.
     double grid_u0_ = 0.0, grid_v0_ = 0.0, cell_ = 1.0;

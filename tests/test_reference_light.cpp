@@ -3,6 +3,7 @@
 // sharp shadow, emission, the sun integral along a ray through shadow cylinders, the per-sphere technique,
 // and supersampling as the mean of its sub-rays.
 #include "render/reference.h"
+#include "render/ray_box.h"
 #include "render/sun_light.h"
 
 #include "test_scenes.h"
@@ -14,6 +15,8 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <random>
 #include <vector>
 
 namespace brume {
@@ -90,6 +93,50 @@ TEST(ReferenceLight, BoxShadowIsSharpAndFollowsTheSun) {
     for (const double x : {-1.99, -1.2, -0.51}) expect_rel(ground_radiance(s, x, 0.0), dark, kRel, "in the shadow");
     for (const double x : {-2.01, -0.49, 0.0, 1.0}) expect_rel(ground_radiance(s, x, 0.0), lit45, kRel, "lit");
     expect_rel(ground_radiance(s, -1.2, 0.51), lit45, kRel, "beside the shadow");
+}
+
+// SunLight::box_blocks rejects a box by its light-space bounds before the exact ray test: on random
+// boxes and suns, at points in front of, behind and beside each box and a rounding error from its
+// shadow's edges, the answer is the exact test's over every box.
+TEST(ReferenceLight, BoxBlocksIsTheExactTestOverEveryBox) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), size(0.05, 2.0);
+    int blocked = 0, checked = 0;
+    for (int scene = 0; scene < 40; ++scene) {
+        Scene s;
+        s.lighting.shadows = true;
+        s.lighting.sun_direction = dvec3(unit(rng), -1.0 - std::abs(unit(rng)), unit(rng)) * (scene % 3 == 0 ? 0.3 : 1.0);
+        if (scene % 5 == 0) s.lighting.sun_direction = {0.0, -1.0, 0.0};  // axis aligned: flat bounds
+        for (int b = 0; b < 4; ++b) {
+            const dvec3 lo(4.0 * unit(rng), 2.0 * unit(rng), 4.0 * unit(rng));
+            s.boxes.push_back(Box{lo, lo + dvec3(size(rng), size(rng), size(rng)), dvec3(0.0)});
+        }
+        const SunLight sun(s);
+        const dvec3 l = sun.toward_sun(), inv = inverse_direction(l);
+        const auto exact = [&](const dvec3& x, int skip) {
+            for (std::size_t k = 0; k < s.boxes.size(); ++k)
+                if (int(k) != skip && ray_box_distance(s.boxes[k], x, l, inv) < std::numeric_limits<double>::infinity())
+                    return true;
+            return false;
+        };
+        for (int n = 0; n < 400; ++n) {
+            const Box& b = s.boxes[std::size_t(n) % s.boxes.size()];
+            // A point of the box (a corner, or within it), moved along the sun's ray either way, then a
+            // little or a rounding error across it.
+            const dvec3 corner((n & 1) ? b.max.x : b.min.x, (n & 2) ? b.max.y : b.min.y, (n & 4) ? b.max.z : b.min.z);
+            const dvec3 inside = b.min + (b.max - b.min) * dvec3(0.5 + 0.5 * unit(rng), 0.5 + 0.5 * unit(rng), 0.5 + 0.5 * unit(rng));
+            const double nudge = (n % 3 == 0) ? 1e-13 : (n % 3 == 1) ? 1e-3 : 0.3;
+            const dvec3 x = ((n & 8) ? corner : inside) - 3.0 * unit(rng) * l +
+                            nudge * dvec3(unit(rng), unit(rng), unit(rng));
+            const int skip = (n % 7 == 0) ? int(std::size_t(n) % s.boxes.size()) : -1;
+            const bool want = exact(x, skip);
+            ASSERT_EQ(sun.box_blocks(x, skip), want) << "scene " << scene << " point " << n;
+            blocked += want;
+            ++checked;
+        }
+    }
+    EXPECT_GT(blocked, checked / 5);  // both answers were asked for
+    EXPECT_GT(checked - blocked, checked / 5);
 }
 
 TEST(ReferenceLight, BoxShadowIntervalIsTheSweptBox) {

@@ -6,6 +6,7 @@
 #include "render/opaque_surfaces.h"
 #include "render/ordered_walk.h"
 #include "render/packet_walk.h"
+#include "render/pixel_hull.h"
 #include "render/sun_depth_map.h"
 #include "render/simd8_math.h"
 #include "render/sun_light.h"
@@ -376,6 +377,14 @@ public:
                 if (!hull_pixel_rect(corners, 16, scene.camera, scene.camera.width, scene.camera.height, rect)) continue;
                 shadow_volumes_.emplace_back(box, l, eye_);
                 shadow_rects_.push_back(rect);
+                // And the hull of those corners' projections (where all lie in front of the eye), a
+                // pixel wider, as the rectangle is: a slanted shadow's rectangle holds many tiles
+                // its hull does not reach.
+                glm::dvec2 projected[16];
+                shadow_hulls_.push_back(project_to_pixels(corners, 16, scene.camera, scene.camera.width,
+                                                          scene.camera.height, projected)
+                                            ? PixelHull(projected, 16, 1.0)
+                                            : PixelHull());
             }
         }
         // Each box's pixels: the rectangle of its corners' projection (the whole image where a corner is
@@ -778,7 +787,12 @@ public:
     // Which of the first 64 box shadow volumes the rays of pixels [x0, x1) x [y0, y1) may meet within
     // the media's bounds (bit n for volume n).
     std::uint64_t tile_shadow_mask(int x0, int y0, int x1, int y1) const {
-        return rect_mask(shadow_rects_, x0, y0, x1, y1);
+        std::uint64_t mask = rect_mask(shadow_rects_, x0, y0, x1, y1);
+        for (std::uint64_t m = mask; m != 0; m &= m - 1) {
+            const int n = std::countr_zero(m);
+            if (!shadow_hulls_[std::size_t(n)].may_reach(x0, y0, x1, y1)) mask &= ~(std::uint64_t(1) << n);
+        }
+        return mask;
     }
 
 private:
@@ -1369,6 +1383,7 @@ private:
     SunDepthMap& sun_map_;   // the accurate technique's optical depth toward the sun
     std::vector<BoxShadowVolume> shadow_volumes_;  // the accurate technique's box shadows, those that reach the media
     std::vector<PixelRect> shadow_rects_;          // and the pixels whose rays may meet them there
+    std::vector<PixelHull> shadow_hulls_;          // (a tighter bound than the rectangle where it exists)
     std::vector<PixelRect> box_rects_;             // per box, the pixels whose rays may meet it (empty: none)
     dvec3 eye_;
     float min_transmittance_;

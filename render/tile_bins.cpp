@@ -103,6 +103,23 @@ bool hull_pixel_rect(const glm::dvec3* points, int count, const Camera& camera, 
     return rect.x0 < rect.x1 && rect.y0 < rect.y1;
 }
 
+bool project_to_pixels(const glm::dvec3* points, int count, const Camera& camera, int width, int height,
+                       glm::dvec2* out) {
+    const RectCamera cam(make_camera_rays(camera));
+    for (int n = 0; n < count; ++n) {
+        const glm::dvec3 v = points[n] - cam.eye;
+        const double depth = glm::dot(v, cam.forward);
+        if (!(depth > 1e-9 * (glm::length(v) + 1e-300))) return false;  // as hull_pixel_rect
+    }
+    for (int n = 0; n < count; ++n) {
+        const glm::dvec3 v = points[n] - cam.eye;
+        const double depth = glm::dot(v, cam.forward);
+        out[n] = glm::dvec2((glm::dot(v, cam.right) / depth * cam.inv_sx + 1.0) * 0.5 * width,
+                            (1.0 - glm::dot(v, cam.up) / depth * cam.inv_sy) * 0.5 * height);
+    }
+    return true;
+}
+
 std::vector<PixelRect> sphere_pixel_rects(const Scene& scene, int width, int height, int threads) {
     const RectCamera cam(make_camera_rays(scene.camera));
     const std::size_t n = scene.spheres.size();

@@ -6,6 +6,9 @@
 
 #include "sim/scene.h"
 
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
 #include <cstdint>
 #include <vector>
 
@@ -48,6 +51,10 @@ bool sphere_pixel_rect(const Sphere& sphere, const Camera& camera, int width, in
 // front of the eye. False where no pixel's.
 bool hull_pixel_rect(const glm::dvec3* points, int count, const Camera& camera, int width, int height,
                      PixelRect& rect);
+// points[0, count) in pixel coordinates (pixel i spans [i, i + 1], y down; hull_pixel_rect's projection)
+// into out; false, out unwritten, where a point is not in front of the eye (its projection unbounded).
+bool project_to_pixels(const glm::dvec3* points, int count, const Camera& camera, int width, int height,
+                       glm::dvec2* out);
 // Every sphere's rectangle, in scene order, over `threads` (0: every hardware thread); an empty one
 // ({0, 0, 0, 0}) where the sphere has no extinction or covers no pixel.
 std::vector<PixelRect> sphere_pixel_rects(const Scene& scene, int width, int height, int threads);

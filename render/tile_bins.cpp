@@ -75,49 +75,41 @@ bool sphere_pixel_rect(const Sphere& s, const Camera& camera, int width, int hei
     return pixel_rect(s, RectCamera(make_camera_rays(camera)), width, height, rect);
 }
 
-bool hull_pixel_rect(const glm::dvec3* points, int count, const Camera& camera, int width, int height,
-                     PixelRect& rect) {
-    const RectCamera cam(make_camera_rays(camera));
-    double px0 = std::numeric_limits<double>::infinity(), px1 = -px0, py0 = px0, py1 = -px0;
-    for (int n = 0; n < count; ++n) {
-        const glm::dvec3 v = points[n] - cam.eye;
-        const double depth = glm::dot(v, cam.forward);
-        // At or behind the eye's plane (or NaN) the projection is unbounded: every pixel may see it.
-        if (!(depth > 1e-9 * (glm::length(v) + 1e-300))) {
-            rect = {0, 0, width, height};
-            return width > 0 && height > 0;
-        }
-        // Pixel centre i + 0.5 has ndc 2 (i + 0.5) / w - 1 and slope ndc * sx (y: down), as pixel_rect's.
-        const double px = (glm::dot(v, cam.right) / depth * cam.inv_sx + 1.0) * 0.5 * width;
-        const double py = (1.0 - glm::dot(v, cam.up) / depth * cam.inv_sy) * 0.5 * height;
-        px0 = std::min(px0, px);
-        px1 = std::max(px1, px);
-        py0 = std::min(py0, py);
-        py1 = std::max(py1, py);
-    }
-    if (count <= 0) return false;
-    rect.x0 = clamp_to(std::floor(px0 - 0.5), 0, width);
-    rect.x1 = clamp_to(std::floor(px1 - 0.5) + 2.0, 0, width);
-    rect.y0 = clamp_to(std::floor(py0 - 0.5), 0, height);
-    rect.y1 = clamp_to(std::floor(py1 - 0.5) + 2.0, 0, height);
-    return rect.x0 < rect.x1 && rect.y0 < rect.y1;
-}
-
 bool project_to_pixels(const glm::dvec3* points, int count, const Camera& camera, int width, int height,
                        glm::dvec2* out) {
     const RectCamera cam(make_camera_rays(camera));
     for (int n = 0; n < count; ++n) {
         const glm::dvec3 v = points[n] - cam.eye;
         const double depth = glm::dot(v, cam.forward);
-        if (!(depth > 1e-9 * (glm::length(v) + 1e-300))) return false;  // as hull_pixel_rect
-    }
-    for (int n = 0; n < count; ++n) {
-        const glm::dvec3 v = points[n] - cam.eye;
-        const double depth = glm::dot(v, cam.forward);
+        // At or behind the eye's plane (or NaN) the projection is unbounded.
+        if (!(depth > 1e-9 * (glm::length(v) + 1e-300))) return false;
+        // Pixel centre i + 0.5 has ndc 2 (i + 0.5) / w - 1 and slope ndc * sx (y: down), as pixel_rect's.
         out[n] = glm::dvec2((glm::dot(v, cam.right) / depth * cam.inv_sx + 1.0) * 0.5 * width,
                             (1.0 - glm::dot(v, cam.up) / depth * cam.inv_sy) * 0.5 * height);
     }
     return true;
+}
+
+bool hull_pixel_rect(const glm::dvec3* points, int count, const Camera& camera, int width, int height,
+                     PixelRect& rect) {
+    if (count <= 0) return false;
+    std::vector<glm::dvec2> projected(static_cast<std::size_t>(count));
+    if (!project_to_pixels(points, count, camera, width, height, projected.data())) {
+        rect = {0, 0, width, height};  // unbounded: every pixel may see it
+        return width > 0 && height > 0;
+    }
+    double px0 = std::numeric_limits<double>::infinity(), px1 = -px0, py0 = px0, py1 = -px0;
+    for (const glm::dvec2& q : projected) {
+        px0 = std::min(px0, q.x);
+        px1 = std::max(px1, q.x);
+        py0 = std::min(py0, q.y);
+        py1 = std::max(py1, q.y);
+    }
+    rect.x0 = clamp_to(std::floor(px0 - 0.5), 0, width);
+    rect.x1 = clamp_to(std::floor(px1 - 0.5) + 2.0, 0, width);
+    rect.y0 = clamp_to(std::floor(py0 - 0.5), 0, height);
+    rect.y1 = clamp_to(std::floor(py1 - 0.5) + 2.0, 0, height);
+    return rect.x0 < rect.x1 && rect.y0 < rect.y1;
 }
 
 std::vector<PixelRect> sphere_pixel_rects(const Scene& scene, int width, int height, int threads) {

@@ -6,6 +6,8 @@
 #include "render/float_sun_depth.h"
 #include "render/sun_light.h"
 
+#include "test_scenes.h"
+
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
@@ -17,20 +19,9 @@
 namespace brume {
 namespace {
 
+// Radii from a twentieth to most of a unit, a few spheres without medium.
 Scene random_cloud(int n, unsigned seed, const glm::dvec3& sun_direction, const glm::dvec3& offset) {
-    Scene s;
-    s.lighting.shadows = true;
-    s.lighting.sun_direction = sun_direction;
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> pos(-2.0, 2.0), rad(0.05, 0.9), tau(0.2, 3.0);
-    for (int k = 0; k < n; ++k) {
-        Sphere sp;
-        sp.center = offset + glm::dvec3(pos(rng), pos(rng) * 0.5 + 1.0, pos(rng));
-        sp.radius = rad(rng);
-        sp.extinction = k % 17 == 0 ? 0.0 : tau(rng);  // a few without medium
-        s.spheres.push_back(sp);
-    }
-    return s;
+    return testing::random_sun_cloud(n, seed, sun_direction, 0.05, 0.9, offset, 17);
 }
 
 // At points below, inside and beside the cloud, the float sum is the double walk's to float rounding:

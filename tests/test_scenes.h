@@ -71,6 +71,27 @@ inline Scene random_scene(int w, int h, int count, unsigned seed, bool boxes) {
 // One sphere (radius 1, tau 0.7) at the centre of a 65 x 65 view (odd: the centre pixel's ray goes
 // through the sphere centre), a box behind it below and a wall through it at x in [0.3, 0.5] that clips
 // its chords: one sphere per pixel, which the methods that composite whole spheres get exactly right.
+// `count` random spheres (seeded) under a sun that casts shadows, in [-2, 2] x [0, 2] x [-2, 2] moved by
+// `offset`: radii in [r_lo, r_hi), extinction 0.2..3, every `empty_every`-th sphere (when > 0) without
+// medium. No camera: for the sun's own structures (render/sun_depth_map.h, render/float_sun_depth.h).
+inline Scene random_sun_cloud(int count, unsigned seed, const glm::dvec3& sun_direction, double r_lo = 0.2,
+                              double r_hi = 0.8, const glm::dvec3& offset = glm::dvec3(0.0), int empty_every = 0) {
+    Scene s;
+    s.lighting.shadows = true;
+    s.lighting.sun_direction = sun_direction;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> pos(-2.0, 2.0), rad(r_lo, r_hi), tau(0.2, 3.0);
+    for (int k = 0; k < count; ++k) {
+        Sphere sp;
+        sp.center = offset + glm::dvec3(pos(rng), pos(rng) * 0.5 + 1.0, pos(rng));
+        sp.radius = rad(rng);
+        sp.extinction = tau(rng);
+        if (empty_every > 0 && k % empty_every == 0) sp.extinction = 0.0;
+        s.spheres.push_back(sp);
+    }
+    return s;
+}
+
 inline Scene clipped_sphere_scene() {
     Scene s = small_scene(65, 65);
     s.spheres.push_back(sphere({0, 0, 0}, 1.0, 0.7));

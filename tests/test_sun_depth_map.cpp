@@ -6,6 +6,8 @@
 #include "render/sun_depth_map.h"
 #include "render/sun_light.h"
 
+#include "test_scenes.h"
+
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
@@ -20,19 +22,7 @@ namespace brume {
 namespace {
 
 Scene random_cloud(int n, unsigned seed, const glm::dvec3& sun_direction) {
-    Scene s;
-    s.lighting.shadows = true;
-    s.lighting.sun_direction = sun_direction;
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> pos(-2.0, 2.0), rad(0.2, 0.8), tau(0.2, 3.0);
-    for (int k = 0; k < n; ++k) {
-        Sphere sp;
-        sp.center = glm::dvec3(pos(rng), pos(rng) * 0.5 + 1.0, pos(rng));
-        sp.radius = rad(rng);
-        sp.extinction = tau(rng);
-        s.spheres.push_back(sp);
-    }
-    return s;
+    return testing::random_sun_cloud(n, seed, sun_direction);
 }
 
 // Points along random rays from an origin, the way the tracer asks: origin + t d.

@@ -325,12 +325,14 @@ public:
             head = kFloor;
         }
         std::uint64_t front() const { return run[head]; }
-        // kWide (code compiled for AVX2): a key that goes among the run's last three (about nine
+        // kWide (code compiled for AVX2): a key that goes among the run's last three keys (nine
         // insertions in ten on vdb-cloud and explosion, whose exits mostly land one or two places from
         // the back) is placed by one compare and two blends of the last four keys as a vector, without
-        // a branch on how far it goes: the scalar loop's exit, after a varying count, was mispredicted
-        // about once an insertion (8.5% of vdb-cloud's frame in the two insertions' lines, perf). The
-        // same run either way.
+        // a branch on how far it goes; one that goes among the last seven, by the four before them
+        // too. The scalar loop's exit, after a varying count, was mispredicted about once an
+        // insertion (8.5% of vdb-cloud's frame in its two lines, perf): vdb-cloud took 0.87x, and
+        // the second vector a further 0.97-0.98x on plume and vdb-cloud, whose exits land further
+        // back. The same run either way (docs/performance.md).
         template <bool kWide>
         [[gnu::always_inline]] void insert(std::uint64_t key) {
             if constexpr (kWide) {

@@ -304,8 +304,8 @@ public:
     // sphere it lists, for which reset() makes room.
     // The run is written through a pointer into memory that reset() sized, not by push_back, which
     // tested the size and capacity at each insertion (layers at 2 layers, 800x600: 2.5% a frame).
-    // The floor is three keys deep, so that the run's last four keys, sentinel included, always lie in
-    // memory that it owns (insert<true>).
+    // The floor is seven keys deep, so that the run's last eight keys, sentinel included, always lie in
+    // memory that it owns (insert<true>'s two windows).
     struct SortedRun {
         static constexpr std::uint64_t kSentinel = ~std::uint64_t(0);  // no key reaches it (t is finite)
         static constexpr std::size_t kFloor = 7;

@@ -81,7 +81,7 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
     cmd->add_option("--layers", args.layers, "Layer counts, e.g. 2-16:2 or 2,8,16 (even)");
     cmd->add_option("--frames", args.frames, "ppll frames per point (median reported); bench preview: headless frames per preset")->check(CLI::Range(1, 10000));
     cmd->add_option("--reference-frames", args.reference_frames, "CPU reference frames per point")->check(CLI::Range(1, 100));
-    cmd->add_flag("--no-reference", args.no_reference, "Skip the CPU reference");
+    cmd->add_flag("--no-reference", args.no_reference, "Skip the CPU reference (bench shadows: its error columns too)");
     cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
     cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers");
 }
@@ -95,7 +95,9 @@ void restrict_bench_help(CLI::App& bench, const std::string& which) {
         {"sim", {"--particles", "--steps"}},
         {"vdb", {"--vdb-sample", "--vdb-sizes", "--tolerances", "--output"}},
         {"preview", {"--preview-frames", "--presets", "--size", "--frames", "--device", "--validate"}},
-        {"shadows", {"--shadow-scenes", "--shadow-frames", "--methods", "--size", "--frames", "--output", "--device", "--validate"}},
+        {"shadows",
+         {"--shadow-scenes", "--shadow-frames", "--methods", "--size", "--frames", "--no-reference", "--output", "--device",
+          "--validate"}},
     };
     for (const auto& [name, reads] : kReads) {
         if (name != which) continue;

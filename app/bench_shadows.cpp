@@ -16,6 +16,7 @@
 #include "sim/vdb/volume_loader.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -119,6 +120,8 @@ int run_bench_shadows(const BenchArgs& args) {
             if (!item.empty()) names.push_back(item);
     }
     if (names.empty()) throw std::invalid_argument("--shadow-scenes: no scene named");
+    if (args.no_reference && !args.output_dir.empty())
+        throw UsageError("--output: the chart plots each technique's error against the reference, which --no-reference skips");
     std::vector<std::string> methods(std::begin(kMethods), std::end(kMethods));
     if (!args.methods.empty()) methods = split_commas(args.methods);
     for (const std::string& m : methods)
@@ -138,14 +141,18 @@ int run_bench_shadows(const BenchArgs& args) {
     const char* threads = std::getenv("LP_NUM_THREADS");
     std::printf("# brume bench shadows: the shadow techniques of ppll and tiles (GPU ms on %s, LP_NUM_THREADS=%s) and of trace "
                 "(CPU wall-clock ms, every core, %s code) at %dx%d; the mean over a scene's frames of the median of %d "
-                "renders after a warm-up of 1 render (and %.0f ms on the GPU)\n",
+                "rounds, each round rendering every technique in turn (twice, the second timed), after a warm-up of 1 render "
+                "(and %.0f ms on the GPU)\n",
                 device.name().c_str(), threads ? threads : "default", fast_trace_instructions(), w, h, args.frames,
                 warm_ms);
-    std::printf("# error against the exact CPU reference (double, adaptive quadrature between the shadow edges), over "
-                "its peak: mean and p99.9 of |image - ref| (worst frame), temporal = the largest popping metric over "
-                "frame steps\n");
-    std::printf("# ceiling: x_none = ms / the same method's frames without shadows (the issue's bound for accurate: "
-                "2x); competitor: vs_ref = reference ms / ms; fill_ms = rasterising the impostors alone\n");
+    if (args.no_reference)
+        std::printf("# --no-reference: no error columns and no competitor\n");
+    else
+        std::printf("# error against the exact CPU reference (double, adaptive quadrature between the shadow edges), over "
+                    "its peak: mean and p99.9 of |image - ref| (worst frame), temporal = the largest popping metric over "
+                    "frame steps\n");
+    std::printf("# ceiling: x_none = the median over the rounds of ms / the same round's frame without shadows (the issue's "
+                "bound for accurate: 2x); competitor: vs_ref = reference ms / ms; fill_ms = rasterising the impostors alone\n");
     std::printf("%-11s %6s  %-6s %-10s %9s %7s %9s %9s %9s %9s %8s  %s\n", "scene", "frames", "method", "technique", "ms",
                 "x_none", "mean/pk", "p99.9/pk", "temporal", "fill_ms", "vs_ref", "passes (ms, last frame)");
 
@@ -154,12 +161,13 @@ int run_bench_shadows(const BenchArgs& args) {
         // The exact reference once per frame, timed (wall clock, all cores).
         std::vector<Image> refs;
         std::vector<double> ref_ms;
-        for (const Scene& s : scene.frames) {
-            const auto t0 = std::chrono::steady_clock::now();
-            refs.push_back(render_reference(s));
-            ref_ms.push_back(wall_ms_since(t0));
-        }
-        const double reference_ms = median(ref_ms);
+        if (!args.no_reference)
+            for (const Scene& s : scene.frames) {
+                const auto t0 = std::chrono::steady_clock::now();
+                refs.push_back(render_reference(s));
+                ref_ms.push_back(wall_ms_since(t0));
+            }
+        const double reference_ms = refs.empty() ? 0.0 : median(ref_ms);
         std::vector<double> fill_ms;
         warm_up([&] { fill.render(scene.frames[0], nullptr); }, warm_ms);
         for (int r = 0; r < args.frames; ++r) {
@@ -179,67 +187,115 @@ int run_bench_shadows(const BenchArgs& args) {
             const char* method = name.c_str();
             const bool on_cpu = std::string(method) == "trace";
             GpuMethod& gpu = std::string(method) == "tiles" ? static_cast<GpuMethod&>(tiles) : ppll;
-            double none_ms = 0.0;
-            for (const Technique& t : kTechniques) {
-                Result res{scene.name, method, t.name};
-                Image prev;
-                double ms_sum = 0.0;
-                std::string passes;
-                // A frame whose resolve exceeds the device's loop budget is refused by name (ppll.h); the
-                // row says so instead of a figure.
-                try {
-                    for (std::size_t f = 0; f < scene.frames.size(); ++f) {
-                        Scene s = scene.frames[f];
-                        s.lighting.shadows = t.shadows;
-                        s.render.shadow_technique = t.technique;
-                        // Warm-up: the first frame of a pipeline compiles it (and trace's touches its memory).
-                        Image img;
-                        warm_up([&] { img = on_cpu ? render_fast_trace(s, trace_options) : gpu.render(s); },
-                                on_cpu ? 0.0 : warm_ms);
-                        std::vector<double> ms;
-                        FrameStats stats;
-                        for (int r = 0; r < args.frames; ++r) {
+            constexpr std::size_t kCount = std::size(kTechniques);
+            // Per technique: its row, its last frame's image (the temporal error's), the sum over the
+            // frames of its median ms and of its median ratio to the frame without shadows, and whether
+            // the device refused it (and why).
+            std::array<Result, kCount> rows;
+            std::array<Image, kCount> previous;
+            std::array<double, kCount> ms_sum{}, ratio_sum{};
+            std::array<std::string, kCount> refused, passes;
+            for (std::size_t t = 0; t < kCount; ++t) rows[t] = Result{scene.name, method, kTechniques[t].name};
+            const auto render = [&](const Scene& s, FrameStats* stats) {
+                return on_cpu ? render_fast_trace(s, trace_options) : gpu.render(s, stats);
+            };
+            for (std::size_t f = 0; f < scene.frames.size(); ++f) {
+                std::array<Scene, kCount> variants;
+                for (std::size_t t = 0; t < kCount; ++t) {
+                    variants[t] = scene.frames[f];
+                    variants[t].lighting.shadows = kTechniques[t].shadows;
+                    variants[t].render.shadow_technique = kTechniques[t].technique;
+                }
+                // Warm-up: the first frame of a pipeline compiles it (and trace's touches its memory).
+                // A frame whose resolve exceeds the device's loop budget is refused by name (ppll.h);
+                // the row says so instead of a figure.
+                std::array<Image, kCount> images;
+                for (std::size_t t = 0; t < kCount; ++t) {
+                    if (!refused[t].empty()) continue;
+                    try {
+                        warm_up([&] { images[t] = render(variants[t], nullptr); }, on_cpu ? 0.0 : warm_ms);
+                    } catch (const ListResolveError& e) {
+                        refused[t] = e.what();
+                    }
+                }
+                // The techniques in turn, round after round, each round's ratios to its own frame
+                // without shadows: on a shared machine whose speed drifts by 1.5x and more over
+                // seconds, techniques timed one after another (each for all its renders) gave ratios
+                // that moved as much as the drift. Each turn renders its technique once untimed: on
+                // lavapipe ppll's first frame after a change of technique took up to 2x its time
+                // (campfire at 128x96: the frame without shadows after an accurate one, 14-48 ms
+                // against 9-12).
+                std::array<std::vector<double>, kCount> ms, ratio;
+                FrameStats stats;
+                for (int r = 0; r < args.frames; ++r)
+                    for (std::size_t t = 0; t < kCount; ++t) {
+                        if (!refused[t].empty()) continue;
+                        try {
+                            images[t] = render(variants[t], nullptr);
                             if (on_cpu) {
                                 const auto t0 = std::chrono::steady_clock::now();
-                                img = render_fast_trace(s, trace_options);
-                                ms.push_back(wall_ms_since(t0));
+                                images[t] = render(variants[t], nullptr);
+                                ms[t].push_back(wall_ms_since(t0));
                             } else {
-                                img = gpu.render(s, &stats);
-                                ms.push_back(stats.total_ms);
+                                images[t] = render(variants[t], &stats);
+                                ms[t].push_back(stats.total_ms);
+                                if (f + 1 == scene.frames.size() && r + 1 == args.frames) {
+                                    std::ostringstream text;
+                                    for (const PassTime& p : stats.passes) {
+                                        char cell[64];
+                                        std::snprintf(cell, sizeof cell, " %s=%.1f", p.name.c_str(), p.ms);
+                                        text << cell;
+                                    }
+                                    passes[t] = text.str();
+                                }
                             }
-                        }
-                        ms_sum += median(ms);
-                        double mean = 0.0, p999 = 0.0;
-                        error_over_peak(img, refs[f], mean, p999);
-                        res.mean = std::max(res.mean, mean);
-                        res.p999 = std::max(res.p999, p999);
-                        if (f > 0)
-                            res.temporal = std::max(res.temporal, temporal_error(img, prev, refs[f], refs[f - 1]));
-                        prev = std::move(img);
-                        if (f + 1 == scene.frames.size() && !on_cpu) {
-                            std::ostringstream text;
-                            for (const PassTime& p : stats.passes) {
-                                char cell[64];
-                                std::snprintf(cell, sizeof cell, " %s=%.1f", p.name.c_str(), p.ms);
-                                text << cell;
-                            }
-                            passes = text.str();
+                            if (refused[0].empty()) ratio[t].push_back(ms[t].back() / ms[0].back());
+                        } catch (const ListResolveError& e) {
+                            refused[t] = e.what();
                         }
                     }
-                } catch (const ListResolveError& e) {
+                for (std::size_t t = 0; t < kCount; ++t) {
+                    if (!refused[t].empty()) continue;
+                    ms_sum[t] += median(ms[t]);
+                    if (!ratio[t].empty()) ratio_sum[t] += median(ratio[t]);
+                    if (!refs.empty()) {
+                        double mean = 0.0, p999 = 0.0;
+                        error_over_peak(images[t], refs[f], mean, p999);
+                        rows[t].mean = std::max(rows[t].mean, mean);
+                        rows[t].p999 = std::max(rows[t].p999, p999);
+                        if (f > 0)
+                            rows[t].temporal = std::max(rows[t].temporal,
+                                                        temporal_error(images[t], previous[t], refs[f], refs[f - 1]));
+                    }
+                    previous[t] = std::move(images[t]);
+                }
+            }
+            for (std::size_t t = 0; t < kCount; ++t) {
+                Result& res = rows[t];
+                if (!refused[t].empty()) {
                     std::printf("%-11s %6zu  %-6s %-10s refused on this device: %.90s...\n", scene.name.c_str(),
-                                scene.frames.size(), method, t.name, e.what());
+                                scene.frames.size(), method, res.technique.c_str(), refused[t].c_str());
                     continue;
                 }
-                res.ms = ms_sum / double(scene.frames.size());
-                if (!t.shadows) none_ms = res.ms;
-                char temporal[32] = "-";
-                if (scene.frames.size() > 1) std::snprintf(temporal, sizeof temporal, "%.2e", res.temporal);
-                std::printf("%-11s %6zu  %-6s %-10s %9.2f %6.2fx %9.2e %9.2e %9s %9.2f %7.1fx %s\n", scene.name.c_str(),
-                            scene.frames.size(), method, t.name, res.ms, none_ms > 0 ? res.ms / none_ms : 0.0, res.mean,
-                            res.p999, temporal, fill_median, reference_ms / res.ms, on_cpu ? "(CPU)" : passes.c_str());
-                results.push_back(res);
+                const double frames = double(scene.frames.size());
+                res.ms = ms_sum[t] / frames;
+                char temporal[32] = "-", mean[32] = "-", p999[32] = "-", x_none[32] = "-", vs_ref[32] = "-";
+                if (scene.frames.size() > 1 && !refs.empty()) std::snprintf(temporal, sizeof temporal, "%.2e", res.temporal);
+                if (!refs.empty()) {
+                    std::snprintf(mean, sizeof mean, "%.2e", res.mean);
+                    std::snprintf(p999, sizeof p999, "%.2e", res.p999);
+                    std::snprintf(vs_ref, sizeof vs_ref, "%.1fx", reference_ms / res.ms);
+                }
+                if (refused[0].empty()) std::snprintf(x_none, sizeof x_none, "%.2fx", ratio_sum[t] / frames);
+                std::printf("%-11s %6zu  %-6s %-10s %9.2f %7s %9s %9s %9s %9.2f %8s %s\n", scene.name.c_str(),
+                            scene.frames.size(), method, res.technique.c_str(), res.ms, x_none, mean, p999, temporal,
+                            fill_median, vs_ref, on_cpu ? "(CPU)" : passes[t].c_str());
+                if (!refs.empty()) results.push_back(res);
             }
+        }
+        if (refs.empty()) {
+            std::fflush(stdout);
+            continue;
         }
         std::printf("%-11s %6zu  %-6s %-10s %9.2f %7s %9s %9s %9s %9.2f %7.1fx (CPU, wall clock, all cores)\n",
                     scene.name.c_str(), scene.frames.size(), "-", "reference", reference_ms, "-", "0", "0", "0",

@@ -940,6 +940,27 @@ expect_line bench.spheres_too_many 2 "--spheres: counts must be from 1 to 500000
 run bench shadows --methods ppll,bogus
 expect_line bench.shadow_methods 2 "--methods: bench shadows compares ppll, tiles and trace (got 'bogus')" &&
     ok bench.shadow_methods
+run bench shadows --no-reference -o "$work/shadow_chart"
+expect_line bench.shadow_chart_needs_reference 2 \
+    "--output: the chart plots each technique's error against the reference, which --no-reference skips" &&
+    ok bench.shadow_chart_needs_reference
+# Without the reference, bench shadows still times every technique in turn and gives each its ratio to
+# the frame without shadows; the error columns say "-" and no reference row is printed.
+run bench shadows --shadow-scenes default --methods trace --size 32x24 --no-reference --frames 2
+if expect_success bench.shadow_no_reference; then
+    rows=$(awk '$1 == "default" && $3 == "trace"' "$out")
+    if [ "$(echo "$rows" | awk '$7 == "-" && $8 == "-"' | wc -l)" != 3 ]; then
+        fail bench.shadow_no_reference "expected 3 trace rows with '-' errors: $(head -c 400 "$out")"
+    elif [ "$(echo "$rows" | awk '$4 == "none" {print $6}')" != "1.00x" ]; then
+        fail bench.shadow_no_reference "the frame without shadows is not 1.00x itself: $rows"
+    elif ! echo "$rows" | awk '$4 == "accurate" {exit !($6 + 0 > 0 && $6 ~ /x$/)}'; then
+        fail bench.shadow_no_reference "no ratio for accurate: $rows"
+    elif grep -v '^#' "$out" | grep -q ' reference '; then
+        fail bench.shadow_no_reference "a reference row was printed: $(head -c 400 "$out")"
+    else
+        ok bench.shadow_no_reference
+    fi
+fi
 # bench scale's list figures come from the list-length pass, not from a ppll frame: every method's row of
 # a scene carries the same fragment count, and it is not zero.
 run bench scale --spheres 300 --size 64x36 --methods trace,ppll --no-presets --frames 1

@@ -58,6 +58,46 @@ void for_each_shadow_plane(const Box& box, const glm::dvec3& l, const glm::dvec3
     }
 }
 
+// BoxShadowVolume::interval8's lanes: a plane at a time, each lane's bound the scalar code's (the same
+// products, sum and quotient, each rounded as there: no fused multiply-add, in either build below). The
+// scalar code takes the planes four to a lane and the least of those at the end: minima and maxima do
+// not depend on the order they are taken in (but for the sign of a zero bound, which compares and
+// clips alike).
+[[gnu::always_inline]] inline void intervals8(const float* nx, const float* ny, const float* nz, const float* h,
+                                              int count, const float* dx, const float* dy, const float* dz,
+                                              float* t_lo, float* t_hi, std::int32_t* hit) {
+    using simd::Float8;
+    using simd::Int8;
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    const Float8 x = simd::load8(dx), y = simd::load8(dy), z = simd::load8(dz);
+    Float8 lo = Float8{} - inf, hi = Float8{} + inf;
+    Int8 outside{};
+    for (int n = 0; n < count; ++n) {
+        const Float8 nd = nx[n] * x + ny[n] * y + nz[n] * z;
+        const Float8 q = h[n] / nd;  // +-inf or NaN where nd = 0: not taken below
+        hi = nd > 0.0f ? (q < hi ? q : hi) : hi;
+        lo = nd < 0.0f ? (q > lo ? q : lo) : lo;
+        if (h[n] < 0.0f) outside |= nd == 0.0f;  // parallel to a plane, outside it
+    }
+    simd::store8(t_lo, lo);
+    simd::store8(t_hi, hi);
+    simd::store8(hit, ~outside & (lo <= hi));
+}
+
+// Compiled for any x86-64, and for AVX2 (8 lanes in one register) without FMA, so both round alike.
+void intervals8_portable(const float* nx, const float* ny, const float* nz, const float* h, int count,
+                         const float* dx, const float* dy, const float* dz, float* t_lo, float* t_hi,
+                         std::int32_t* hit) {
+    intervals8(nx, ny, nz, h, count, dx, dy, dz, t_lo, t_hi, hit);
+}
+#if defined(__x86_64__) && defined(__GNUC__)
+[[gnu::target("avx2")]] void intervals8_avx2(const float* nx, const float* ny, const float* nz, const float* h,
+                                             int count, const float* dx, const float* dy, const float* dz,
+                                             float* t_lo, float* t_hi, std::int32_t* hit) {
+    intervals8(nx, ny, nz, h, count, dx, dy, dz, t_lo, t_hi, hit);
+}
+#endif
+
 }  // namespace
 
 BoxShadowVolume::BoxShadowVolume(const Box& box, const glm::dvec3& toward_sun, const glm::dvec3& origin) {
@@ -127,6 +167,14 @@ bool BoxShadowVolume::interval(float dx, float dy, float dz, float& t_lo, float&
     t_lo = std::max(lo_pair[0], lo_pair[1]);
     if ((outside[0] | outside[1] | outside[2] | outside[3]) != 0) return false;  // parallel to a plane, outside it
     return t_lo <= t_hi;
+}
+
+void BoxShadowVolume::interval8(const float* dx, const float* dy, const float* dz, float* t_lo, float* t_hi,
+                                std::int32_t* hit) const {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (simd::cpu_has_avx2()) return intervals8_avx2(nx_, ny_, nz_, h_, count_, dx, dy, dz, t_lo, t_hi, hit);
+#endif
+    intervals8_portable(nx_, ny_, nz_, h_, count_, dx, dy, dz, t_lo, t_hi, hit);
 }
 
 }  // namespace brume

@@ -900,6 +900,11 @@ private:
             out.push_back(lo);
             out.push_back(hi);
         }
+        sort_and_merge_shadows(out);
+    }
+
+    // Pairs (lo, hi) sorted by their start, overlaps merged, in place.
+    static void sort_and_merge_shadows(std::vector<float>& out) {
         if (out.size() <= 2) return;
         // Sort the pairs by their start (insertion: a ray meets few shadows), then merge overlaps in place.
         const std::size_t pairs = out.size() / 2;
@@ -981,6 +986,41 @@ private:
         }
     };
 
+    // box_shadows for a tile row's eight rays (`rays`, their float directions and opaque distances), the
+    // lanes of `lanes` only, into each lane's scratch and state (ready_box_shadows'): each volume's
+    // intervals for the eight at once (BoxShadowVolume::interval8, the same intervals), then each
+    // lane's as box_shadows takes them.
+    void row_box_shadows(RowSunRays& row, const Int8& lanes, const packet::Rays& rays, std::uint64_t mask) const {
+        alignas(32) float dx[kTile], dy[kTile], dz[kTile];
+        simd::store8(dx, rays.dx);
+        simd::store8(dy, rays.dy);
+        simd::store8(dz, rays.dz);
+        for (int l = 0; l < int(kTile); ++l)
+            if (lanes[l]) row.lanes[l].shadow_scratch->clear();
+        alignas(32) float lo[kTile], hi[kTile];
+        alignas(32) std::int32_t hit[kTile];
+        for (std::size_t n = 0; n < shadow_volumes_.size(); ++n) {
+            if (n < 64 && !((mask >> n) & 1u)) continue;
+            shadow_volumes_[n].interval8(dx, dy, dz, lo, hi, hit);
+            for (int l = 0; l < int(kTile); ++l) {
+                if (!lanes[l] || !hit[l]) continue;
+                const float a = std::max(lo[l], 0.0f), b = std::min(hi[l], row.lanes[l].t_opaque);
+                if (!(b > a)) continue;
+                row.lanes[l].shadow_scratch->push_back(a);
+                row.lanes[l].shadow_scratch->push_back(b);
+            }
+        }
+        for (int l = 0; l < int(kTile); ++l) {
+            if (!lanes[l]) continue;
+            std::vector<float>& out = *row.lanes[l].shadow_scratch;
+            sort_and_merge_shadows(out);
+            State& st = row.states[l];
+            st.shadows = out.data();
+            st.shadow_count = out.size() / 2;
+            st.shadows_ready = true;
+        }
+    }
+
     // The accurate technique's sun light over a walked row's lit segments (packet::LitSteps), into the
     // row's pixel sums, eight lanes at a time: the pieces that add_sun_pieces cuts (box shadows
     // included), each one's depth toward the sun read at its end (and at its start where the lane's
@@ -1004,16 +1044,17 @@ private:
         const Float8 zero{};
         const float inf = std::numeric_limits<float>::infinity();
         Float8 shadow_lo = zero + inf, shadow_hi = zero + inf;
-        if (jobs.shadow_mask != 0 || shadow_volumes_.size() > 64)
+        if (jobs.shadow_mask != 0 || shadow_volumes_.size() > 64) {
+            row_box_shadows(row_rays, lit_lanes, rays, jobs.shadow_mask);
             for (int l = 0; l < int(kTile); ++l)
                 if (lit_lanes[l]) {
-                    State& st = row_rays.states[l];
-                    ready_box_shadows(st, row_rays.lanes[l]);
+                    const State& st = row_rays.states[l];
                     if (st.shadow_count > 0) {
                         shadow_lo[l] = st.shadows[0];
                         shadow_hi[l] = st.shadows[1];
                     }
                 }
+        }
         SunJobs::LanePieces& pieces = jobs.lanes;
         pieces.clear();
         // The pieces, as add_sun_pieces cuts them: from p, to the segment's end b, p + max_piece or the

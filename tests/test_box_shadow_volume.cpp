@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 namespace brume {
@@ -72,6 +73,62 @@ TEST(BoxShadowVolume, AgreesWithTheClosedFormOnRandomBoxesSunsAndRays) {
         }
     }
     EXPECT_GT(hits, 4000) << "too few rays met a shadow to compare the intervals";
+}
+
+// interval8 (a tile row's eight rays at once, in trace's packet and ordered walks) gives each lane what
+// interval gives its ray alone, bit for bit: the same hits, and the same bounds (a zero's sign aside),
+// on random boxes and suns, rays aimed at the shadow, anywhere, along the sun (parallel to its side
+// planes) and across it.
+TEST(BoxShadowVolume, EightRaysAtOnceAreEachRayAlone) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), size(0.05, 3.0);
+    int hits = 0, misses = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const glm::dvec3 lo(4.0 * u(rng), 4.0 * u(rng), 4.0 * u(rng));
+        const Box box{lo, lo + glm::dvec3(size(rng), size(rng), size(rng))};
+        glm::dvec3 l(u(rng), u(rng) + 0.3, u(rng));
+        if (trial % 3 == 0) l = glm::dvec3(0.0, 1.0, 0.0);
+        if (glm::length(l) < 1e-3) continue;
+        l = glm::normalize(l);
+        const glm::dvec3 eye(6.0 * u(rng), 6.0 * u(rng), 6.0 * u(rng));
+        const BoxShadowVolume volume(box, l, eye);
+        for (int row = 0; row < 8; ++row) {
+            alignas(32) float dx[8], dy[8], dz[8], lo8[8], hi8[8];
+            alignas(32) std::int32_t hit8[8];
+            for (int lane = 0; lane < 8; ++lane) {
+                const int kind = (row + lane) % 4;
+                glm::dvec3 d;
+                if (kind == 3) {
+                    d = -l;  // along the sun: nd = 0 on every side plane
+                } else {
+                    const glm::dvec3 target =
+                        kind == 0 ? 0.5 * (box.min + box.max) - (2.0 + 3.0 * (u(rng) + 1.0)) * l +
+                                        glm::dvec3(u(rng), u(rng), u(rng)) * 0.5 * (box.max - box.min)
+                                  : eye + glm::dvec3(u(rng), u(rng), u(rng));
+                    d = glm::normalize(target - eye);
+                }
+                dx[lane] = float(d.x);
+                dy[lane] = float(d.y);
+                dz[lane] = float(d.z);
+            }
+            volume.interval8(dx, dy, dz, lo8, hi8, hit8);
+            for (int lane = 0; lane < 8; ++lane) {
+                float flo = 0.0f, fhi = 0.0f;
+                const bool alone = volume.interval(dx[lane], dy[lane], dz[lane], flo, fhi);
+                ASSERT_EQ(hit8[lane] != 0, alone) << "trial " << trial << " row " << row << " lane " << lane;
+                ASSERT_TRUE(hit8[lane] == 0 || hit8[lane] == -1);
+                if (!alone) {
+                    ++misses;
+                    continue;
+                }
+                ++hits;
+                ASSERT_EQ(lo8[lane], flo) << "trial " << trial << " lane " << lane;  // +0 == -0
+                ASSERT_EQ(hi8[lane], fhi) << "trial " << trial << " lane " << lane;
+            }
+        }
+    }
+    EXPECT_GT(hits, 2000);
+    EXPECT_GT(misses, 2000);
 }
 
 TEST(BoxShadowVolume, HasTheFacesOfTheSweep) {

@@ -56,96 +56,102 @@ SunLight::SunLight(const Scene& scene) : shadows_(scene.lighting.shadows), boxes
         box_reach_.push_back(r);
     }
     discs_.reserve(scene.spheres.size());
+    for (const Sphere& s : scene.spheres)
+        discs_.push_back({s.center, s.radius, s.radius * s.radius, s.extinction, glm::dot(s.center, l_) + s.radius});
+}
+
+void SunLight::build_grid() const {
+    Grid& g = grid_;
+    if (!shadows_ || discs_.empty()) return;
     double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf;
-    for (const Sphere& s : scene.spheres) {
-        discs_.push_back({s.center, s.radius * s.radius, s.extinction, glm::dot(s.center, l_) + s.radius});
+    for (const Disc& s : discs_) {
         const double cu = glm::dot(s.center, u_), cv = glm::dot(s.center, v_);
         u_lo = std::min(u_lo, cu - s.radius);
         u_hi = std::max(u_hi, cu + s.radius);
         v_lo = std::min(v_lo, cv - s.radius);
         v_hi = std::max(v_hi, cv + s.radius);
     }
-    if (discs_.empty()) return;
     const double extent = std::max(u_hi - u_lo, v_hi - v_lo);
     // Cells about a sphere across, so a cell lists about as many spheres as overlap there in light space;
     // at most about 4 cells per sphere, so the grid's memory stays in proportion to the scene's.
     double mean_diameter = 0.0;
-    for (const Sphere& s : scene.spheres) mean_diameter += 2.0 * s.radius;
-    mean_diameter /= double(scene.spheres.size());
+    for (const Disc& s : discs_) mean_diameter += 2.0 * s.radius;
+    mean_diameter /= double(discs_.size());
     const double side_by_size = std::ceil(extent / mean_diameter);
     const double side_by_count = std::ceil(2.0 * std::sqrt(double(discs_.size()))) + 1.0;
-    grid_n_ = int(std::clamp(std::min(side_by_size, side_by_count), 1.0, double(kMaxGridSide)));
+    g.side = int(std::clamp(std::min(side_by_size, side_by_count), 1.0, double(kMaxGridSide)));
+    const int side = g.side;
     // Slack on every side, so that a disc's own bound never rounds out of the grid.
     const double margin = 1e-9 * std::max(1.0, extent + std::abs(u_lo) + std::abs(v_lo));
-    grid_u0_ = u_lo - margin;
-    grid_v0_ = v_lo - margin;
-    cell_ = (extent + 2.0 * margin) / grid_n_;
+    g.u0 = u_lo - margin;
+    g.v0 = v_lo - margin;
+    g.cell = (extent + 2.0 * margin) / side;
 
     // Each disc is listed in the cells its square overlaps, grown by a sliver: the GPU projects points in
     // float, and one a rounding error outside a cell must still find the discs that reach it.
     // (Extra candidates cost a test each and add exactly 0 to the optical depth.)
-    const auto cell_range = [&](const Sphere& s, int& i0, int& i1, int& j0, int& j1) {
+    const auto cell_range = [&](const Disc& s, int& i0, int& i1, int& j0, int& j1) {
         const double cu = glm::dot(s.center, u_), cv = glm::dot(s.center, v_);
-        const double r = s.radius + 1e-3 * cell_ + 1e-6 * (std::abs(cu) + std::abs(cv) + s.radius);
-        i0 = std::clamp(int(std::floor((cu - r - grid_u0_) / cell_)), 0, grid_n_ - 1);
-        i1 = std::clamp(int(std::floor((cu + r - grid_u0_) / cell_)), 0, grid_n_ - 1);
-        j0 = std::clamp(int(std::floor((cv - r - grid_v0_) / cell_)), 0, grid_n_ - 1);
-        j1 = std::clamp(int(std::floor((cv + r - grid_v0_) / cell_)), 0, grid_n_ - 1);
+        const double r = s.radius + 1e-3 * g.cell + 1e-6 * (std::abs(cu) + std::abs(cv) + s.radius);
+        i0 = std::clamp(int(std::floor((cu - r - g.u0) / g.cell)), 0, side - 1);
+        i1 = std::clamp(int(std::floor((cu + r - g.u0) / g.cell)), 0, side - 1);
+        j0 = std::clamp(int(std::floor((cv - r - g.v0) / g.cell)), 0, side - 1);
+        j1 = std::clamp(int(std::floor((cv + r - g.v0) / g.cell)), 0, side - 1);
     };
     // Two passes: count, then fill (a compact list per cell, in sphere order).
-    const std::size_t cells = std::size_t(grid_n_) * std::size_t(grid_n_);
-    cell_start_.assign(cells + 1, 0);
-    for (const Sphere& s : scene.spheres) {
+    const std::size_t cells = std::size_t(side) * std::size_t(side);
+    g.cell_start.assign(cells + 1, 0);
+    for (const Disc& s : discs_) {
         int i0, i1, j0, j1;
         cell_range(s, i0, i1, j0, j1);
         for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i) ++cell_start_[std::size_t(j) * grid_n_ + i + 1];
+            for (int i = i0; i <= i1; ++i) ++g.cell_start[std::size_t(j) * side + i + 1];
     }
-    for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
-    cell_items_.resize(cell_start_[cells]);
-    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+    for (std::size_t c = 0; c < cells; ++c) g.cell_start[c + 1] += g.cell_start[c];
+    g.cell_items.resize(g.cell_start[cells]);
+    std::vector<std::uint32_t> fill(g.cell_start.begin(), g.cell_start.end() - 1);
+    for (std::size_t k = 0; k < discs_.size(); ++k) {
         int i0, i1, j0, j1;
-        cell_range(scene.spheres[k], i0, i1, j0, j1);
+        cell_range(discs_[k], i0, i1, j0, j1);
         for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i) cell_items_[fill[std::size_t(j) * grid_n_ + i]++] = std::uint32_t(k);
+            for (int i = i0; i <= i1; ++i) g.cell_items[fill[std::size_t(j) * side + i]++] = std::uint32_t(k);
     }
     // Each cell's list from the sun down: by the sphere's far end toward the sun, dot(c, l) + r, largest
     // first (ties by index). A sphere with dot(c, l) + r <= dot(x, l) lies wholly behind x as the sun
     // sees it and adds exactly 0, and so does every sphere after it: a lookup stops there
     // (optical_depth, shaders/sun_transmittance.glsl), skipping on average half a column.
     for (std::size_t c = 0; c < cells; ++c)
-        std::sort(cell_items_.begin() + cell_start_[c], cell_items_.begin() + cell_start_[c + 1],
+        std::sort(g.cell_items.begin() + g.cell_start[c], g.cell_items.begin() + g.cell_start[c + 1],
                   [&](std::uint32_t a, std::uint32_t b) {
-                      const double ka = sun_end(scene.spheres[a]), kb = sun_end(scene.spheres[b]);
+                      const double ka = discs_[a].sun_end, kb = discs_[b].sun_end;
                       return ka != kb ? ka > kb : a < b;
                   });
     // The same lists as light-space discs side by side, for optical_depth's walk.
-    cell_discs_.resize(cell_items_.size());
-    for (std::size_t n = 0; n < cell_items_.size(); ++n) {
-        const Disc& d = discs_[cell_items_[n]];
-        cell_discs_[n] = LightDisc{glm::dot(d.center, u_), glm::dot(d.center, v_), glm::dot(d.center, l_), d.radius2,
-                                   d.tau, d.sun_end};
+    g.cell_discs.resize(g.cell_items.size());
+    for (std::size_t n = 0; n < g.cell_items.size(); ++n) {
+        const Disc& d = discs_[g.cell_items[n]];
+        g.cell_discs[n] = LightDisc{glm::dot(d.center, u_), glm::dot(d.center, v_), glm::dot(d.center, l_), d.radius2,
+                                    d.tau, d.sun_end};
     }
 }
 
-double SunLight::sun_end(const Sphere& s) const { return glm::dot(s.center, l_) + s.radius; }
-
 double SunLight::optical_depth(const dvec3& x) const {
-    if (!shadows_ || grid_n_ == 0) return 0.0;
+    if (!shadows_) return 0.0;
+    const Grid& g = grid();
+    if (g.side == 0) return 0.0;
     const double xu = glm::dot(x, u_), xv = glm::dot(x, v_), xs = glm::dot(x, l_);
-    const int i = int(std::floor((xu - grid_u0_) / cell_));
-    const int j = int(std::floor((xv - grid_v0_) / cell_));
-    if (i < 0 || j < 0 || i >= grid_n_ || j >= grid_n_) return 0.0;  // outside every shadow cylinder
-    const std::size_t c = std::size_t(j) * grid_n_ + i;
+    const int i = int(std::floor((xu - g.u0) / g.cell));
+    const int j = int(std::floor((xv - g.v0) / g.cell));
+    if (i < 0 || j < 0 || i >= g.side || j >= g.side) return 0.0;  // outside every shadow cylinder
+    const std::size_t c = std::size_t(j) * g.side + i;
     double depth = 0.0;
     // The length of the ray x + s l (s > 0) inside each sphere, in light space: the ray is the line
     // (xu, xv) along s, so its distance from the sphere's axis is in u and v alone, and b = dot(x - c, l)
     // is xs - cs. Through the whole sphere the length is the chord 2 sqrt(disc) itself, not the
     // difference of its far and near roots (which cancels far away). The lit ground asks this once per
     // pixel of trace's frame, over every sphere above it.
-    for (std::uint32_t n = cell_start_[c]; n < cell_start_[c + 1]; ++n) {
-        const LightDisc& d = cell_discs_[n];
+    for (std::uint32_t n = g.cell_start[c]; n < g.cell_start[c + 1]; ++n) {
+        const LightDisc& d = g.cell_discs[n];
         if (d.sun_end <= xs) break;  // this sphere and the rest lie behind x (the lists' order)
         const double du = xu - d.u, dv = xv - d.v;
         const double disc = d.radius2 - (du * du + dv * dv);

@@ -53,6 +53,7 @@ void FramePath::run(GpuMethod& method, const Scene& scene, FrameStats* stats, bo
     upload_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - upload_start).count();
     FrameContext ctx(scene, resources_, method, clock_, stats != nullptr, list_stats && method.has_list_stats());
     method.prepare(ctx);
+    if (method.uses_opaque_pass()) resources_.ensure_sun_grid();
     if (method.reads_sphere_sun()) resources_.ensure_sphere_sun(scene);
     // Every frame: a few descriptor writes, and no method's set is in use by then (only a
     // presenter's passes may still run, and they bind no method set).
@@ -90,6 +91,7 @@ void FramePath::run(GpuMethod& method, const Scene& scene, FrameStats* stats, bo
             ++regrows;
             // The method may have replaced what its set points at (ppll's grown pool), or be another
             // set altogether (auto moving to another path after one refused the frame).
+            if (method.uses_opaque_pass()) resources_.ensure_sun_grid();
             if (method.reads_sphere_sun()) resources_.ensure_sphere_sun(scene);
             resources_.write_frame_bindings(method.descriptors());
             continue;

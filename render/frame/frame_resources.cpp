@@ -46,18 +46,14 @@ void FrameResources::upload(const Scene& scene) {
     const bool resize = extent.width != extent_.width || extent.height != extent_.height;
     const bool new_spheres = sphere_buffer_.size() < sphere_bytes || sphere_buffer_.size() > 4 * sphere_bytes;
     const bool new_boxes = box_buffer_.size() < box_bytes;
-    // The sun's light-space grid (render/sun_light.h): the per-sphere T_sun comes from it on the CPU, and the
-    // opaque pass's exact T_sun at lit box hits reads its GPU copy.
+    // The sun (render/sun_light.h). Its light-space grid waits for a reader: the per-sphere T_sun
+    // (ensure_sphere_sun) on the CPU, the opaque pass's exact T_sun at lit box hits through its GPU
+    // copy (ensure_sun_grid). A CPU tracer's frame reads neither.
     sun_light_ = std::make_unique<SunLight>(scene);
-    const SunLight& sun_light = *sun_light_;
-    const std::size_t grid_words = sun_light.grid_side() > 0 ? sun_light.cell_start().size() + sun_light.cell_items().size() : 0;
     // Room for the depth map the previous frame had, so that an animation does not regrow every frame.
-    const std::size_t map_words = sun_header_.map_size.x > 0
-                                      ? std::size_t(sun_header_.map_size.x) * sun_header_.map_size.y * sun_header_.map_size.z
-                                      : 0;
-    const VkDeviceSize grid_bytes = sizeof(gpu::SunGridHeader) + std::max<std::size_t>(grid_words, 1) * sizeof(std::uint32_t);
-    const bool new_grid = sun_grid_buffer_.size() < grid_bytes ||
-                          sun_grid_buffer_.size() > 4 * (grid_bytes + map_words * sizeof(float)) + 4096;
+    if (sun_header_.map_size.x > 0)
+        map_words_room_ = std::size_t(sun_header_.map_size.x) * sun_header_.map_size.y * sun_header_.map_size.z;
+    const bool new_grid = sun_grid_buffer_.size() == 0;
     // Only a presenter's passes of the previous frame can still be running here (the frame path waits
     // for every method pass before it returns), and they read the HDR target alone: host writes are
     // safe, but objects about to be destroyed must wait for them.
@@ -85,26 +81,18 @@ void FrameResources::upload(const Scene& scene) {
     // (ensure_sphere_sun).
     auto* spheres = sphere_buffer_.as<gpu::GpuSphere>();
     for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i], 1.0);
-    sphere_sun_done_ = !sun_light.shadows();
+    sphere_sun_done_ = !sun_light_->shadows();
 
     if (new_boxes)
         box_buffer_ = Buffer(device_, box_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.boxes");
     if (new_grid)
-        sun_grid_buffer_ = Buffer(device_, grid_bytes + map_words * sizeof(float) * 9 / 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                  MemoryUse::Upload, "scene.sun_grid");
+        sun_grid_buffer_ = Buffer(device_, sizeof(gpu::SunGridHeader) + sizeof(std::uint32_t),
+                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.sun_grid");
+    // Until a reader asks for the grid (and the map after it), the buffer says there is none.
     sun_header_ = gpu::SunGridHeader{};
     sun_grid_words_.clear();
+    sun_grid_done_ = false;
     sun_depth_map_done_ = false;
-    if (sun_light.grid_side() > 0) {
-        const glm::dvec3 &u = sun_light.grid_u(), &v = sun_light.grid_v();
-        sun_header_.u_axis = gpu::vec4(float(u.x), float(u.y), float(u.z), float(sun_light.grid_u0()));
-        sun_header_.v_axis = gpu::vec4(float(v.x), float(v.y), float(v.z), float(sun_light.grid_v0()));
-        sun_header_.cell = gpu::vec4(float(sun_light.grid_cell()), 0.0f, 0.0f, 0.0f);
-        sun_header_.size = gpu::uvec4(gpu::uint(sun_light.grid_side()), gpu::uint(sun_light.cell_items().size()), 0u, 0u);
-        sun_grid_words_.reserve(grid_words);
-        sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_start().begin(), sun_light.cell_start().end());
-        sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_items().begin(), sun_light.cell_items().end());
-    }
     write_sun_buffer({});
     if (resize || new_spheres || new_boxes || new_grid) write_frame_bindings(descriptors_);
     auto* boxes = box_buffer_.as<gpu::GpuBox>();
@@ -133,6 +121,32 @@ void FrameResources::write_sun_buffer(std::span<const float> map) {
     std::memcpy(bytes, &sun_header_, sizeof sun_header_);
 }
 
+void FrameResources::ensure_sun_grid() {
+    if (sun_grid_done_) return;
+    sun_grid_done_ = true;
+    const SunLight& sun_light = *sun_light_;
+    if (sun_light.grid_side() == 0) return;  // no shadows or no spheres, as upload's header says
+    const std::size_t grid_words = sun_light.cell_start().size() + sun_light.cell_items().size();
+    const VkDeviceSize grid_bytes = sizeof(gpu::SunGridHeader) + grid_words * sizeof(std::uint32_t);
+    // A buffer much larger than the scene needs (the smoke thinned out) is made again at its size.
+    if (sun_grid_buffer_.size() < grid_bytes ||
+        sun_grid_buffer_.size() > 4 * (grid_bytes + map_words_room_ * sizeof(float)) + 4096) {
+        device_.wait_idle();  // a presenter's pass of the last frame may still hold the set
+        sun_grid_buffer_ = Buffer(device_, grid_bytes + map_words_room_ * sizeof(float) * 9 / 8,
+                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload, "scene.sun_grid");
+        write_frame_bindings(descriptors_);
+    }
+    const glm::dvec3 &u = sun_light.grid_u(), &v = sun_light.grid_v();
+    sun_header_.u_axis = gpu::vec4(float(u.x), float(u.y), float(u.z), float(sun_light.grid_u0()));
+    sun_header_.v_axis = gpu::vec4(float(v.x), float(v.y), float(v.z), float(sun_light.grid_v0()));
+    sun_header_.cell = gpu::vec4(float(sun_light.grid_cell()), 0.0f, 0.0f, 0.0f);
+    sun_header_.size = gpu::uvec4(gpu::uint(sun_light.grid_side()), gpu::uint(sun_light.cell_items().size()), 0u, 0u);
+    sun_grid_words_.reserve(grid_words);
+    sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_start().begin(), sun_light.cell_start().end());
+    sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_items().begin(), sun_light.cell_items().end());
+    write_sun_buffer({});
+}
+
 void FrameResources::ensure_sphere_sun(const Scene& scene) {
     if (sphere_sun_done_) return;
     // The same code as the reference's per-sphere mode, in double, so the GPU differs from it by float
@@ -146,6 +160,7 @@ void FrameResources::ensure_sphere_sun(const Scene& scene) {
 void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     if (sun_depth_map_done_) return;
     sun_depth_map_done_ = true;
+    ensure_sun_grid();  // the map goes after the grid's words, and its header fields beside the grid's
     if (!scene.lighting.shadows || scene.render.shadow_technique != ShadowTechnique::Accurate ||
         sun_header_.size.x == 0)
         return;  // no map is read, or no sphere casts a shadow (size.x = 0 also tells the shader)

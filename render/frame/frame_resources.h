@@ -42,6 +42,11 @@ public:
     // Computed in double by the reference's per-sphere code, a walk over the spheres above each
     // centre: on vdb-cloud (6,152 spheres) 9.6 ms of a preview frame whose trace never read it.
     void ensure_sphere_sun(const Scene& scene);
+    // The sun's light-space grid (render/sun_light.h) copied into the sun buffer, for the scene last
+    // uploaded, on the first call of a frame: the opaque pass reads it (exact T_sun at lit box hits),
+    // and the depth map goes after it (ensure_sun_depth_map calls this first). A frame traced on the
+    // CPU never asks, and its SunLight never builds the grid.
+    void ensure_sun_grid();
     // Writes the frame's bindings (uniforms, spheres, boxes, opaque image) into a method's set.
     void write_frame_bindings(const vk::SharedDescriptors& descriptors) const;
 
@@ -86,7 +91,9 @@ private:
     // was added after them (ensure_sun_depth_map).
     gpu::SunGridHeader sun_header_{};
     std::vector<std::uint32_t> sun_grid_words_;
+    bool sun_grid_done_ = false;
     bool sun_depth_map_done_ = false;
+    std::size_t map_words_room_ = 0;  // the last depth map's size: room kept for it in the sun buffer
     std::unique_ptr<SunLight> sun_light_;  // the scene's, from upload()
     bool sphere_sun_done_ = true;          // ensure_sphere_sun wrote this frame's, or none are needed
     SunDepthMap sun_depth_map_;  // kept from frame to frame for its memory (ensure_sun_depth_map)

@@ -12,6 +12,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <mutex>
 #include <vector>
@@ -98,13 +99,19 @@ private:
         std::vector<std::uint32_t> cell_items;
         std::vector<LightDisc> cell_discs;  // cell_items' spheres, side by side: a lookup reads one run
     };
-    // The grid, built on the first call (build_grid).
+    // The grid, built on the first call (build_grid). Once it is ready a read is one load: the
+    // reference asks optical_depth at every quadrature point, from every worker.
     const Grid& grid() const {
-        std::call_once(grid_once_, [this] { build_grid(); });
+        if (!grid_ready_.load(std::memory_order_acquire))
+            std::call_once(grid_once_, [this] {
+                build_grid();
+                grid_ready_.store(true, std::memory_order_release);
+            });
         return grid_;
     }
     void build_grid() const;
     mutable std::once_flag grid_once_;
+    mutable std::atomic<bool> grid_ready_{false};
     mutable Grid grid_;
 };
 

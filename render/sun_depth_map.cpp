@@ -127,6 +127,79 @@ template <class Sqrt>
 }
 #endif
 
+// A band's sums (render/sun_depth_map.h BandScratch): the map's vertices of rows [row0, row1), the
+// scratch they are summed from, and the lattice's shape.
+struct BandSums {
+    float* depth;
+    float* ends;
+    float* runs;
+    int* highest;  // per local column, as SplatScratch's
+    int* lowest;
+    std::size_t band_columns, row_columns;
+    int row0, row1, nu, ns;
+};
+
+// Every vertex of the band's rows, written once: 0 above a column's highest chord (and in a column no
+// chord reached), then the suffix sums from there down, a group of kColumnsAtOnce columns at a time
+// in SIMD lanes: each column's sum is one chain of dependent additions, and the group's cells lie
+// side by side in the scratch (the same sums in the same order, lane by lane: the values do not
+// depend on how the columns are grouped).
+[[gnu::always_inline]] inline void sum_band(const BandSums& b) {
+    const std::size_t column = std::size_t(b.ns);
+    for (int j = b.row0; j < b.row1; ++j)
+        for (int i = 0; i < b.nu; i += kColumnsAtOnce) {
+            const int group = std::min(kColumnsAtOnce, b.nu - i);
+            const std::size_t first_local = std::size_t(j - b.row0) * b.row_columns + std::size_t(i);
+            int highest = -1, lowest = b.ns;
+            for (int c = 0; c < group; ++c) {
+                const std::size_t local_column = first_local + std::size_t(c);
+                highest = std::max(highest, b.highest[local_column]);
+                lowest = std::min(lowest, b.lowest[local_column]);
+                b.highest[local_column] = -1;
+                b.lowest[local_column] = b.ns;
+            }
+            float* out[kColumnsAtOnce];
+            for (int c = 0; c < group; ++c) {
+                out[c] = b.depth + (std::size_t(j) * std::size_t(b.nu) + std::size_t(i + c)) * column;
+                std::fill(out[c] + (highest + 1), out[c] + b.ns, 0.0f);  // above the group's highest chord
+            }
+            if (highest < 0) continue;  // no chord in the group: every vertex 0
+            // Down from the group's highest chord to its lowest: a column whose own chords end
+            // lower (or that has none) adds zeros (its scratch is 0 there) and writes the 0 its
+            // vertices hold, without a branch. Below every chord's bottom cell nothing ends and
+            // every run has closed, so a column's depth is its whole column's: stored, not summed
+            // (summing on would add, cell after cell, what float rounding left of the runs'
+            // cancellation where two chords shared a cell: about 1e-7 of a chord each; the
+            // presets' images came out the same).
+            simd::Double4 whole_lo{}, whole_hi{}, depth_lo{}, depth_hi{};
+            for (int k = highest; k >= lowest; --k) {
+                float* const run = b.runs + (std::size_t(k) * b.band_columns + first_local);
+                float* const end = b.ends + (std::size_t(k) * b.band_columns + first_local);
+                const simd::Float8 r = simd::load8(run), e = simd::load8(end);
+                whole_lo += simd::low_half(r);
+                whole_hi += simd::high_half(r);
+                depth_lo += simd::low_half(e) + whole_lo;
+                depth_hi += simd::high_half(e) + whole_hi;
+                simd::store8(run, simd::Float8{});
+                simd::store8(end, simd::Float8{});
+                const simd::Float8 depth = simd::to_float8(depth_lo, depth_hi);
+                for (int c = 0; c < group; ++c) out[c][k] = depth[c];
+            }
+            const simd::Float8 total = simd::to_float8(depth_lo, depth_hi);
+            for (int c = 0; c < group; ++c) std::fill(out[c], out[c] + lowest, total[c]);
+        }
+}
+
+// sum_band for any x86-64, and for AVX2 where the CPU has it, as the splat is: the same additions in
+// double and the same roundings to float, so the same map (PortableInstructionsBuildTheSameMap). In
+// AVX2 the four sums of four doubles stay in registers; compiled for SSE they went through the stack
+// at every cell, and the sums were 41% of explosion's build at one thread (perf). The build, one
+// thread, alone: explosion 0.77x, vdb-cloud 0.82x (docs/performance.md).
+[[gnu::flatten]] void sum_band_portable(const BandSums& b) { sum_band(b); }
+#if defined(__x86_64__) && defined(__GNUC__)
+[[gnu::target("avx2"), gnu::flatten]] void sum_band_avx2(const BandSums& b) { sum_band(b); }
+#endif
+
 }  // namespace
 
 SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
@@ -311,53 +384,15 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
         (void)instructions;
         splat_portable(band_spheres.data(), band_spheres.size(), target);
 #endif
-        // Every vertex of the band's rows, written once: 0 above a column's highest chord (and in a
-        // column no chord reached), then the suffix sums from there down, a group of kColumnsAtOnce
-        // columns at a time in SIMD lanes: each column's sum is one chain of dependent additions, and
-        // the group's cells lie side by side in the scratch (the same sums in the same order, lane by
-        // lane: the values do not depend on how the columns are grouped).
-        for (int j = row0; j < row1; ++j)
-            for (int i = 0; i < nu; i += kColumnsAtOnce) {
-                const int group = std::min(kColumnsAtOnce, nu - i);
-                const std::size_t first_local = std::size_t(j - row0) * row_columns + std::size_t(i);
-                int highest = -1, lowest = ns;
-                for (int c = 0; c < group; ++c) {
-                    const std::size_t local_column = first_local + std::size_t(c);
-                    highest = std::max(highest, w.top[local_column]);
-                    lowest = std::min(lowest, w.bottom[local_column]);
-                    w.top[local_column] = -1;
-                    w.bottom[local_column] = ns;
-                }
-                float* out[kColumnsAtOnce];
-                for (int c = 0; c < group; ++c) {
-                    out[c] = depth_.get() + (std::size_t(j) * std::size_t(nu) + std::size_t(i + c)) * column;
-                    std::fill(out[c] + (highest + 1), out[c] + ns, 0.0f);  // above the group's highest chord
-                }
-                if (highest < 0) continue;  // no chord in the group: every vertex 0
-                // Down from the group's highest chord to its lowest: a column whose own chords end
-                // lower (or that has none) adds zeros (its scratch is 0 there) and writes the 0 its
-                // vertices hold, without a branch. Below every chord's bottom cell nothing ends and
-                // every run has closed, so a column's depth is its whole column's: stored, not summed
-                // (summing on would add, cell after cell, what float rounding left of the runs'
-                // cancellation where two chords shared a cell: about 1e-7 of a chord each; the
-                // presets' images came out the same).
-                simd::Double4 whole_lo{}, whole_hi{}, depth_lo{}, depth_hi{};
-                for (int k = highest; k >= lowest; --k) {
-                    float* const run = w.runs.data() + (std::size_t(k) * band_columns + first_local);
-                    float* const end = w.ends.data() + (std::size_t(k) * band_columns + first_local);
-                    const simd::Float8 r = simd::load8(run), e = simd::load8(end);
-                    whole_lo += simd::low_half(r);
-                    whole_hi += simd::high_half(r);
-                    depth_lo += simd::low_half(e) + whole_lo;
-                    depth_hi += simd::high_half(e) + whole_hi;
-                    simd::store8(run, simd::Float8{});
-                    simd::store8(end, simd::Float8{});
-                    const simd::Float8 depth = simd::to_float8(depth_lo, depth_hi);
-                    for (int c = 0; c < group; ++c) out[c][k] = depth[c];
-                }
-                const simd::Float8 total = simd::to_float8(depth_lo, depth_hi);
-                for (int c = 0; c < group; ++c) std::fill(out[c], out[c] + lowest, total[c]);
-            }
+        const BandSums sums{depth_.get(), w.ends.data(), w.runs.data(), w.top.data(), w.bottom.data(), band_columns,
+                            row_columns, row0, row1, nu, ns};
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (instructions == MapInstructions::Best && simd::cpu_has_avx2()) {
+            sum_band_avx2(sums);
+            return;
+        }
+#endif
+        sum_band_portable(sums);
     };
     try {
         parallel_for(std::size_t(bands), threads, splat_and_sum);

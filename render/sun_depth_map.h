@@ -29,7 +29,7 @@
 
 namespace brume {
 
-// The instructions a build's splat runs on: Best takes AVX2 where the CPU has it, Portable any x86-64's.
+// The instructions a build's splat and sums run on: Best takes AVX2 where the CPU has it, Portable any x86-64's.
 // The same float operations either way, so the same map bit for bit (tests/test_sun_depth_map.cpp).
 enum class MapInstructions { Best, Portable };
 

@@ -124,7 +124,7 @@ FloatSunDepth::FloatSunDepth(const Scene& scene, const SunLight& sun, MapInstruc
     v0_ = v_lo - margin;
     cell_ = (extent + 2.0 * margin) / double(side_);
     inverse_cell_ = 1.0 / cell_;
-    avx2_ = instructions == MapInstructions::Best && simd::cpu_has_avx2();
+    avx2_ = instructions != MapInstructions::Portable && simd::cpu_has_avx2();
     // Each disc in the cells it overlaps, grown by a sliver (a point a rounding error outside a cell
     // must still find the discs that reach it): a cell whose nearest point lies within r of the centre.
     const auto for_each_cell = [&](const Disc& d, auto&& visit) {

@@ -113,6 +113,16 @@ inline bool cpu_has_avx2() {
     return false;
 #endif
 }
+// Whether this CPU runs AVX-512's foundation and its 256-bit forms (VL): the sun map's scatters.
+inline bool cpu_has_avx512vl() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f") &&
+                            __builtin_cpu_supports("avx512vl");
+    return has;
+#else
+    return false;
+#endif
+}
 inline bool cpu_has_avx2_fma() {
 #if defined(__x86_64__) && defined(__GNUC__)
     static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");

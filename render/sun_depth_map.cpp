@@ -48,13 +48,102 @@ struct SplatScratch {
     int last_cell;            // ns - 2
 };
 
+// What a row's eight lanes of one sphere's chords add into the scratch (splat_sphere): in lane l, column
+// `first + l` (a local column) when bit l of `crossed` is set; its chord's bottom and top cells; what its
+// bottom and top ends add (from their cells' bounds), and the whole chord (where both ends share a
+// cell); `whole` for each cell between them (+ at the top one's, - at the bottom's: `runs`).
+struct ChordLanes {
+    std::size_t first;
+    int crossed;
+    simd::Int8 bottom_cell, top_cell;
+    simd::Float8 bottom_part, top_part, chord;
+    float whole;
+};
+
+// The adds, a crossed lane at a time: for any x86-64 (and AVX2).
+struct AddLaneByLane {
+    [[gnu::always_inline]] void operator()(const ChordLanes& c, const SplatScratch& out) const {
+        alignas(32) float bottom_part[8], top_part[8], chord[8];
+        alignas(32) std::int32_t cell_bottom[8], cell_top[8];
+        simd::store8(bottom_part, c.bottom_part);
+        simd::store8(top_part, c.top_part);
+        simd::store8(chord, c.chord);
+        simd::store8(cell_bottom, c.bottom_cell);
+        simd::store8(cell_top, c.top_cell);
+        for (int crossed = c.crossed; crossed != 0; crossed &= crossed - 1) {
+            const int l = std::countr_zero(unsigned(crossed));
+            const std::size_t column = c.first + std::size_t(l);
+            const int b = cell_bottom[l], t = cell_top[l];
+            out.highest[column] = std::max(out.highest[column], t);
+            out.lowest[column] = std::min(out.lowest[column], b);
+            float* const end_b = out.ends + (std::size_t(b) * out.stride + column);
+            if (b == t) {
+                *end_b += chord[l];
+                continue;
+            }
+            *end_b += bottom_part[l];
+            out.ends[std::size_t(t) * out.stride + column] += top_part[l];
+            if (t - 1 > b) {  // whole cells b + 1 .. t - 1
+                out.runs[std::size_t(t - 1) * out.stride + column] += c.whole;
+                out.runs[std::size_t(b) * out.stride + column] -= c.whole;
+            }
+        }
+    }
+};
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// The same adds, the eight lanes at once by AVX-512's scatters (AVX512F and VL, on 256-bit vectors):
+// the lanes are eight different columns, so no two write one address, and each address gets the same
+// float additions in the same order (sphere after sphere) as AddLaneByLane's, so the same map. The
+// scratch's cells are indexed in 32 bits (splat_instructions leaves a band whose scratch is larger to
+// the other adds).
+struct AddByScatter {
+    [[gnu::target("avx2,avx512f,avx512vl")]] void operator()(const ChordLanes& c, const SplatScratch& out) const {
+        const __mmask8 crossed = __mmask8(c.crossed);
+        const __m256i first = _mm256_set1_epi32(int(c.first));
+        const __m256i column = _mm256_add_epi32(first, _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+        const __m256i stride = _mm256_set1_epi32(int(out.stride));
+        const __m256i b = __m256i(c.bottom_cell), t = __m256i(c.top_cell);
+        // The highest and lowest cells: eight neighbouring columns, read and written under the mask
+        // (the lanes past a band's last column are never touched).
+        int* const highest = out.highest + c.first;
+        int* const lowest = out.lowest + c.first;
+        _mm256_mask_storeu_epi32(highest, crossed,
+                                 _mm256_max_epi32(_mm256_maskz_loadu_epi32(crossed, highest), t));
+        _mm256_mask_storeu_epi32(lowest, crossed, _mm256_min_epi32(_mm256_maskz_loadu_epi32(crossed, lowest), b));
+        const __mmask8 one_cell = _mm256_mask_cmpeq_epi32_mask(crossed, b, t);
+        const __mmask8 two_cells = crossed & __mmask8(~one_cell);
+        const __mmask8 runs = _mm256_mask_cmpgt_epi32_mask(two_cells, _mm256_sub_epi32(t, _mm256_set1_epi32(1)), b);
+        const __m256i at_bottom = _mm256_add_epi32(_mm256_mullo_epi32(b, stride), column);
+        const __m256i at_top = _mm256_add_epi32(_mm256_mullo_epi32(t, stride), column);
+        add(out.ends, crossed, at_bottom, _mm256_mask_blend_ps(one_cell, __m256(c.bottom_part), __m256(c.chord)));
+        add(out.ends, two_cells, at_top, __m256(c.top_part));
+        const __m256 whole = _mm256_set1_ps(c.whole);
+        add(out.runs, runs, _mm256_sub_epi32(at_top, stride), whole);
+        // runs[b] -= whole, as AddLaneByLane subtracts it (not adds its negation: the same either way
+        // in IEEE arithmetic, but the same operation reads plainly the same).
+        const __m256 now = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), runs, at_bottom, out.runs, 4);
+        _mm256_mask_i32scatter_ps(out.runs, runs, at_bottom, _mm256_sub_ps(now, whole), 4);
+    }
+
+private:
+    // base[index] += value in the lanes of `mask`.
+    [[gnu::target("avx2,avx512f,avx512vl")]] static void add(float* base, __mmask8 mask, __m256i index,
+                                                            __m256 value) {
+        const __m256 now = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), mask, index, base, 4);
+        _mm256_mask_i32scatter_ps(base, mask, index, _mm256_add_ps(now, value), 4);
+    }
+};
+#endif
+
 // One sphere's chords through the band's columns, eight columns of a row at a time in SIMD lanes:
 // each column's chord [bottom, top] (in cells: s +- sqrt(r^2 - du^2 - dv^2)), the cells its ends lie in
 // and what they add, in float, relative to the cell of the sphere's centre (so the lanes' values stay
 // small and keep float's precision); then each column the chord crosses adds its share into the
-// scratch, one at a time. `sqrt8` as simd::SqrtSse or SqrtAvx.
-template <class Sqrt>
-[[gnu::always_inline]] inline void splat_sphere(const SplatSphere& p, const SplatScratch& out, const Sqrt& sqrt8) {
+// scratch (`add`: AddLaneByLane or AddByScatter). `sqrt8` as simd::SqrtSse or SqrtAvx.
+template <class Sqrt, class Add>
+[[gnu::always_inline]] inline void splat_sphere(const SplatSphere& p, const SplatScratch& out, const Sqrt& sqrt8,
+                                                const Add& add) {
     using simd::Float8;
     using simd::Int8;
     const Float8 lane{0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f};
@@ -86,44 +175,30 @@ template <class Sqrt>
             cb = cb > highest_cell ? highest_cell : cb;
             // What each end adds, measured from its own cell's bounds, and the whole chord where both
             // ends share a cell.
-            alignas(32) float bottom_part[8], top_part[8], chord[8];
-            alignas(32) std::int32_t cell_bottom[8], cell_top[8];
-            simd::store8(bottom_part, depth_per_cell * (__builtin_convertvector(cb + 1, Float8) - bottom));
-            simd::store8(top_part, depth_per_cell * (top - __builtin_convertvector(ct, Float8)));
-            simd::store8(chord, depth_per_cell * (half + half));
-            simd::store8(cell_bottom, cb + centre_cell);
-            simd::store8(cell_top, ct + centre_cell);
-            for (; crossed != 0; crossed &= crossed - 1) {
-                const int l = std::countr_zero(unsigned(crossed));
-                const std::size_t column = row_local + std::size_t(i + l);
-                const int b = cell_bottom[l], t = cell_top[l];
-                out.highest[column] = std::max(out.highest[column], t);
-                out.lowest[column] = std::min(out.lowest[column], b);
-                float* const end_b = out.ends + (std::size_t(b) * out.stride + column);
-                if (b == t) {
-                    *end_b += chord[l];
-                    continue;
-                }
-                *end_b += bottom_part[l];
-                out.ends[std::size_t(t) * out.stride + column] += top_part[l];
-                if (t - 1 > b) {  // whole cells b + 1 .. t - 1
-                    out.runs[std::size_t(t - 1) * out.stride + column] += p.depth_per_cell;
-                    out.runs[std::size_t(b) * out.stride + column] -= p.depth_per_cell;
-                }
-            }
+            add(ChordLanes{row_local + std::size_t(i), crossed, cb + centre_cell, ct + centre_cell,
+                           depth_per_cell * (__builtin_convertvector(cb + 1, Float8) - bottom),
+                           depth_per_cell * (top - __builtin_convertvector(ct, Float8)), depth_per_cell * (half + half),
+                           p.depth_per_cell},
+                out);
         }
     }
 }
 
-// The band's spheres, splatted: compiled for any x86-64, and for AVX2 where the CPU has it (the same
-// operations on the same floats, so the same map; 8 lanes in one register rather than two).
+// The band's spheres, splatted: compiled for any x86-64, for AVX2, and for AVX-512 (its scatters) where
+// the CPU has them: the same operations on the same floats, so the same map (8 lanes in one register
+// rather than two; the adds eight at a time rather than one). Not FMA: a contracted a - b c rounds once,
+// where the portable code rounds twice (AVX-512 brings FMA with it, so contraction is turned off).
 [[gnu::flatten]] void splat_portable(const SplatSphere* spheres, std::size_t count, const SplatScratch& out) {
-    for (std::size_t n = 0; n < count; ++n) splat_sphere(spheres[n], out, simd::SqrtSse{});
+    for (std::size_t n = 0; n < count; ++n) splat_sphere(spheres[n], out, simd::SqrtSse{}, AddLaneByLane{});
 }
 #if defined(__x86_64__) && defined(__GNUC__)
 [[gnu::target("avx2"), gnu::flatten]] void splat_avx2(const SplatSphere* spheres, std::size_t count,
                                                       const SplatScratch& out) {
-    for (std::size_t n = 0; n < count; ++n) splat_sphere(spheres[n], out, simd::SqrtAvx{});
+    for (std::size_t n = 0; n < count; ++n) splat_sphere(spheres[n], out, simd::SqrtAvx{}, AddLaneByLane{});
+}
+[[gnu::target("avx2,avx512f,avx512vl"), gnu::optimize("fp-contract=off"), gnu::flatten]] void splat_avx512(
+    const SplatSphere* spheres, std::size_t count, const SplatScratch& out) {
+    for (std::size_t n = 0; n < count; ++n) splat_sphere(spheres[n], out, simd::SqrtAvx{}, AddByScatter{});
 }
 #endif
 
@@ -375,7 +450,10 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
         const SplatScratch target{w.ends.data(), w.runs.data(), w.top.data(), w.bottom.data(), band_columns,
                                   row_columns, row0, ns - 2};
 #if defined(__x86_64__) && defined(__GNUC__)
-        if (instructions == MapInstructions::Best && simd::cpu_has_avx2()) {
+        if (instructions == MapInstructions::Best && simd::cpu_has_avx512vl() &&
+            band_columns * column <= std::size_t(std::numeric_limits<std::int32_t>::max())) {
+            splat_avx512(band_spheres.data(), band_spheres.size(), target);
+        } else if (instructions != MapInstructions::Portable && simd::cpu_has_avx2()) {
             splat_avx2(band_spheres.data(), band_spheres.size(), target);
         } else {
             splat_portable(band_spheres.data(), band_spheres.size(), target);
@@ -387,7 +465,7 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
         const BandSums sums{depth_.get(), w.ends.data(), w.runs.data(), w.top.data(), w.bottom.data(), band_columns,
                             row_columns, row0, row1, nu, ns};
 #if defined(__x86_64__) && defined(__GNUC__)
-        if (instructions == MapInstructions::Best && simd::cpu_has_avx2()) {
+        if (instructions != MapInstructions::Portable && simd::cpu_has_avx2()) {
             sum_band_avx2(sums);
             return;
         }

@@ -29,9 +29,11 @@
 
 namespace brume {
 
-// The instructions a build's splat and sums run on: Best takes AVX2 where the CPU has it, Portable any x86-64's.
-// The same float operations either way, so the same map bit for bit (tests/test_sun_depth_map.cpp).
-enum class MapInstructions { Best, Portable };
+// The instructions a build's splat and sums run on: Best takes AVX-512's scatters for the splat's adds
+// and AVX2 for the rest where the CPU has them, Avx2 stops at AVX2 (so that tests hold that path too
+// on a CPU with AVX-512), Portable any x86-64's. The same float operations every way, so the same map
+// bit for bit (tests/test_sun_depth_map.cpp). FloatSunDepth takes Avx2 as Best.
+enum class MapInstructions { Best, Avx2, Portable };
 
 class SunDepthMap {
 public:

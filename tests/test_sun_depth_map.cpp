@@ -159,9 +159,10 @@ bool same_map(const SunDepthMap& a, const SunDepthMap& b) {
            std::memcmp(a.values().data(), b.values().data(), a.values().size_bytes()) == 0;
 }
 
-// The splat runs on AVX2 where the CPU has it and on any x86-64's instructions otherwise: the same
-// float operations, so the same map bit for bit: on a cloud, and on one where a few spheres are six
-// times the others' size (their chords span dozens of cells).
+// The splat runs on AVX-512's scatters or on AVX2 where the CPU has them, and on any x86-64's
+// instructions otherwise: the same float operations, so the same map bit for bit: on a cloud, and on
+// one where a few spheres are six times the others' size (their chords span dozens of cells, and
+// the scatters' whole-cell runs are many).
 TEST(SunDepthMap, PortableInstructionsBuildTheSameMap) {
     const glm::dvec3 eye(0.0, 1.0, -8.0);
     Scene large = random_cloud(60, 41, {0.3, -1.0, 0.2});
@@ -169,9 +170,11 @@ TEST(SunDepthMap, PortableInstructionsBuildTheSameMap) {
     for (const Scene& s : {random_cloud(200, 40, {-0.2, -1.0, 0.4}), large}) {
         const SunLight sun(s);
         const SunDepthMap best(s, sun, eye, 2, SunDepthMap::kDefaultMaxVertices, MapInstructions::Best);
+        const SunDepthMap avx2(s, sun, eye, 2, SunDepthMap::kDefaultMaxVertices, MapInstructions::Avx2);
         const SunDepthMap portable(s, sun, eye, 2, SunDepthMap::kDefaultMaxVertices, MapInstructions::Portable);
         ASSERT_FALSE(best.empty());
         EXPECT_TRUE(same_map(best, portable));
+        EXPECT_TRUE(same_map(avx2, portable));
     }
 }
 

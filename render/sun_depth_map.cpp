@@ -95,8 +95,8 @@ struct AddLaneByLane {
 // The same adds, the eight lanes at once by AVX-512's scatters (AVX512F and VL, on 256-bit vectors):
 // the lanes are eight different columns, so no two write one address, and each address gets the same
 // float additions in the same order (sphere after sphere) as AddLaneByLane's, so the same map. The
-// scratch's cells are indexed in 32 bits (splat_instructions leaves a band whose scratch is larger to
-// the other adds).
+// scratch's cells are indexed in 32 bits (the build gives a band whose scratch is larger to the AVX2
+// adds).
 struct AddByScatter {
     [[gnu::target("avx2,avx512f,avx512vl")]] void operator()(const ChordLanes& c, const SplatScratch& out) const {
         const __mmask8 crossed = __mmask8(c.crossed);
@@ -120,8 +120,7 @@ struct AddByScatter {
         add(out.ends, two_cells, at_top, __m256(c.top_part));
         const __m256 whole = _mm256_set1_ps(c.whole);
         add(out.runs, runs, _mm256_sub_epi32(at_top, stride), whole);
-        // runs[b] -= whole, as AddLaneByLane subtracts it (not adds its negation: the same either way
-        // in IEEE arithmetic, but the same operation reads plainly the same).
+        // runs[b] -= whole: a subtraction, as AddLaneByLane's.
         const __m256 now = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), runs, at_bottom, out.runs, 4);
         _mm256_mask_i32scatter_ps(out.runs, runs, at_bottom, _mm256_sub_ps(now, whole), 4);
     }

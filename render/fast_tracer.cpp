@@ -162,10 +162,20 @@ using simd::phi_signed8;
 // 422 k to 157 k), and a tenth of fog-bank's frame went into halving them; with a share of sigma_t len
 // itself (kSunPieceThinDepth 1), plume's p99.9 at 128x96 rose from 9.01e-3 to 1.02e-2, at 0.25 to 9.36e-3
 // (docs/accuracy.md).
+// In thin media a piece may run longer, up to kSunPieceThinWiden times kSunPieceCells, while its own
+// optical depth sigma_t len stays within kSunPieceThinDepth: below that its media scatter a share of the
+// light in proportion to their depth, so what a linear depth across it misses shrinks with sigma_t too,
+// and the halving test still sees the change of depth across the whole piece. Long smooth fog is cut
+// into fewer pieces, each a map read and two exponentials: at 640x360, one thread, low-sun's shadowed
+// frame took 0.87-0.92x as long; fog-bank's 0.95-1.0x; plume's and explosion's pieces (sigma_t 3-5 per
+// unit) are untouched, their images the same. p99.9 at 128x96 (bench shadows, docs/accuracy.md) rose
+// within the 1e-2 bound where the media are thin: low-sun 2.25e-3 to 6.65e-3, vdb-cloud 2.33e-3 to
+// 5.16e-3, crossing 1.74e-3 to 3.81e-3, fog-bank 5.0e-4 to 1.0e-3.
 constexpr float kSunPieceCells = 4.0f;
 constexpr int kSunPieceSplits = 4;
 constexpr float kSunPieceDepthChange = 0.1f;
 constexpr float kSunPieceThinDepth = 0.25f;
+constexpr float kSunPieceThinWiden = 4.0f;
 // A ray integrates its final events at every kFlushEvery-th sphere it lists, not at each (radiance):
 // how many are final at a sphere is what the branch predictor cannot know. bench scale, ms at 1,000 /
 // 10,000 / 100,000 spheres: 8 gave 72-77 / 183-184 / 489-494 and 16 gave 82-83 / 180-183 / 491-494 in
@@ -1061,12 +1071,17 @@ private:
         // next edge of a box shadow, whichever is nearest, while p < b; each one's end a point to look
         // up, and its start too where a lane's piece before did not end there. Pieces in a shadow add
         // nothing.
-        const float max_piece = kSunPieceCells * sun_map_.cell();
+        const float max_piece = kSunPieceCells * sun_map_.cell(), thin_max = kSunPieceThinWiden * max_piece;
         Float8 last_t = zero - 1.0f;  // each lane's last piece's end
         for (int k = 0; k < steps.steps; ++k) {
             const Int8 lit = steps.lit[k];
             if (!packet::any(lit)) continue;
             const Float8 b = steps.b[k];
+            // Each lane's longest piece: longer in thin media (kSunPieceThinWiden). NaN-free: sigma_t > 0
+            // on a lit step, and 0 gives +inf, clamped.
+            Float8 lane_piece = kSunPieceThinDepth / steps.sigma_t[k];
+            lane_piece = lane_piece < thin_max ? lane_piece : zero + thin_max;
+            lane_piece = lane_piece > max_piece ? lane_piece : zero + max_piece;
             Float8 p = steps.a[k];
             Int8 active = lit & (p < b);
             while (packet::any(active)) {
@@ -1080,7 +1095,7 @@ private:
                             shadow_hi[l] = more ? st.shadows[2 * st.shadow_next + 1] : inf;
                         }
                 const Int8 shadowed = shadow_lo <= p;
-                Float8 q = p + max_piece;
+                Float8 q = p + lane_piece;
                 q = q < b ? q : b;
                 const Float8 edge = shadowed ? shadow_hi : shadow_lo;
                 q = edge < q ? edge : q;
@@ -1187,12 +1202,19 @@ private:
     // refine_sun_jobs) and linear between them, where the integral has a closed form. The lit pieces go to the
     // tile's jobs (SunJobs), whose integrals resolve_sun_jobs takes after the tile's rays.
     void add_sun_pieces(State& st, const Ray& ray, float a, float b, float sigma_t, const Float4& light) const {
-        const float max_piece = kSunPieceCells * sun_map_.cell();
+        const float cells = kSunPieceCells * sun_map_.cell(), thin_max = kSunPieceThinWiden * cells;
         ready_box_shadows(st, ray);
         // Most segments (a few cells long, with no box shadow left ahead on their ray) are one piece:
-        // the loop below would make the same one.
-        if (st.shadow_next >= st.shadow_count && a + max_piece >= b) {
+        // the loop below would make the same one. The longest piece is the lanes' (lit_steps_light),
+        // its division taken only for a segment longer than kSunPieceCells (on vdb-cloud 4% of them).
+        const bool no_shadow = st.shadow_next >= st.shadow_count;
+        if (no_shadow && a + cells >= b) {
             if (a < b) add_sun_job(st, ray, a, b, a, sigma_t, light);
+            return;
+        }
+        const float max_piece = std::max(std::min(kSunPieceThinDepth / sigma_t, thin_max), cells);
+        if (no_shadow && a + max_piece >= b) {
+            add_sun_job(st, ray, a, b, a, sigma_t, light);
             return;
         }
         float p = a;

@@ -113,7 +113,8 @@ float sun_depth_along(vec3 from_eye, vec3 dir, float t) {
 // trace's pieces and rules (render/fast_tracer.cpp add_sun_pieces and resolve_sun_jobs, which take the
 // pieces of a whole tile together after its rays, not one segment at a time): T_sun is 0 inside the ray's box
 // shadows (find_sun_box_spans, exact) and exp(-depth) elsewhere, the depth read from the map at the
-// ends of pieces no longer than SUN_PIECE_CELLS map cells (halved, up to SUN_PIECE_SPLITS times,
+// ends of pieces no longer than SUN_PIECE_CELLS map cells (in thin media up to SUN_PIECE_THIN_WIDEN
+// times that, while sigma_t len stays within SUN_PIECE_THIN_DEPTH; halved, up to SUN_PIECE_SPLITS times,
 // where the light the piece may carry, times the share its media scatter, min(1, sigma_t len /
 // SUN_PIECE_THIN_DEPTH), times its change of depth exceeds SUN_PIECE_DEPTH_CHANGE) and
 // linear between, where the integral has a closed form. The depth and the sun's transmittance at b
@@ -127,6 +128,7 @@ const float SUN_PIECE_CELLS = 4.0;
 const int SUN_PIECE_SPLITS = 4;
 const float SUN_PIECE_DEPTH_CHANGE = 0.1;
 const float SUN_PIECE_THIN_DEPTH = 0.25;  // render/fast_tracer.cpp kSunPieceThinDepth
+const float SUN_PIECE_THIN_WIDEN = 4.0;   // render/fast_tracer.cpp kSunPieceThinWiden
 const float SUN_MAX_PIECES = 256.0;
 const float SUN_DIVISIBLE_TRANSMITTANCE = 1e-20;
 float sun_segment_integral(inout Integrator it, float a, float b, float sigma_t, float segment_transmittance) {
@@ -144,7 +146,10 @@ float sun_segment_integral(inout Integrator it, float a, float b, float sigma_t,
     float od_p = it.od_valid ? it.od_prev : sun_depth_along(from_eye, it.dir, a);
     float at_p = it.od_valid ? it.sun_prev : exp(-od_p);
     float inverse_cell = sun_grid.map_size.x == 0u ? 0.0 : sun_grid.map_origin.w;
-    float max_piece = inverse_cell > 0.0 ? max(SUN_PIECE_CELLS / inverse_cell, (b - a) / SUN_MAX_PIECES) : b - a;
+    float cells = inverse_cell > 0.0 ? SUN_PIECE_CELLS / inverse_cell : 0.0;
+    float thin = sigma_t > 0.0 ? SUN_PIECE_THIN_DEPTH / sigma_t : SUN_PIECE_THIN_WIDEN * cells;
+    float longest = max(min(thin, SUN_PIECE_THIN_WIDEN * cells), cells);
+    float max_piece = inverse_cell > 0.0 ? max(longest, (b - a) / SUN_MAX_PIECES) : b - a;
     float weight = it.transmittance;
     float end = node_boxes == 0u ? b : a;  // the 3-point rules took the segment
     while (p < end) {

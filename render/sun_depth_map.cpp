@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +20,30 @@ namespace {
 // explosion's p99.9 error (bench shadows at 128x96, pieces refined from 2 cells: 1.04e-2 and 8.7e-3
 // at 0.1, 9.05e-3 and 7.5e-3 at 0.09), for 1.37x the vertices (docs/accuracy.md).
 constexpr double kCellPerRadius = 0.09;
+// Where the media are thin, the spacing widens, up to kThinWidenMax times: at a shadow cylinder's edge
+// the map's blur misses an optical depth of about tau sqrt(2 r h) (h the spacing, the depth growing as
+// the square root of the distance from the edge there), tau r sqrt(2 h / r) for a sphere whose own depth
+// across is tau r. 0.09 was chosen for plume's and explosion's spheres, tau r of 1-4; a spacing of
+// 0.09 / (tau r)^2 radii keeps a thinner sphere's miss at what one of tau r = 1 makes at 0.09, so the
+// spacing widens by 1 / (tau r)^2 of the thickest spheres (the 99th percentile: a few outliers are not
+// the scene), within [1, kThinWidenMax]. Measured (bench shadows, 128x96, trace; the same by ppll): fog
+// presets, tau r at most 0.5, widened 2x, p99.9 of the peak low-sun 6.65e-3 to 6.38e-3, fog-bank
+// 1.01e-3 to 1.13e-3, ground-fog 5.00e-3 to 5.77e-3, vdb-cloud 5.16e-3 to 5.23e-3, crossing 3.81e-3
+// to 7.62e-3, within the 1e-2 target; their shadowed frames at 640x360 0.88-0.96x (the build's
+// vertices an eighth; docs/performance.md). 4x took low-sun and ground-fog past 1.2e-2. Dense smoke
+// (plume, campfire, explosion: tau r of 2-4 at the 99th percentile) keeps 0.09.
+constexpr double kThinWidenMax = 2.0;
+constexpr double kThickPercentile = 0.99;
+
+// The spacing's widening for the spheres' depths across, tau r (reordered): 1 / t^2 of their
+// kThickPercentile-th, t, within [1, kThinWidenMax].
+double thin_media_widening(std::vector<double>& depth_across) {
+    if (depth_across.empty()) return 1.0;
+    const std::size_t k = std::min(depth_across.size() - 1, std::size_t(kThickPercentile * double(depth_across.size())));
+    std::nth_element(depth_across.begin(), depth_across.begin() + std::ptrdiff_t(k), depth_across.end());
+    const double t = depth_across[k];
+    return t > 0.0 ? std::clamp(1.0 / (t * t), 1.0, kThinWidenMax) : kThinWidenMax;
+}
 // Rows of columns per work item of the build: each item splats the spheres that reach its rows.
 constexpr int kBandRows = 4;
 // Columns whose suffix sums are taken side by side (the build's last step).
@@ -291,6 +316,8 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
     l_ = sun.toward_sun();
     std::vector<Projected> spheres;
     spheres.reserve(scene.spheres.size());
+    std::vector<double> depth_across;  // tau r of each
+    depth_across.reserve(scene.spheres.size());
     constexpr double kInf = std::numeric_limits<double>::infinity();
     double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf, s_lo = kInf, s_hi = -kInf, radius_sum = 0.0;
     for (const Sphere& sp : scene.spheres) {
@@ -305,14 +332,16 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
         s_hi = std::max(s_hi, p.s + p.r);
         radius_sum += p.r;
         spheres.push_back(p);
+        depth_across.push_back(p.tau * p.r);
     }
     if (spheres.empty()) return;
 
-    // The spacing: a fraction of the mean radius, widened until the lattice fits the budget. One empty
+    // The spacing: a fraction of the mean radius, wider in thin media (thin_media_widening), widened
+    // until the lattice fits the budget. One empty
     // column beyond the discs on each side of u and v (value 0, so lookups outside need no test but
     // the lattice's bounds); along s, the first vertex at the lowest sphere's bottom (below it the
     // optical depth is the whole column's) and the last at or above the highest sphere's top (0).
-    double cell = kCellPerRadius * radius_sum / double(spheres.size());
+    double cell = kCellPerRadius * radius_sum / double(spheres.size()) * thin_media_widening(depth_across);
     const auto counts = [&](double h, int& nu, int& nv, int& ns) {
         nu = int(std::ceil((u_hi - u_lo) / h)) + 3;
         nv = int(std::ceil((v_hi - v_lo) / h)) + 3;

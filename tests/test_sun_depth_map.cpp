@@ -77,6 +77,40 @@ TEST(SunDepthMap, OneSphereUnderAVerticalSun) {
     EXPECT_EQ(depth_at({0.0, -1.0, 40.0}), 0.0);          // far outside the lattice
 }
 
+// The spacing is 0.09 of the mean radius where a sphere's depth across, tau r, is 1 or more, and
+// 0.09 / (tau r)^2 radii in thinner media, up to twice as wide (render/sun_depth_map.cpp
+// thin_media_widening): the same single sphere at five densities.
+TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
+    Scene s;
+    s.lighting.shadows = true;
+    s.lighting.sun_direction = {0.2, -1.0, 0.1};
+    Sphere sp;
+    sp.center = {0.0, 2.0, 0.0};
+    sp.radius = 1.0;
+    s.spheres.push_back(sp);
+    const auto spacing = [&](double tau_r) {
+        s.spheres[0].extinction = tau_r / sp.radius;
+        return double(SunDepthMap(s, SunLight(s), glm::dvec3(0.0, 0.0, -5.0), 1).cell());
+    };
+    const double dense = 0.09 * sp.radius;
+    EXPECT_NEAR(spacing(4.0), dense, 1e-6);
+    EXPECT_NEAR(spacing(1.0), dense, 1e-6);
+    EXPECT_NEAR(spacing(0.8), dense / 0.64, 1e-6);  // 1 / (tau r)^2
+    EXPECT_NEAR(spacing(0.5), 2.0 * dense, 1e-6);   // at most twice
+    EXPECT_NEAR(spacing(0.01), 2.0 * dense, 1e-6);
+    // The 99th percentile of the spheres' depths across: one thin sphere among dense ones keeps the
+    // dense spacing.
+    s.spheres[0].extinction = 3.0;
+    for (int k = 1; k < 100; ++k) {
+        Sphere other = sp;
+        other.center.x = 0.02 * k;
+        other.extinction = 3.0;
+        s.spheres.push_back(other);
+    }
+    s.spheres[7].extinction = 0.01;
+    EXPECT_NEAR(double(SunDepthMap(s, SunLight(s), glm::dvec3(0.0, 0.0, -5.0), 1).cell()), dense, 1e-6);
+}
+
 // Every vertex holds the exact optical depth of its point: probing at vertices (through the same ray
 // arithmetic the tracer uses) matches SunLight::optical_depth to float rounding.
 TEST(SunDepthMap, ExactAtItsVertices) {

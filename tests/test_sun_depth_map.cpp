@@ -47,20 +47,26 @@ TEST(SunDepthMap, EmptyWithoutShadowsOrSpheres) {
     EXPECT_TRUE(SunDepthMap(none, SunLight(none), glm::dvec3(0.0), 1).empty());
 }
 
+// A shadowed scene of one sphere of radius 1 at (0, 2, 0).
+Scene one_sphere(const glm::dvec3& sun_direction, double extinction) {
+    Scene s;
+    s.lighting.shadows = true;
+    s.lighting.sun_direction = sun_direction;
+    Sphere sp;
+    sp.center = {0.0, 2.0, 0.0};
+    sp.radius = 1.0;
+    sp.extinction = extinction;
+    s.spheres.push_back(sp);
+    return s;
+}
+
 // A single sphere under a vertical sun: along the vertical through its centre, the depth is the part of
 // the chord above the point: 2 r tau below the sphere, tau (r + c - y) inside, 0 above. Vertices lie
 // exactly on that axis only by chance, but the column through the centre is linear in s between the
 // chord's ends, so the interpolation is exact there up to the lateral neighbours; compare loosely, and
 // exactly far outside.
 TEST(SunDepthMap, OneSphereUnderAVerticalSun) {
-    Scene s;
-    s.lighting.shadows = true;
-    s.lighting.sun_direction = {0.0, -1.0, 0.0};
-    Sphere sp;
-    sp.center = {0.0, 2.0, 0.0};
-    sp.radius = 1.0;
-    sp.extinction = 1.5;
-    s.spheres.push_back(sp);
+    const Scene s = one_sphere({0.0, -1.0, 0.0}, 1.5);
     const glm::dvec3 eye(0.0, 0.0, -5.0);
     const SunLight sun(s);
     const SunDepthMap map(s, sun, eye, 1);
@@ -81,13 +87,8 @@ TEST(SunDepthMap, OneSphereUnderAVerticalSun) {
 // 0.09 / (tau r)^2 radii in thinner media, up to twice as wide (render/sun_depth_map.cpp
 // thin_media_widening): the same single sphere at five densities.
 TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
-    Scene s;
-    s.lighting.shadows = true;
-    s.lighting.sun_direction = {0.2, -1.0, 0.1};
-    Sphere sp;
-    sp.center = {0.0, 2.0, 0.0};
-    sp.radius = 1.0;
-    s.spheres.push_back(sp);
+    Scene s = one_sphere({0.2, -1.0, 0.1}, 1.0);
+    const Sphere sp = s.spheres[0];
     const auto spacing = [&](double tau_r) {
         s.spheres[0].extinction = tau_r / sp.radius;
         return double(SunDepthMap(s, SunLight(s), glm::dvec3(0.0, 0.0, -5.0), 1).cell());

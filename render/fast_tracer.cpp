@@ -142,7 +142,7 @@ using simd::Int8;
 using simd::load8;
 
 using simd::exp_minus8;
-using simd::phi_signed8;
+using simd::linear_exponent_integral8;
 
 // The longest piece, in map cells, over which the accurate technique takes the optical depth toward the
 // sun as linear, before refine_sun_jobs halves it where the depth changes fast. A lit piece is halved, up to
@@ -1362,13 +1362,15 @@ private:
                                                          const Float8& weight, Int8& halve) {
         const Float8 change = od_q - od_p;
         const Float8 x = sigma_t * len + change;
-        // The integrand at p, exp(-sigma_t (p - a) - depth(p)); exp(-x) takes it to q.
+        // The integrand at p, exp(-sigma_t (p - a) - depth(p)).
         const Float8 at_p = exp_minus8(attenuation + od_p);
         const Float8 magnitude = Float8(Int8(change) & 0x7fffffff);
         const Float8 thin = sigma_t * len * (1.0f / kSunPieceThinDepth);
         const Float8 share = thin < 1.0f ? thin : Float8{} + 1.0f;  // of the light, the piece's media scatter
         halve = weight * at_p * share * magnitude > kSunPieceDepthChange;
-        return at_p * len * phi_signed8(x, exp_minus8(x));
+        // The integrand at q from its own exponent, not at_p exp(-x) (linear_exponent_integral8).
+        const Float8 at_q = exp_minus8(attenuation + sigma_t * len + od_q);
+        return linear_exponent_integral8(x, at_p, at_q, len);
     }
 
     // The refinement, where the depth changes fast: each of the `count` pieces in jobs.halving is

@@ -57,15 +57,19 @@ template <class F>
     return small ? series : quotient;
 }
 
-// (1 - exp(-x)) / x for any x, exp(-x) given, in each lane: the sun integral's exponent also holds the
-// change of the optical depth toward the sun, which may fall along a piece (x < 0). The series below
-// |x| = 1/8 (it holds for either sign).
-[[gnu::always_inline]] inline Float8 phi_signed8(Float8 x, Float8 exp_minus_x) {
+// The integral over a piece of length len of exp(-e(t)), its exponent e linear along the piece from
+// e(p) to e(q) = e(p) + x, given the integrand's ends at_p = exp(-e(p)) and at_q = exp(-e(q)), in each
+// lane: the sun integral's exponent also holds the change of the optical depth toward the sun, which
+// may fall along a piece (x < 0). Past |x| = 1/8, len (at_p - at_q) / x, between the two ends times
+// len however large |x| is (at_p (1 - exp(-x)) / x overflows where the depth falls by more than
+// float's exponent holds: a view ray leaving a very dense sphere's shadow toward the sun); below, at_p
+// len times the series of (1 - exp(-x)) / x, which holds for either sign.
+[[gnu::always_inline]] inline Float8 linear_exponent_integral8(Float8 x, Float8 at_p, Float8 at_q, Float8 len) {
     const Int8 small = Float8(Int8(x) & 0x7fffffff) < 0.125f;  // |x| by its bits
     const Float8 series =
         1.0f - x * 0.5f * (1.0f - x * (1.0f / 3.0f) * (1.0f - x * 0.25f * (1.0f - x * 0.2f * (1.0f - x * (1.0f / 6.0f)))));
-    const Float8 quotient = (1.0f - exp_minus_x) / (small ? Float8{} + 1.0f : x);
-    return small ? series : quotient;
+    const Float8 quotient = (at_p - at_q) / (small ? Float8{} + 1.0f : x);
+    return len * (small ? at_p * series : quotient);
 }
 
 // The square root of each lane, for lanes >= 0 (correctly rounded, as std::sqrt): SSE's on any

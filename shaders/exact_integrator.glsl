@@ -97,13 +97,6 @@ float sun_quadrature(vec3 origin, vec3 dir, float a, float u, float v, float sig
     return sum * 0.5 * h;
 }
 
-// (1 - exp(-x)) / x for x of either sign, exp(-x) given: the exponent of a lit piece also holds the
-// change of the depth toward the sun, which may fall along it.
-float one_minus_exp_over_x_signed(float x, float exp_minus_x) {
-    if (abs(x) < 0.125) return one_minus_exp_over_x(x, exp_minus_x);  // its series holds for either sign
-    return (1.0 - exp_minus_x) / x;
-}
-
 // The spheres' optical depth toward the sun at origin + t dir, from the map (0 without one).
 float sun_depth_along(vec3 from_eye, vec3 dir, float t) {
     return sun_grid.map_size.x == 0u ? 0.0 : sun_map_depth(from_eye + t * dir);
@@ -179,9 +172,19 @@ float sun_segment_integral(inout Integrator it, float a, float b, float sigma_t,
             }
             float len = r - p;
             float x = sigma_t * len + (od_r - od_p);
-            float e = exp(-clamp(x, -87.0, 87.0));
-            if (!shadowed) sum += at_p * len * one_minus_exp_over_x_signed(x, e);  // in a box's shadow: nothing
-            at_p *= e;
+            // The integrand at r from its own exponent, sigma_t (r - a) + depth(r) >= 0 (as trace's
+            // piece_integral8 takes it), not at_p exp(-x): where the depth falls by more than float's
+            // exponent holds along one piece (a view ray leaving a very dense sphere's shadow toward the
+            // sun), exp(-x) overflows or, clamped, leaves at_p wrong for the rest of the segment
+            // (tiles read 7e14 of the peak beside a sphere of extinction 500). Past |x| = 0.125 the
+            // piece's integral is the difference of the integrand's ends over x, between the two ends
+            // times len however large |x| is; below, the series (one_minus_exp_over_x takes its series
+            // for any x under 0.125, so the exponential it is handed is never read).
+            float at_r = exp(-(sigma_t * (r - a) + od_r));
+            if (!shadowed) {  // in a box's shadow: nothing
+                sum += abs(x) < 0.125 ? at_p * len * one_minus_exp_over_x(x, 0.0) : len * ((at_p - at_r) / x);
+            }
+            at_p = at_r;
             p = r;
             od_p = od_r;
             if (waiting == 0) break;

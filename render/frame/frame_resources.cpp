@@ -7,6 +7,8 @@
 #include "render/vk/pipelines.h"
 #include "render/vk/vk_check.h"
 
+#include <glm/geometric.hpp>
+
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -50,6 +52,7 @@ void FrameResources::upload(const Scene& scene) {
     // (ensure_sphere_sun) on the CPU, the opaque pass's exact T_sun at lit box hits through its GPU
     // copy (ensure_sun_grid). A CPU tracer's frame reads neither.
     sun_light_ = std::make_unique<SunLight>(scene);
+    eye_ = scene.camera.position;  // every position goes to the device relative to it (gpu_types.h)
     // Room for the depth map the previous frame had, so that an animation does not regrow every frame.
     if (sun_header_.map_size.x > 0)
         map_words_room_ = std::size_t(sun_header_.map_size.x) * sun_header_.map_size.y * sun_header_.map_size.z;
@@ -80,7 +83,7 @@ void FrameResources::upload(const Scene& scene) {
     // T_sun at the centres (the per-sphere shadow technique) comes later, if a method reads it
     // (ensure_sphere_sun).
     auto* spheres = sphere_buffer_.as<gpu::GpuSphere>();
-    for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i], 1.0);
+    for (std::size_t i = 0; i < scene.spheres.size(); ++i) spheres[i] = gpu::to_gpu(scene.spheres[i], eye_, 1.0);
     sphere_sun_done_ = !sun_light_->shadows();
 
     if (new_boxes)
@@ -96,7 +99,7 @@ void FrameResources::upload(const Scene& scene) {
     write_sun_buffer({});
     if (resize || new_spheres || new_boxes || new_grid) write_frame_bindings(descriptors_);
     auto* boxes = box_buffer_.as<gpu::GpuBox>();
-    for (std::size_t i = 0; i < scene.boxes.size(); ++i) boxes[i] = gpu::to_gpu(scene.boxes[i]);
+    for (std::size_t i = 0; i < scene.boxes.size(); ++i) boxes[i] = gpu::to_gpu(scene.boxes[i], eye_);
 
     uniforms() = gpu::make_frame_uniforms(scene);
     sphere_count_ = std::uint32_t(scene.spheres.size());
@@ -137,8 +140,9 @@ void FrameResources::ensure_sun_grid() {
         write_frame_bindings(descriptors_);
     }
     const glm::dvec3 &u = sun_light.grid_u(), &v = sun_light.grid_v();
-    sun_header_.u_axis = gpu::vec4(float(u.x), float(u.y), float(u.z), float(sun_light.grid_u0()));
-    sun_header_.v_axis = gpu::vec4(float(v.x), float(v.y), float(v.z), float(sun_light.grid_v0()));
+    // The grid's first cell corner along u and v, relative to the eye as every position on the device.
+    sun_header_.u_axis = gpu::vec4(float(u.x), float(u.y), float(u.z), float(sun_light.grid_u0() - glm::dot(eye_, u)));
+    sun_header_.v_axis = gpu::vec4(float(v.x), float(v.y), float(v.z), float(sun_light.grid_v0() - glm::dot(eye_, v)));
     sun_header_.cell = gpu::vec4(float(sun_light.grid_cell()), 0.0f, 0.0f, 0.0f);
     sun_header_.size = gpu::uvec4(gpu::uint(sun_light.grid_side()), gpu::uint(sun_light.cell_items().size()), 0u, 0u);
     sun_grid_words_.reserve(grid_words);
@@ -153,7 +157,7 @@ void FrameResources::ensure_sphere_sun(const Scene& scene) {
     // rounding alone.
     auto* spheres = sphere_buffer_.as<gpu::GpuSphere>();
     for (std::size_t i = 0; i < scene.spheres.size(); ++i)
-        spheres[i] = gpu::to_gpu(scene.spheres[i], sun_light_->transmittance(scene.spheres[i].center));
+        spheres[i] = gpu::to_gpu(scene.spheres[i], eye_, sun_light_->transmittance(scene.spheres[i].center));
     sphere_sun_done_ = true;
 }
 

@@ -95,6 +95,7 @@ private:
     bool sun_depth_map_done_ = false;
     std::size_t map_words_room_ = 0;  // the last depth map's size: room kept for it in the sun buffer
     std::unique_ptr<SunLight> sun_light_;  // the scene's, from upload()
+    glm::dvec3 eye_{0.0};                  // the scene's eye: the device's origin (render/vk/gpu_types.h)
     bool sphere_sun_done_ = true;          // ensure_sphere_sun wrote this frame's, or none are needed
     SunDepthMap sun_depth_map_;  // kept from frame to frame for its memory (ensure_sun_depth_map)
     // Writes the header and the grid words, then `map` (may be empty) after them, growing the buffer

@@ -12,7 +12,7 @@ vec4 v4(const glm::dvec3& v, double w = 0.0) { return vec4(float(v.x), float(v.y
 FrameUniforms make_frame_uniforms(const Scene& scene) {
     const CameraRays rays = make_camera_rays(scene.camera);
     FrameUniforms u{};
-    u.eye = v4(rays.eye);
+    u.eye = vec4(0.0f, 0.0f, 0.0f, 0.0f);  // positions are uploaded relative to the eye (gpu_types.h)
     u.forward = v4(rays.forward);
     u.right = v4(rays.right, glm::length(rays.right));
     u.up = v4(rays.up, glm::length(rays.up));
@@ -28,10 +28,12 @@ FrameUniforms make_frame_uniforms(const Scene& scene) {
     return u;
 }
 
-GpuSphere to_gpu(const Sphere& s, double sun_transmittance) {
-    return GpuSphere{v4(s.center, s.radius), v4(s.albedo, s.extinction), v4(s.emission, sun_transmittance)};
+GpuSphere to_gpu(const Sphere& s, const glm::dvec3& eye, double sun_transmittance) {
+    return GpuSphere{v4(s.center - eye, s.radius), v4(s.albedo, s.extinction), v4(s.emission, sun_transmittance)};
 }
 
-GpuBox to_gpu(const Box& b) { return GpuBox{v4(b.min), v4(b.max), v4(b.radiance), v4(b.diffuse)}; }
+GpuBox to_gpu(const Box& b, const glm::dvec3& eye) {
+    return GpuBox{v4(b.min - eye), v4(b.max - eye), v4(b.radiance), v4(b.diffuse)};
+}
 
 }  // namespace brume::gpu

@@ -38,10 +38,17 @@ static_assert(BINDING_SORT_ORDER < BINDING_METHOD_BUFFER_FIRST + METHOD_BUFFERS 
                   BINDING_PEEL_IDS < BINDING_COUNT && BINDING_STOCHASTIC_OPTICAL_DEPTH < BINDING_COUNT,
               "a method binding outside the method slots of the layout");
 
-// Camera, lighting and counts of a scene; the method fills in `pool`.
+// Every position the device reads is relative to the eye, taken in double here: the frame's eye is
+// the origin, and spheres, boxes and the sun grid are moved by -eye. In float, a scene 100,000 units
+// from the world's origin kept 0.008 of a unit of its spheres' and boxes' positions, and ppll's edges
+// were off by up to 0.13 of the peak (trace, which works relative to the eye, within 5e-3); relative
+// to the eye, what float loses grows with the distance from the eye, as the picture's own scale does.
+
+// Camera, lighting and counts of a scene (the eye at the origin); the method fills in `pool`.
 FrameUniforms make_frame_uniforms(const Scene& scene);
-// sun_transmittance: T_sun at the sphere's centre (render/sun_light.h), 1 without shadows.
-GpuSphere to_gpu(const Sphere& sphere, double sun_transmittance);
-GpuBox to_gpu(const Box& box);
+// The sphere relative to `eye` (the scene's camera position). sun_transmittance: T_sun at the sphere's
+// centre (render/sun_light.h), 1 without shadows.
+GpuSphere to_gpu(const Sphere& sphere, const glm::dvec3& eye, double sun_transmittance);
+GpuBox to_gpu(const Box& box, const glm::dvec3& eye);
 
 }  // namespace brume::gpu

@@ -53,6 +53,40 @@ struct Projected {
     double u, v, s, r, tau;
 };
 
+// The spheres a lookup takes in closed form (SunDepthMap::Outsized), moved out of `spheres`: those over
+// kOutsizedRadii times the median radius, the largest kMaxOutsized of them, and none unless a sphere
+// is left for the lattice. Not a shipped preset has one (the largest radius is at most 2.1 times the
+// median on every one), so their maps are as they were.
+std::vector<Projected> take_outsized(std::vector<Projected>& spheres) {
+    std::vector<double> radii(spheres.size());
+    for (std::size_t k = 0; k < spheres.size(); ++k) radii[k] = spheres[k].r;
+    const std::size_t middle = radii.size() / 2;
+    std::nth_element(radii.begin(), radii.begin() + std::ptrdiff_t(middle), radii.end());
+    const double limit = SunDepthMap::kOutsizedRadii * radii[middle];
+    std::vector<std::size_t> over;
+    for (std::size_t k = 0; k < spheres.size(); ++k)
+        if (spheres[k].r > limit) over.push_back(k);
+    if (over.empty() || over.size() >= spheres.size()) return {};
+    // The largest first (ties in scene order), at most kMaxOutsized.
+    std::stable_sort(over.begin(), over.end(), [&](std::size_t a, std::size_t b) { return spheres[a].r > spheres[b].r; });
+    over.resize(std::min<std::size_t>(over.size(), SunDepthMap::kMaxOutsized));
+    std::sort(over.begin(), over.end());
+    std::vector<Projected> taken;
+    std::vector<Projected> kept;
+    kept.reserve(spheres.size() - over.size());
+    std::size_t next = 0;
+    for (std::size_t k = 0; k < spheres.size(); ++k) {
+        if (next < over.size() && over[next] == k) {
+            taken.push_back(spheres[k]);
+            ++next;
+        } else {
+            kept.push_back(spheres[k]);
+        }
+    }
+    spheres = std::move(kept);
+    return taken;
+}
+
 // A sphere as the splat takes it: in lattice units (cells), relative to the lattice's first vertex;
 // its rows and columns; what a whole cell of its chord adds, tau * cell.
 struct SplatSphere {
@@ -316,14 +350,18 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
     l_ = sun.toward_sun();
     std::vector<Projected> spheres;
     spheres.reserve(scene.spheres.size());
-    std::vector<double> depth_across;  // tau r of each
-    depth_across.reserve(scene.spheres.size());
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf, s_lo = kInf, s_hi = -kInf, radius_sum = 0.0;
     for (const Sphere& sp : scene.spheres) {
         if (!(sp.extinction > 0.0) || !(sp.radius > 0.0)) continue;  // adds nothing to the optical depth
         const glm::dvec3 c = sp.center - origin;
-        const Projected p{glm::dot(c, u_), glm::dot(c, v_), glm::dot(c, l_), sp.radius, sp.extinction};
+        spheres.push_back(Projected{glm::dot(c, u_), glm::dot(c, v_), glm::dot(c, l_), sp.radius, sp.extinction});
+    }
+    if (spheres.empty()) return;
+    const std::vector<Projected> outsized = take_outsized(spheres);
+    std::vector<double> depth_across;  // tau r of each
+    depth_across.reserve(spheres.size());
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf, s_lo = kInf, s_hi = -kInf, radius_sum = 0.0;
+    for (const Projected& p : spheres) {
         u_lo = std::min(u_lo, p.u - p.r);
         u_hi = std::max(u_hi, p.u + p.r);
         v_lo = std::min(v_lo, p.v - p.r);
@@ -331,10 +369,8 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
         s_lo = std::min(s_lo, p.s - p.r);
         s_hi = std::max(s_hi, p.s + p.r);
         radius_sum += p.r;
-        spheres.push_back(p);
         depth_across.push_back(p.tau * p.r);
     }
-    if (spheres.empty()) return;
 
     // The spacing: a fraction of the mean radius, wider in thin media (thin_media_widening), widened
     // until the lattice fits the budget. One empty
@@ -369,6 +405,12 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
     u_lo_ = u_lo - cell;
     v_lo_ = v_lo - cell;
     s_lo_ = s_lo;
+    for (const Projected& p : outsized) {
+        const double r = p.r / cell;
+        outsized_[std::size_t(outsized_count_++)] =
+            Outsized{float((p.u - u_lo_) / cell), float((p.v - v_lo_) / cell), float((p.s - s_lo_) / cell), float(r * r),
+                     float(p.tau * cell)};
+    }
     const std::size_t vertex_count = std::size_t(nu) * std::size_t(nv) * std::size_t(ns);
     // Left unwritten here: each band writes every vertex of its rows exactly once (below), so a frame
     // pays one streaming pass over the map, in parallel, not a zeroing pass before it. The last build's
@@ -511,6 +553,7 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
 
 void SunDepthMap::make_empty() {
     nu_ = nv_ = ns_ = 0;
+    outsized_count_ = 0;
     last_u_ = last_v_ = last_s_ = 0.0f;  // a lookup answers 0: no column holds it
     size_ = 0;
 }

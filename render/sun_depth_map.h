@@ -12,6 +12,12 @@
 // Boxes are not in the map: their shadows are sharp, and the tracer takes them in closed form
 // (render/sun_light.h box_shadow_interval).
 //
+// Nor are outsized spheres (at most kMaxOutsized, each over kOutsizedRadii times the median radius: an
+// atmosphere around the scene, a fog bank around a few puffs): a lookup adds their chords in closed form
+// (a square root each). In the lattice their radius set the spacing (a fraction of the mean radius)
+// and their reach its extent, so that the small spheres' shadows were blurred away: three puffs inside
+// a fog sphere of radius 10,000 read a mean error of 4.2e-3 of the peak (the bound: 1e-3).
+//
 // Coordinates are relative to an origin (the eye), so float keeps its precision where the rays are.
 #pragma once
 
@@ -22,6 +28,8 @@
 #include <glm/vec3.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -53,6 +61,14 @@ public:
     static constexpr std::size_t kMaxVertices = std::size_t(1) << 30;
 
     bool empty() const { return size_ == 0; }
+
+    // A sphere a lookup takes in closed form, in lattice units: centre, radius^2, tau * spacing.
+    struct Outsized {
+        float u, v, s, r2, depth_per_cell;
+    };
+    static constexpr int kMaxOutsized = 4;
+    static constexpr double kOutsizedRadii = 16.0;
+    std::span<const Outsized> outsized() const { return {outsized_.data(), std::size_t(outsized_count_)}; }
     float cell() const { return cell_; }
     int size_u() const { return nu_; }
     int size_v() const { return nv_; }
@@ -73,10 +89,11 @@ public:
 
     // The interpolated optical depth at origin + t d.
     [[gnu::always_inline]] float optical_depth(const Ray& r, float t) const {
-        const float gu = r.u0 + t * r.du, gv = r.v0 + t * r.dv;
-        // Outside the lattice's columns (or NaN): outside every shadow cylinder.
-        if (!(gu >= 0.0f && gv >= 0.0f && gu < last_u_ && gv < last_v_)) return 0.0f;
-        const float gs = std::min(std::max(r.s0 + t * r.ds, 0.0f), last_s_);
+        const float gu = r.u0 + t * r.du, gv = r.v0 + t * r.dv, raw_s = r.s0 + t * r.ds;
+        const float outsized = outsized_depth(gu, gv, raw_s);
+        // Outside the lattice's columns (or NaN): outside every shadow cylinder in it.
+        if (!(gu >= 0.0f && gv >= 0.0f && gu < last_u_ && gv < last_v_)) return outsized;
+        const float gs = std::min(std::max(raw_s, 0.0f), last_s_);
         // 32-bit indices: the lattice holds at most kMaxVertices (a constructor's bound).
         const int i = int(gu), j = int(gv), k = std::min(int(gs), ns_ - 2);
         const float fu = gu - float(i), fv = gv - float(j), fs = gs - float(k);
@@ -84,7 +101,21 @@ public:
         const auto along_s = [fs](const float* q) { return q[0] + fs * (q[1] - q[0]); };
         const float a = along_s(p), b = along_s(p + ns_), c = along_s(p + stride_v_), e = along_s(p + stride_v_ + ns_);
         const float ab = a + fu * (b - a), ce = c + fu * (e - c);
-        return ab + fv * (ce - ab);
+        return (ab + fv * (ce - ab)) + outsized;
+    }
+
+    // The outsized spheres' optical depth above a point in lattice coordinates: each one's chord from
+    // the point (or its bottom) to its top, as the splat takes a column's, times tau.
+    float outsized_depth(float u, float v, float s) const {
+        float depth = 0.0f;
+        for (int k = 0; k < outsized_count_; ++k) {
+            const Outsized& o = outsized_[std::size_t(k)];
+            const float du = u - o.u, dv = v - o.v, h2 = o.r2 - (du * du + dv * dv);
+            if (!(h2 > 0.0f)) continue;
+            const float half = std::sqrt(h2);
+            depth += o.depth_per_cell * std::max(o.s + half - std::max(s, o.s - half), 0.0f);
+        }
+        return depth;
     }
 
     // optical_depth at eight points given in lattice coordinates (a Ray's at some t), one a lane
@@ -97,6 +128,7 @@ public:
         using simd::Float8;
         using simd::Int8;
         const Float8 zero{};
+        const Float8 raw_u = u, raw_v = v, raw_s = s;  // the outsized spheres' chords take them unclamped
         const Int8 inside = (u >= 0.0f) & (v >= 0.0f) & (u < last_u_) & (v < last_v_);
         // Outside, vertex (0, 0) is read (and its value dropped) in place of one that may not exist.
         u = inside ? u : zero;
@@ -119,7 +151,22 @@ public:
         const Float8 a = along_s(0), b = along_s(ns_), e = along_s(stride_v_), f = along_s(stride_v_ + ns_);
         const Float8 ab = a + fu * (b - a), ef = e + fu * (f - e);
         const Float8 value = ab + fv * (ef - ab);
-        return inside ? value : zero;
+        return (inside ? value : zero) + outsized_depth8(raw_u, raw_v, raw_s);
+    }
+
+    // outsized_depth at eight points, one a lane (NaN-free where the points are).
+    [[gnu::always_inline]] simd::Float8 outsized_depth8(simd::Float8 u, simd::Float8 v, simd::Float8 s) const {
+        using simd::Float8;
+        const Float8 zero{};
+        Float8 depth{};
+        for (int k = 0; k < outsized_count_; ++k) {
+            const Outsized& o = outsized_[std::size_t(k)];
+            const Float8 du = u - o.u, dv = v - o.v, h2 = o.r2 - (du * du + dv * dv);
+            const Float8 half = simd::SqrtSse{}(h2 > zero ? h2 : zero);
+            const Float8 bottom = o.s - half, from = s > bottom ? s : bottom, chord = (o.s + half) - from;
+            depth += h2 > zero && chord > zero ? o.depth_per_cell * chord : zero;
+        }
+        return depth;
     }
 
     // optical_depth8 at n points, into out, eight at a time (0 where the map is empty). The arrays hold
@@ -164,6 +211,8 @@ private:
     };
     std::vector<BandScratch> band_scratch_;
     int scratch_ns_ = 0;
+    std::array<Outsized, kMaxOutsized> outsized_{};
+    int outsized_count_ = 0;
 };
 
 }  // namespace brume

@@ -63,13 +63,30 @@ float sun_transmittance(vec3 x, uint skip_box) {
 // The spheres' optical depth toward the sun at eye + rel, from the accurate technique's light-space
 // map (render/sun_depth_map.h; SunGridHeader.map_*): trilinear between vertices that hold it exactly.
 // Loop-free: its cost does not grow with the smoke above the point.
+// The outsized spheres' optical depth above the point g in lattice coordinates (SunGridHeader.outsized):
+// each one's chord from the point (or its bottom) to its top, times tau, as the CPU's
+// SunDepthMap::outsized_depth.
+float sun_outsized_depth(vec3 g) {
+    float depth = 0.0;
+    for (uint k = 0u; k < sun_grid.size.z; ++k) {
+        vec4 o = sun_grid.outsized[k];
+        vec2 d = g.xy - o.xy;
+        float h2 = o.w - dot(d, d);
+        if (!(h2 > 0.0)) continue;
+        float half_chord = sqrt(h2);
+        depth += sun_grid.outsized_depth[k] * max(o.z + half_chord - max(g.z, o.z - half_chord), 0.0);
+    }
+    return depth;
+}
+
 float sun_map_depth(vec3 rel) {
     uvec3 n = sun_grid.map_size.xyz;
     vec3 g = sun_grid.map_origin.xyz +
              vec3(dot(rel, sun_grid.u_axis.xyz), dot(rel, sun_grid.v_axis.xyz), dot(rel, -frame.sun_dir.xyz)) *
                  sun_grid.map_origin.w;
-    // Outside the lattice's columns (or NaN): outside every shadow cylinder.
-    if (!(g.x >= 0.0 && g.y >= 0.0 && g.x < float(n.x - 1u) && g.y < float(n.y - 1u))) return 0.0;
+    float outsized = sun_outsized_depth(g);
+    // Outside the lattice's columns (or NaN): outside every shadow cylinder in it.
+    if (!(g.x >= 0.0 && g.y >= 0.0 && g.x < float(n.x - 1u) && g.y < float(n.y - 1u))) return outsized;
     g.z = clamp(g.z, 0.0, float(n.z - 1u));  // below the lowest sphere the whole column; above, 0
     uvec3 c = uvec3(g);
     c.z = min(c.z, n.z - 2u);
@@ -80,7 +97,7 @@ float sun_map_depth(vec3 rel) {
     float b = mix(uintBitsToFloat(sun_grid_data[base + su]), uintBitsToFloat(sun_grid_data[base + su + 1u]), f.z);
     float d = mix(uintBitsToFloat(sun_grid_data[base + sv]), uintBitsToFloat(sun_grid_data[base + sv + 1u]), f.z);
     float e = mix(uintBitsToFloat(sun_grid_data[base + sv + su]), uintBitsToFloat(sun_grid_data[base + sv + su + 1u]), f.z);
-    return mix(mix(a, b, f.x), mix(d, e, f.x), f.y);
+    return mix(mix(a, b, f.x), mix(d, e, f.x), f.y) + outsized;
 }
 
 // The distances t >= 0 along the ray o + t d whose point's ray toward the sun meets the box

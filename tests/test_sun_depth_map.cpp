@@ -266,5 +266,50 @@ TEST(SunDepthMap, BuiltAgainAsAnAnimationGrowsAndShrinksIsAFreshMap) {
     EXPECT_GE(shrank, 2);
 }
 
+// A cloud inside a fog sphere of radius 10,000: the fog is an outsized sphere (over 16 times the median
+// radius), taken in closed form at each lookup, so the lattice keeps the cloud's own spacing and
+// extent, and a lookup's error (scalar and eight at a time) is what it is without the fog. In the
+// lattice the fog's radius set the spacing (about 225 units) and the cloud's shadows were lost.
+TEST(SunDepthMap, AnOutsizedSphereIsTakenInClosedForm) {
+    Scene cloud = random_cloud(40, 11, {-0.3, -1.0, 0.5});
+    Scene fogged = cloud;
+    Sphere fog;
+    fog.center = {3.0, -20.0, 7.0};
+    fog.radius = 1e4;
+    fog.extinction = 1e-4;
+    fogged.spheres.insert(fogged.spheres.begin() + 5, fog);
+    const glm::dvec3 eye(0.0, 1.0, -8.0);
+    const SunLight cloud_sun(cloud), fogged_sun(fogged);
+    const SunDepthMap plain(cloud, cloud_sun, eye, 2), map(fogged, fogged_sun, eye, 2);
+    ASSERT_EQ(map.outsized().size(), 1u);
+    EXPECT_TRUE(plain.outsized().empty());
+    EXPECT_EQ(map.cell(), plain.cell());
+    EXPECT_EQ(map.size_u() * map.size_v() * map.size_s(), plain.size_u() * plain.size_v() * plain.size_s());
+    const std::vector<Probe> ps = probes(4000, 5);
+    double plain_error = 0.0, error = 0.0, fog_depth = 0.0;
+    std::vector<float> gu, gv, gs, eight(8);
+    for (const Probe& p : ps) {
+        const glm::dvec3 x = eye + p.t * p.d;
+        plain_error += std::abs(double(plain.optical_depth(plain.ray(p.d), float(p.t))) - cloud_sun.optical_depth(x));
+        const double want = fogged_sun.optical_depth(x);
+        error += std::abs(double(map.optical_depth(map.ray(p.d), float(p.t))) - want);
+        fog_depth += want - cloud_sun.optical_depth(x);
+        const SunDepthMap::Ray r = map.ray(p.d);
+        gu.push_back(r.u0 + float(p.t) * r.du);
+        gv.push_back(r.v0 + float(p.t) * r.dv);
+        gs.push_back(r.s0 + float(p.t) * r.ds);
+    }
+    const double n = double(ps.size());
+    std::printf("  mean error %.3g with the fog (its mean depth %.3g), %.3g without it\n", error / n, fog_depth / n,
+                plain_error / n);
+    EXPECT_GT(fog_depth / n, 0.5) << "the fog should shade the cloud";
+    EXPECT_LT(error / n, 1.1 * plain_error / n + 1e-4);
+    // Eight at a time (the tracer's lanes): the scalar lookup's values.
+    std::vector<float> batch(gu.size());
+    map.optical_depths(gu.data(), gv.data(), gs.data(), batch.data(), gu.size(), simd::GatherByLanes{});
+    for (std::size_t k = 0; k < ps.size(); ++k)
+        EXPECT_NEAR(batch[k], map.optical_depth(map.ray(ps[k].d), float(ps[k].t)), 1e-5 * (1.0 + batch[k])) << k;
+}
+
 }  // namespace
 }  // namespace brume

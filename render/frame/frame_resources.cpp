@@ -161,6 +161,8 @@ void FrameResources::ensure_sphere_sun(const Scene& scene) {
     sphere_sun_done_ = true;
 }
 
+static_assert(gpu::SUN_MAX_OUTSIZED == SunDepthMap::kMaxOutsized, "the header holds every outsized sphere a map keeps");
+
 void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     if (sun_depth_map_done_) return;
     sun_depth_map_done_ = true;
@@ -175,6 +177,13 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     sun_header_.map_origin = gpu::vec4(float(o.x), float(o.y), float(o.z), float(map.inverse_cell()));
     sun_header_.map_size = gpu::uvec4(gpu::uint(map.size_u()), gpu::uint(map.size_v()), gpu::uint(map.size_s()),
                                       gpu::uint(sun_grid_words_.size()));
+    const std::span<const SunDepthMap::Outsized> outsized = map.outsized();
+    sun_header_.size.z = gpu::uint(outsized.size());
+    for (std::size_t k = 0; k < outsized.size(); ++k) {
+        const SunDepthMap::Outsized& o = outsized[k];
+        sun_header_.outsized[k] = gpu::vec4(o.u, o.v, o.s, o.r2);
+        sun_header_.outsized_depth[int(k)] = o.depth_per_cell;
+    }
     write_sun_buffer(map.values());
 }
 

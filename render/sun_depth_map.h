@@ -112,8 +112,9 @@ public:
             const Outsized& o = outsized_[std::size_t(k)];
             const float du = u - o.u, dv = v - o.v, h2 = o.r2 - (du * du + dv * dv);
             if (!(h2 > 0.0f)) continue;
-            const float half = std::sqrt(h2);
-            depth += o.depth_per_cell * std::max(o.s + half - std::max(s, o.s - half), 0.0f);
+            const float half = std::sqrt(h2), bottom = o.s - half;
+            const float from = s > bottom ? s : bottom;  // NaN: from the bottom, as the lanes take it
+            depth += o.depth_per_cell * std::max(o.s + half - from, 0.0f);
         }
         return depth;
     }

@@ -60,9 +60,6 @@ float sun_transmittance(vec3 x, uint skip_box) {
     return exp(-depth);
 }
 
-// The spheres' optical depth toward the sun at eye + rel, from the accurate technique's light-space
-// map (render/sun_depth_map.h; SunGridHeader.map_*): trilinear between vertices that hold it exactly.
-// Loop-free: its cost does not grow with the smoke above the point.
 // The outsized spheres' optical depth above the point g in lattice coordinates (SunGridHeader.outsized):
 // each one's chord from the point (or its bottom) to its top, times tau, as the CPU's
 // SunDepthMap::outsized_depth.
@@ -73,12 +70,17 @@ float sun_outsized_depth(vec3 g) {
         vec2 d = g.xy - o.xy;
         float h2 = o.w - dot(d, d);
         if (!(h2 > 0.0)) continue;
-        float half_chord = sqrt(h2);
-        depth += sun_grid.outsized_depth[k] * max(o.z + half_chord - max(g.z, o.z - half_chord), 0.0);
+        float half_chord = sqrt(h2), bottom = o.z - half_chord;
+        float from = g.z > bottom ? g.z : bottom;  // NaN: from the bottom, as the CPU's
+        depth += sun_grid.outsized_depth[k] * max(o.z + half_chord - from, 0.0);
     }
     return depth;
 }
 
+// The spheres' optical depth toward the sun at eye + rel, from the accurate technique's light-space
+// map (render/sun_depth_map.h; SunGridHeader.map_*): trilinear between vertices that hold it exactly.
+// Its cost does not grow with the smoke above the point: eight reads, and a closed form for each
+// outsized sphere (none in the shipped presets).
 float sun_map_depth(vec3 rel) {
     uvec3 n = sun_grid.map_size.xyz;
     vec3 g = sun_grid.map_origin.xyz +

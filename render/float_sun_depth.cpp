@@ -1,5 +1,6 @@
 #include "render/float_sun_depth.h"
 
+#include "render/outsized_spheres.h"
 #include "render/simd8.h"
 
 #include <glm/geometric.hpp>
@@ -104,6 +105,34 @@ FloatSunDepth::FloatSunDepth(const Scene& scene, const SunLight& sun, MapInstruc
     }
     if (discs.empty()) return;
     empty_ = false;
+    // The outsized spheres (render/outsized_spheres.h, as SunLight takes them) out of the grid, in double.
+    {
+        std::vector<double> radii(discs.size());
+        for (std::size_t k = 0; k < discs.size(); ++k) radii[k] = discs[k].r;
+        const std::vector<std::size_t> over = outsized_spheres(radii);
+        if (!over.empty()) {
+            std::vector<Disc> kept;
+            kept.reserve(discs.size() - over.size());
+            diameter_sum = 0.0;
+            u_lo = v_lo = kInf;
+            u_hi = v_hi = -kInf;
+            for (std::size_t k = 0, next = 0; k < discs.size(); ++k) {
+                const Disc& d = discs[k];
+                if (next < over.size() && over[next] == k) {
+                    outsized_.push_back(Outsized{d.u, d.v, d.s, d.r * d.r, double(d.tau)});
+                    ++next;
+                    continue;
+                }
+                u_lo = std::min(u_lo, d.u - d.r);
+                u_hi = std::max(u_hi, d.u + d.r);
+                v_lo = std::min(v_lo, d.v - d.r);
+                v_hi = std::max(v_hi, d.v + d.r);
+                diameter_sum += 2.0 * d.r;
+                kept.push_back(d);
+            }
+            discs = std::move(kept);
+        }
+    }
     // From the sun down, by the far end toward the sun (ties by scene order), once: each cell's list,
     // filled in this order, is then in it too (a sort per cell took twice the rest of the build).
     std::sort(discs.begin(), discs.end(), [](const Disc& a, const Disc& b) {
@@ -181,19 +210,30 @@ FloatSunDepth::FloatSunDepth(const Scene& scene, const SunLight& sun, MapInstruc
 double FloatSunDepth::optical_depth(const glm::dvec3& x) const {
     if (empty_) return 0.0;
     const double xu = glm::dot(x, u_), xv = glm::dot(x, v_), xs = glm::dot(x, l_);
+    double outsized = 0.0;  // SunLight::optical_depth's chord, for the few spheres no cell lists
+    for (const Outsized& o : outsized_) {
+        const double du = xu - o.u, dv = xv - o.v, disc = o.radius2 - (du * du + dv * dv);
+        if (!(disc > 0.0)) continue;
+        const double half = std::sqrt(disc), b = xs - o.s;
+        outsized += o.tau * (-b - half >= 0.0 ? 2.0 * half : std::max(half - b, 0.0));
+    }
     const int i = int(std::floor((xu - u0_) * inverse_cell_));  // a disc is listed a sliver wider than
     const int j = int(std::floor((xv - v0_) * inverse_cell_));  // its cells: rounding here is harmless
-    if (i < 0 || j < 0 || i >= side_ || j >= side_) return 0.0;  // outside every shadow cylinder
+    if (i < 0 || j < 0 || i >= side_ || j >= side_) return outsized;  // outside every listed shadow cylinder
     const std::size_t c = std::size_t(j) * std::size_t(side_) + std::size_t(i);
     const std::size_t first = first_[c], count = first_[c + 1] - first;
-    if (count == 0) return 0.0;
+    if (count == 0) return outsized;
     const float ru = float(xu - (u0_ + cell_ * double(i))), rv = float(xv - (v0_ + cell_ * double(j)));
     const float rs = float(xs - s_ref_[c]);
 #if defined(__x86_64__) && defined(__GNUC__)
     if (avx2_)
-        return depth_avx2(u.data(), v.data(), s.data(), sun_end.data(), radius2.data(), tau.data(), first, count, ru, rv, rs);
+        return depth_avx2(u.data(), v.data(), s.data(), sun_end.data(), radius2.data(), tau.data(), first, count, ru, rv,
+                          rs) +
+               outsized;
 #endif
-    return depth_portable(u.data(), v.data(), s.data(), sun_end.data(), radius2.data(), tau.data(), first, count, ru, rv, rs);
+    return depth_portable(u.data(), v.data(), s.data(), sun_end.data(), radius2.data(), tau.data(), first, count, ru, rv,
+                          rs) +
+           outsized;
 }
 
 }  // namespace brume

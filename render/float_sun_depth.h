@@ -34,6 +34,8 @@ public:
 
     // sum_k tau_k len_k(x), boxes ignored: SunLight::optical_depth(x), summed in float.
     double optical_depth(const glm::dvec3& x) const;
+    // The side of a grid cell (0 when empty): about half the mean diameter of the spheres it lists.
+    double cell() const { return empty_ ? 0.0 : cell_; }
 
 private:
     bool empty_ = true;
@@ -46,6 +48,12 @@ private:
     // Per listed sphere: u, v relative to the cell's corner; s and the sun end (s + r) relative to s_ref;
     // radius^2; tau.
     std::vector<float> u, v, s, sun_end, radius2, tau;
+    // The outsized spheres (render/outsized_spheres.h), in no cell's list: every lookup adds their chords,
+    // in double (at most kMaxOutsized square roots).
+    struct Outsized {
+        double u, v, s, radius2, tau;
+    };
+    std::vector<Outsized> outsized_;
 };
 
 }  // namespace brume

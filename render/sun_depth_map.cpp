@@ -1,5 +1,6 @@
 #include "render/sun_depth_map.h"
 
+#include "render/outsized_spheres.h"
 #include "render/simd8.h"
 #include "sim/parallel_for.h"
 
@@ -53,24 +54,13 @@ struct Projected {
     double u, v, s, r, tau;
 };
 
-// The spheres a lookup takes in closed form (SunDepthMap::Outsized), moved out of `spheres`: those over
-// kOutsizedRadii times the median radius, the largest kMaxOutsized of them, and none unless a sphere
-// is left for the lattice. Not a shipped preset has one (the largest radius is at most 2.1 times the
-// median on every one), so their maps are as they were.
+// The spheres a lookup takes in closed form (SunDepthMap::Outsized; render/outsized_spheres.h's rule),
+// moved out of `spheres`.
 std::vector<Projected> take_outsized(std::vector<Projected>& spheres) {
     std::vector<double> radii(spheres.size());
     for (std::size_t k = 0; k < spheres.size(); ++k) radii[k] = spheres[k].r;
-    const std::size_t middle = radii.size() / 2;
-    std::nth_element(radii.begin(), radii.begin() + std::ptrdiff_t(middle), radii.end());
-    const double limit = SunDepthMap::kOutsizedRadii * radii[middle];
-    std::vector<std::size_t> over;
-    for (std::size_t k = 0; k < spheres.size(); ++k)
-        if (spheres[k].r > limit) over.push_back(k);
-    if (over.empty() || over.size() >= spheres.size()) return {};
-    // The largest first (ties in scene order), at most kMaxOutsized.
-    std::stable_sort(over.begin(), over.end(), [&](std::size_t a, std::size_t b) { return spheres[a].r > spheres[b].r; });
-    over.resize(std::min<std::size_t>(over.size(), SunDepthMap::kMaxOutsized));
-    std::sort(over.begin(), over.end());
+    const std::vector<std::size_t> over = outsized_spheres(radii);
+    if (over.empty()) return {};
     std::vector<Projected> taken;
     std::vector<Projected> kept;
     kept.reserve(spheres.size() - over.size());

@@ -21,6 +21,7 @@
 // Coordinates are relative to an origin (the eye), so float keeps its precision where the rays are.
 #pragma once
 
+#include "render/outsized_spheres.h"
 #include "render/simd8.h"
 #include "render/sun_light.h"
 #include "sim/scene.h"
@@ -66,8 +67,8 @@ public:
     struct Outsized {
         float u, v, s, r2, depth_per_cell;
     };
-    static constexpr int kMaxOutsized = 4;
-    static constexpr double kOutsizedRadii = 16.0;
+    static constexpr int kMaxOutsized = brume::kMaxOutsized;  // render/outsized_spheres.h
+    static constexpr double kOutsizedRadii = brume::kOutsizedRadii;
     std::span<const Outsized> outsized() const { return {outsized_.data(), std::size_t(outsized_count_)}; }
     float cell() const { return cell_; }
     int size_u() const { return nu_; }

@@ -1,5 +1,6 @@
 #include "render/sun_light.h"
 
+#include "render/outsized_spheres.h"
 #include "render/ray_box.h"
 
 #include <glm/geometric.hpp>
@@ -58,13 +59,38 @@ SunLight::SunLight(const Scene& scene) : shadows_(scene.lighting.shadows), boxes
     discs_.reserve(scene.spheres.size());
     for (const Sphere& s : scene.spheres)
         discs_.push_back({s.center, s.radius, s.radius * s.radius, s.extinction, glm::dot(s.center, l_) + s.radius});
+    // The outsized spheres among those with a medium (the depth map's rule and set), out of the grid.
+    std::vector<std::uint32_t> media;
+    std::vector<double> radii;
+    for (std::size_t k = 0; k < discs_.size(); ++k) {
+        if (!(discs_[k].tau > 0.0) || !(discs_[k].radius > 0.0)) continue;
+        media.push_back(std::uint32_t(k));
+        radii.push_back(discs_[k].radius);
+    }
+    for (const std::size_t n : outsized_spheres(radii)) {
+        const Disc& d = discs_[media[n]];
+        outsized_indices_.push_back(media[n]);
+        outsized_.push_back(LightDisc{glm::dot(d.center, u_), glm::dot(d.center, v_), glm::dot(d.center, l_), d.radius2,
+                                      d.tau, d.sun_end});
+    }
 }
 
 void SunLight::build_grid() const {
     Grid& g = grid_;
     if (!shadows_ || discs_.empty()) return;
+    // The spheres the grid lists: all but the outsized (which would set its extent and its cells).
+    std::vector<std::uint32_t> listed;
+    listed.reserve(discs_.size() - outsized_indices_.size());
+    for (std::size_t k = 0, next = 0; k < discs_.size(); ++k) {
+        if (next < outsized_indices_.size() && outsized_indices_[next] == k) {
+            ++next;
+            continue;
+        }
+        listed.push_back(std::uint32_t(k));
+    }
     double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf;
-    for (const Disc& s : discs_) {
+    for (const std::uint32_t k : listed) {
+        const Disc& s = discs_[k];
         const double cu = glm::dot(s.center, u_), cv = glm::dot(s.center, v_);
         u_lo = std::min(u_lo, cu - s.radius);
         u_hi = std::max(u_hi, cu + s.radius);
@@ -75,10 +101,10 @@ void SunLight::build_grid() const {
     // Cells about a sphere across, so a cell lists about as many spheres as overlap there in light space;
     // at most about 4 cells per sphere, so the grid's memory stays in proportion to the scene's.
     double mean_diameter = 0.0;
-    for (const Disc& s : discs_) mean_diameter += 2.0 * s.radius;
-    mean_diameter /= double(discs_.size());
+    for (const std::uint32_t k : listed) mean_diameter += 2.0 * discs_[k].radius;
+    mean_diameter /= double(listed.size());
     const double side_by_size = std::ceil(extent / mean_diameter);
-    const double side_by_count = std::ceil(2.0 * std::sqrt(double(discs_.size()))) + 1.0;
+    const double side_by_count = std::ceil(2.0 * std::sqrt(double(listed.size()))) + 1.0;
     g.side = int(std::clamp(std::min(side_by_size, side_by_count), 1.0, double(kMaxGridSide)));
     const int side = g.side;
     // Slack on every side, so that a disc's own bound never rounds out of the grid.
@@ -101,20 +127,20 @@ void SunLight::build_grid() const {
     // Two passes: count, then fill (a compact list per cell, in sphere order).
     const std::size_t cells = std::size_t(side) * std::size_t(side);
     g.cell_start.assign(cells + 1, 0);
-    for (const Disc& s : discs_) {
+    for (const std::uint32_t k : listed) {
         int i0, i1, j0, j1;
-        cell_range(s, i0, i1, j0, j1);
+        cell_range(discs_[k], i0, i1, j0, j1);
         for (int j = j0; j <= j1; ++j)
             for (int i = i0; i <= i1; ++i) ++g.cell_start[std::size_t(j) * side + i + 1];
     }
     for (std::size_t c = 0; c < cells; ++c) g.cell_start[c + 1] += g.cell_start[c];
     g.cell_items.resize(g.cell_start[cells]);
     std::vector<std::uint32_t> fill(g.cell_start.begin(), g.cell_start.end() - 1);
-    for (std::size_t k = 0; k < discs_.size(); ++k) {
+    for (const std::uint32_t k : listed) {
         int i0, i1, j0, j1;
         cell_range(discs_[k], i0, i1, j0, j1);
         for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i) g.cell_items[fill[std::size_t(j) * side + i]++] = std::uint32_t(k);
+            for (int i = i0; i <= i1; ++i) g.cell_items[fill[std::size_t(j) * side + i]++] = k;
     }
     // Each cell's list from the sun down: by the sphere's far end toward the sun, dot(c, l) + r, largest
     // first (ties by index). A sphere with dot(c, l) + r <= dot(x, l) lies wholly behind x as the sun
@@ -135,31 +161,40 @@ void SunLight::build_grid() const {
     }
 }
 
+// tau times the length of the ray (xu, xv, xs) + s l (s > 0) inside the sphere `d`, in light space: the
+// ray is the line (xu, xv) along s, so its distance from the sphere's axis is in u and v alone, and
+// b = dot(x - c, l) is xs - cs. Through the whole sphere the length is the chord 2 sqrt(disc) itself,
+// not the difference of its far and near roots (which cancels far away).
+namespace {
+template <class LightDisc>
+double depth_in(const LightDisc& d, double xu, double xv, double xs) {
+    const double du = xu - d.u, dv = xv - d.v;
+    const double disc = d.radius2 - (du * du + dv * dv);
+    if (!(disc > 0.0) || !(d.tau > 0.0)) return 0.0;
+    const double half = std::sqrt(disc);
+    const double b = xs - d.s;
+    return d.tau * (-b - half >= 0.0 ? 2.0 * half : std::max(half - b, 0.0));
+}
+}  // namespace
+
 double SunLight::optical_depth(const dvec3& x) const {
     if (!shadows_) return 0.0;
     const Grid& g = grid();
     if (g.side == 0) return 0.0;
     const double xu = glm::dot(x, u_), xv = glm::dot(x, v_), xs = glm::dot(x, l_);
+    double depth = 0.0;
     const int i = int(std::floor((xu - g.u0) / g.cell));
     const int j = int(std::floor((xv - g.v0) / g.cell));
-    if (i < 0 || j < 0 || i >= g.side || j >= g.side) return 0.0;  // outside every shadow cylinder
-    const std::size_t c = std::size_t(j) * g.side + i;
-    double depth = 0.0;
-    // The length of the ray x + s l (s > 0) inside each sphere, in light space: the ray is the line
-    // (xu, xv) along s, so its distance from the sphere's axis is in u and v alone, and b = dot(x - c, l)
-    // is xs - cs. Through the whole sphere the length is the chord 2 sqrt(disc) itself, not the
-    // difference of its far and near roots (which cancels far away). The lit ground asks this once per
-    // pixel of trace's frame, over every sphere above it.
-    for (std::uint32_t n = g.cell_start[c]; n < g.cell_start[c + 1]; ++n) {
-        const LightDisc& d = g.cell_discs[n];
-        if (d.sun_end <= xs) break;  // this sphere and the rest lie behind x (the lists' order)
-        const double du = xu - d.u, dv = xv - d.v;
-        const double disc = d.radius2 - (du * du + dv * dv);
-        if (!(disc > 0.0) || !(d.tau > 0.0)) continue;
-        const double half = std::sqrt(disc);
-        const double b = xs - d.s;
-        depth += d.tau * (-b - half >= 0.0 ? 2.0 * half : std::max(half - b, 0.0));
+    if (i >= 0 && j >= 0 && i < g.side && j < g.side) {  // else outside every listed sphere's shadow cylinder
+        // The lit ground asks this once per pixel of trace's frame, over every sphere above it.
+        const std::size_t c = std::size_t(j) * g.side + i;
+        for (std::uint32_t n = g.cell_start[c]; n < g.cell_start[c + 1]; ++n) {
+            const LightDisc& d = g.cell_discs[n];
+            if (d.sun_end <= xs) break;  // this sphere and the rest lie behind x (the lists' order)
+            depth += depth_in(d, xu, xv, xs);
+        }
     }
+    for (const LightDisc& d : outsized_) depth += depth_in(d, xu, xv, xs);
     return depth;
 }
 

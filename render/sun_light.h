@@ -60,6 +60,9 @@ public:
     int grid_side() const { return grid().side; }
     const std::vector<std::uint32_t>& cell_start() const { return grid().cell_start; }
     const std::vector<std::uint32_t>& cell_items() const { return grid().cell_items; }
+    // The outsized spheres (render/outsized_spheres.h), ascending indices into scene.spheres: in no cell's
+    // list, every lookup adds their chords. At most kMaxOutsized; none in the shipped presets.
+    const std::vector<std::uint32_t>& outsized_indices() const { return outsized_indices_; }
 
 private:
     struct Disc {
@@ -83,6 +86,8 @@ private:
     glm::dvec3 inverse_l_{0.0};   // inverse_direction(l_), for the boxes' shadows (render/ray_box.h)
     glm::dvec3 u_{0.0}, v_{0.0};  // a basis of the plane perpendicular to l
     std::vector<Disc> discs_;     // the spheres, as the light sees them
+    std::vector<std::uint32_t> outsized_indices_;  // into discs_, ascending: left out of the grid
+    std::vector<LightDisc> outsized_;              // the same spheres, for optical_depth
     std::vector<Box> boxes_;
     // Per box, the bounds of its corners in light space (u, v, and s's largest), a sliver wider: a
     // point outside them is not in its shadow (box_blocks). Empty without shadows.

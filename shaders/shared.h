@@ -132,13 +132,16 @@ struct SunGridHeader {
     vec4 v_axis;      // xyz: unit v; w: v of the grid's first cell edge
     vec4 cell;        // x: cell side; yzw: unused
     uvec4 size;       // x: cells per side (0: no grid, no sphere casts a shadow); y: entries in the sphere list;
-                      // z: outsized spheres (at most SUN_MAX_OUTSIZED)
+                      // z: the map's outsized spheres (at most SUN_MAX_OUTSIZED); w: the grid's (the same ones)
     vec4 map_origin;  // xyz: the eye's lattice coordinates; w: 1 / lattice spacing
     uvec4 map_size;   // xyz: vertices along u, v, s (x = 0: no map); w: the map's first word in the data
     // The spheres the map leaves to a closed form (render/sun_depth_map.h Outsized), in lattice units:
     // xyz the centre, w radius^2; and each one's tau * spacing, in order.
     vec4 outsized[4];
     vec4 outsized_depth;
+    // The same spheres as the grid leaves them out of every cell (render/sun_light.h outsized_indices):
+    // their indices into the sphere buffer, size.w of them; a lookup adds their chords.
+    uvec4 grid_outsized;
 };
 BRUME_CONST SUN_MAX_OUTSIZED = 4;
 

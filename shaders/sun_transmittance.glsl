@@ -41,9 +41,10 @@ float sun_transmittance(vec3 x, uint skip_box) {
     if (side == 0u) return 1.0;
     ivec2 cell = ivec2(floor((vec2(dot(x, sun_grid.u_axis.xyz), dot(x, sun_grid.v_axis.xyz)) -
                               vec2(sun_grid.u_axis.w, sun_grid.v_axis.w)) / sun_grid.cell.x));
-    if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, ivec2(int(side))))) return 1.0;
-    uint c = uint(cell.y) * side + uint(cell.x);
-    uint first = sun_grid_data[c], last = sun_grid_data[c + 1u];
+    // Outside the grid: outside every listed sphere's shadow cylinder (an empty run of the list).
+    bool inside = all(greaterThanEqual(cell, ivec2(0))) && all(lessThan(cell, ivec2(int(side))));
+    uint c = inside ? uint(cell.y) * side + uint(cell.x) : 0u;
+    uint first = sun_grid_data[c], last = inside ? sun_grid_data[c + 1u] : first;
     uint items = side * side + 1u;  // the sphere list follows the offsets
     float depth = 0.0;
     // The cell lists run from the sun down (render/sun_light.h): once a sphere ends behind x as the sun
@@ -56,6 +57,11 @@ float sun_transmittance(vec3 x, uint skip_box) {
         if (c_end < x_end - 1e-5 * (abs(x_end) + abs(c_end) + 1.0)) break;
         float tau = g.albedo_extinction.w;
         if (tau > 0.0) depth += tau * sun_ray_length_inside(x, l, g.center_radius.xyz, g.center_radius.w * g.center_radius.w);
+    }
+    // The outsized spheres, in no cell's list (render/outsized_spheres.h; none in the shipped presets).
+    for (uint k = 0u; k < sun_grid.size.w; ++k) {
+        GpuSphere g = spheres[sun_grid.grid_outsized[k]];
+        depth += g.albedo_extinction.w * sun_ray_length_inside(x, l, g.center_radius.xyz, g.center_radius.w * g.center_radius.w);
     }
     return exp(-depth);
 }

@@ -102,5 +102,27 @@ TEST(FloatSunDepth, OneSphereClosedForm) {
     EXPECT_EQ(fast.optical_depth({1.0 + 0.81, 0.0, -2.0}), 0.0);
 }
 
+// An atmosphere around a cloud (render/outsized_spheres.h): the grid's cells follow the puffs (half a
+// puff across, where the atmosphere made them hundreds of units wide and every list held every puff),
+// and the depths are still the double walk's, the atmosphere's chord included, inside the grid and far
+// outside it.
+TEST(FloatSunDepth, AnOutsizedSphereIsTakenWholeAndTheGridFollowsTheRest) {
+    Scene s = random_cloud(200, 9, {0.3, -1.0, 0.2}, glm::dvec3(0.0));
+    s.spheres.push_back(testing::sphere({40.0, -30.0, 20.0}, 1e4, 1e-4));
+    const SunLight sun(s);
+    const FloatSunDepth fast(s, sun);
+    EXPECT_GT(fast.cell(), 0.0);
+    EXPECT_LT(fast.cell(), 1.0);  // the puffs' mean diameter is about 0.95
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> near(-3.0, 3.0), far(-5000.0, 5000.0);
+    for (int n = 0; n < 3000; ++n) {
+        const glm::dvec3 x = n % 3 == 2 ? glm::dvec3(far(rng), far(rng) * 0.5, far(rng))
+                                        : glm::dvec3(near(rng), near(rng) * 0.7 + 0.5, near(rng));
+        const double want = sun.optical_depth(x), got = fast.optical_depth(x);
+        ASSERT_GT(want, 0.0) << "point " << n;  // every point lies inside the atmosphere
+        ASSERT_NEAR(got, want, 2e-5 * std::max(1.0, want)) << "point " << n;
+    }
+}
+
 }  // namespace
 }  // namespace brume

@@ -7,6 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
 #include <random>
 #include <thread>
 #include <vector>
@@ -55,6 +59,52 @@ TEST(SunLight, NoShadowsNoGrid) {
     EXPECT_TRUE(sun.cell_items().empty());
     EXPECT_EQ(sun.optical_depth(glm::dvec3(0.0)), 0.0);
     EXPECT_EQ(sun.transmittance(glm::dvec3(0.0)), 1.0);
+}
+
+// An atmosphere around a cloud (render/outsized_spheres.h): the sphere 10,000 times a puff's radius is
+// listed in no cell, the grid's cells follow the puffs (about a puff across, where the atmosphere's extent
+// and radius made them 670 units wide and every lookup walked every puff), and every lookup still takes
+// its chord: the depths are the sum over all spheres of each chord's closed form.
+TEST(SunLight, AnOutsizedSphereIsInNoCellAndEveryLookupTakesIt) {
+    Scene s = testing::random_sun_cloud(200, 9u, {0.3, -1.0, 0.2}, 0.3, 0.7);
+    s.spheres.push_back(testing::sphere({40.0, -30.0, 20.0}, 1e4, 1e-4));
+    const std::uint32_t atmosphere = std::uint32_t(s.spheres.size() - 1);
+    const SunLight sun(s);
+    EXPECT_EQ(sun.outsized_indices(), std::vector<std::uint32_t>{atmosphere});
+    EXPECT_EQ(std::count(sun.cell_items().begin(), sun.cell_items().end(), atmosphere), 0);
+    EXPECT_LT(sun.grid_cell(), 2.0);
+    std::size_t longest = 0;
+    for (std::size_t c = 0; c + 1 < sun.cell_start().size(); ++c)
+        longest = std::max<std::size_t>(longest, sun.cell_start()[c + 1] - sun.cell_start()[c]);
+    EXPECT_LT(longest, 60u);  // of 200 puffs
+
+    const glm::dvec3 l = sun.toward_sun();
+    // sum over spheres [first, last) of tau times the chord above x, in closed form.
+    const auto closed_form = [&](const glm::dvec3& x, std::size_t first, std::size_t last) {
+        double depth = 0.0;
+        for (std::size_t k = first; k < last; ++k) {
+            const Sphere& sp = s.spheres[k];
+            const glm::dvec3 oc = x - sp.center;
+            const double b = glm::dot(oc, l), perp2 = glm::dot(oc, oc) - b * b, disc = sp.radius * sp.radius - perp2;
+            if (!(disc > 0.0)) continue;
+            const double half = std::sqrt(disc);
+            depth += sp.extinction * (-b - half >= 0.0 ? 2.0 * half : std::max(half - b, 0.0));
+        }
+        return depth;
+    };
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> near(-3.0, 3.0), far(-5000.0, 5000.0);
+    int in_puffs_shadow = 0;
+    for (int n = 0; n < 3000; ++n) {
+        // Under and in the cloud, and far beside it (outside the grid, inside the atmosphere).
+        const glm::dvec3 x = n % 3 == 2 ? glm::dvec3(far(rng), far(rng) * 0.5, far(rng))
+                                        : glm::dvec3(near(rng), near(rng) * 0.7 + 0.5, near(rng));
+        const double want = closed_form(x, 0, s.spheres.size()), got = sun.optical_depth(x);
+        ASSERT_NEAR(got, want, 1e-9 * std::max(1.0, want)) << "point " << n;
+        ASSERT_GT(got, 0.0) << "point " << n;  // inside the atmosphere, below its top
+        in_puffs_shadow += closed_form(x, 0, atmosphere) > 0.01;
+    }
+    EXPECT_GT(in_puffs_shadow, 200);  // the points saw the puffs' shadows, not the atmosphere alone
 }
 
 }  // namespace

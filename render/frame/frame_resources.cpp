@@ -144,7 +144,10 @@ void FrameResources::ensure_sun_grid() {
     sun_header_.u_axis = gpu::vec4(float(u.x), float(u.y), float(u.z), float(sun_light.grid_u0() - glm::dot(eye_, u)));
     sun_header_.v_axis = gpu::vec4(float(v.x), float(v.y), float(v.z), float(sun_light.grid_v0() - glm::dot(eye_, v)));
     sun_header_.cell = gpu::vec4(float(sun_light.grid_cell()), 0.0f, 0.0f, 0.0f);
-    sun_header_.size = gpu::uvec4(gpu::uint(sun_light.grid_side()), gpu::uint(sun_light.cell_items().size()), 0u, 0u);
+    const std::vector<std::uint32_t>& outsized = sun_light.outsized_indices();
+    sun_header_.size = gpu::uvec4(gpu::uint(sun_light.grid_side()), gpu::uint(sun_light.cell_items().size()), 0u,
+                                  gpu::uint(outsized.size()));
+    for (std::size_t k = 0; k < outsized.size(); ++k) sun_header_.grid_outsized[int(k)] = outsized[k];
     sun_grid_words_.reserve(grid_words);
     sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_start().begin(), sun_light.cell_start().end());
     sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_items().begin(), sun_light.cell_items().end());
@@ -161,7 +164,7 @@ void FrameResources::ensure_sphere_sun(const Scene& scene) {
     sphere_sun_done_ = true;
 }
 
-static_assert(gpu::SUN_MAX_OUTSIZED == SunDepthMap::kMaxOutsized, "the header holds every outsized sphere a map keeps");
+static_assert(gpu::SUN_MAX_OUTSIZED == kMaxOutsized, "the header holds every outsized sphere a map or grid keeps");
 
 void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     if (sun_depth_map_done_) return;

@@ -14,8 +14,9 @@
 // sigma_s L_sun P times the integral of exp(-sigma_t u) T_sun(x(u)) over it, with the depth toward
 // the sun read from the light-space depth map at the ends of short pieces and linear between (a
 // closed form, as trace does), box shadows cut out exactly (sun_transmittance.glsl
-// find_sun_box_spans); for that the integrator knows its ray. start_integrator() takes the pixel-centre ray of gl_FragCoord (a fragment
-// shader); a resolve in another stage defines BRUME_NO_FRAGMENT_RAY and calls start_integrator(eye, dir).
+// find_sun_box_spans); for that the integrator knows its ray and where its opaque surface lies.
+// start_integrator(t_opaque) takes the pixel-centre ray of gl_FragCoord (a fragment shader); a resolve
+// in another stage defines BRUME_NO_FRAGMENT_RAY and calls start_integrator(eye, dir, t_opaque).
 #ifndef BRUME_EXACT_INTEGRATOR_GLSL
 #define BRUME_EXACT_INTEGRATOR_GLSL
 #include "rays.glsl"
@@ -255,14 +256,19 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
     it.t_prev = t;
 }
 
-Integrator start_integrator(vec3 origin, vec3 unit_dir) {
-    if (ACCURATE_SHADOWS != 0u && frame.params.w != 0.0 && frame.params.z != 0.0) find_sun_box_spans(origin, unit_dir);
+// `t_opaque`: the distance to the ray's opaque surface (the opaque image's alpha; +inf where none).
+Integrator start_integrator(vec3 origin, vec3 unit_dir, float t_opaque) {
+    sun_box_span_count = SUN_BOX_SPANS_NONE;
+    if (ACCURATE_SHADOWS != 0u && frame.params.w != 0.0 && frame.params.z != 0.0)
+        find_sun_box_spans(origin, unit_dir, t_opaque);
     return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), vec3(0.0), vec3(0.0), 0, 0.0, false, origin, unit_dir, 0.0, 1.0,
                       false, 0u);
 }
 
 #ifndef BRUME_NO_FRAGMENT_RAY
-Integrator start_integrator() { return start_integrator(frame.eye.xyz, pixel_ray_direction(gl_FragCoord.xy)); }
+Integrator start_integrator(float t_opaque) {
+    return start_integrator(frame.eye.xyz, pixel_ray_direction(gl_FragCoord.xy), t_opaque);
+}
 #endif
 
 #endif

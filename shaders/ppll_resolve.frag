@@ -78,7 +78,7 @@ void main() {
         return;  // empty pixels take no part in the statistics below: they add nothing to them
     }
     vec3 source = source_radiance(normalize(v_ray));
-    Integrator it = start_integrator();
+    Integrator it = start_integrator(opaque.a);
 
     // Walk 0 of the general path: it counts the list and keeps its WINDOW smallest events. A list
     // of at most WINDOW / 2 nodes is then complete in registers: short lists (most pixels of light
@@ -137,7 +137,7 @@ void main() {
         if (!in_order && !cut) {
             // The general path, from the start, where the ordered one could not be sure of the order.
             general = true;
-            it = start_integrator();
+            it = start_integrator(opaque.a);
             BRUME_GENERAL_WALK
             cut = node != LIST_END;
         }

@@ -98,7 +98,7 @@ void main() {
     vec3 eye = frame.eye.xyz;
     vec3 dir = pixel_ray_direction(vec2(px) + 0.5);
     vec3 source = source_radiance(dir);
-    Integrator it = start_integrator(eye, dir);
+    Integrator it = start_integrator(eye, dir, limit);
 
     // The ordered path.
     float pt[TILE_PENDING], pe[TILE_PENDING];
@@ -158,7 +158,7 @@ void main() {
 
     // The general path, for the pixels the ordered one could not prove.
     if (subgroupAny(general)) if (general) {
-        it = start_integrator(eye, dir);
+        it = start_integrator(eye, dir, limit);
         uvec2 w[WINDOW];
         uvec2 last_key = uvec2(0u);  // the largest key of the last batch
         hits = 0u;

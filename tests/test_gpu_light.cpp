@@ -7,6 +7,9 @@
 
 #include "render/methods/ppll.h"
 #include "render/methods/registry.h"
+#include "render/opaque_surfaces.h"
+#include "render/sun_light.h"
+#include "sim/camera_rays.h"
 #include "sim/builtin_scenes.h"
 
 #include <algorithm>
@@ -90,30 +93,83 @@ TEST_F(GpuLight, AccurateShadowsMeetTheirTarget) {
     }
 }
 
-// With more boxes than the integrator keeps shadow spans for (SUN_BOX_SPANS, 8), each quadrature node
-// tests the boxes itself (shaders/exact_integrator.glsl's fallback): the same cloud under a row of
-// twelve posts toward the sun, whose shadows cross it, within the same target; and the shadows are
-// seen (the frame without the posts is further from the model).
-TEST_F(GpuLight, AccurateShadowsWithMoreBoxesThanSpansMeetTheirTarget) {
-    PpllMethod ppll(device());
+// A scene of more boxes than the integrator keeps shadow spans for (SUN_BOX_SPANS, 16): each view ray
+// keeps its disjoint shadows in front of its opaque surface, merged as they come, so it is the ray's
+// shadows that must fit, not the scene's boxes. The cloud under a row of sixteen posts toward the sun,
+// whose shadows cross it, beside the ground and the pillar (18 boxes): ppll and tiles cut the shadows exactly, as
+// trace does (within float rounding of its image), and meet the target; the shadows are seen (the frame
+// without the posts is further from the model). Until 2026-12-06 a scene of more than 8 boxes sent
+// every ray to the 3-point fallback below, 1e-2 of the peak off trace's image.
+TEST_F(GpuLight, AccurateShadowsUnderMoreBoxesThanSpansCutThemAsTraceDoes) {
     Scene s = shadowed_cloud(false);
     const std::size_t boxes_before = s.boxes.size();
-    for (int k = 0; k < 12; ++k) {
+    for (int k = 0; k < 16; ++k) {
         // Where the cloud's centre sees the sun at y = 2.6: 2.6 / 0.6 of (0.7, 0.6, 0.3) from it.
-        const double x = 3.03 - 1.65 + 0.3 * k;
-        s.boxes.push_back(Box{{x, 2.6, 1.1}, {x + 0.18, 2.75, 1.5}, {0.2, 0.2, 0.2}, {0.5, 0.5, 0.5}});
+        const double x = 3.03 - 1.65 + 0.2 * k;
+        s.boxes.push_back(Box{{x, 2.6, 1.1}, {x + 0.12, 2.75, 1.5}, {0.2, 0.2, 0.2}, {0.5, 0.5, 0.5}});
     }
-    ASSERT_GT(s.boxes.size(), std::size_t(8));
+    ASSERT_GT(s.boxes.size(), std::size_t(16));
     const Image exact = render_reference(s);
-    const ShadowError e = shadow_error(ppll.render(s), exact);
-    Scene without_posts = s;
-    without_posts.boxes.resize(boxes_before);
-    const ShadowError none = shadow_error(ppll.render(without_posts), exact);
-    std::printf("  accurate shadows under %zu boxes: mean %.3g, p99.9 %.3g of the peak (posts left out: %.3g, %.3g)\n",
-                s.boxes.size(), e.mean, e.p999, none.mean, none.p999);
-    EXPECT_LT(e.mean, kAccurateMean);
-    EXPECT_LT(e.p999, kAccurateP999);
-    EXPECT_GT(none.mean, 3.0 * e.mean) << "the posts' shadows should be seen";
+    const Image traced = make_method(&device(), "trace")->render(s);
+    for (const char* spec : {"ppll", "tiles"}) {
+        const Image img = make_method(&device(), spec)->render(s);
+        const ShadowError e = shadow_error(img, exact), off_trace = shadow_error(img, traced);
+        Scene without_posts = s;
+        without_posts.boxes.resize(boxes_before);
+        const ShadowError none = shadow_error(make_method(&device(), spec)->render(without_posts), exact);
+        std::printf("  %s, accurate shadows under %zu boxes: mean %.3g, p99.9 %.3g of the peak (posts left out: "
+                    "%.3g, %.3g); off trace's image by p99.9 %.3g\n",
+                    spec, s.boxes.size(), e.mean, e.p999, none.mean, none.p999, off_trace.p999);
+        EXPECT_LT(e.mean, kAccurateMean) << spec;
+        EXPECT_LT(e.p999, kAccurateP999) << spec;
+        EXPECT_LT(off_trace.p999, 1e-4) << spec;
+        EXPECT_GT(none.mean, 3.0 * e.mean) << spec << ": the posts' shadows should be seen";
+    }
+}
+
+// A view ray through more disjoint box shadows than the integrator keeps (SUN_BOX_SPANS) takes the
+// fallback: each quadrature node tests the boxes itself (shaders/exact_integrator.glsl). The cloud under
+// a sun straight above and a grating of 36 bars across the view above it: most rays through the cloud
+// cross over 16 of the bars' shadows (counted here in closed form), and the frame still meets the
+// target, the shadows seen.
+TEST_F(GpuLight, AccurateShadowsThroughMoreBoxShadowsThanARayKeepsMeetTheirTarget) {
+    Scene s = shadowed_cloud(false);
+    s.lighting.sun_direction = {0.0, -1.0, 0.0};
+    const std::size_t boxes_before = s.boxes.size();
+    for (int k = 0; k < 36; ++k) {
+        const double z = -2.7 + 0.15 * k;
+        s.boxes.push_back(Box{{-4.0, 4.0, z}, {4.0, 4.1, z + 0.06}, {0.2, 0.2, 0.2}, {0.5, 0.5, 0.5}});
+    }
+    // The pixels whose ray, before its opaque surface, crosses more of the bars' shadows than fit.
+    const CameraRays rays = make_camera_rays(s.camera);
+    const glm::dvec3 l(0.0, 1.0, 0.0);
+    int over = 0;
+    for (int j = 0; j < s.camera.height; ++j)
+        for (int i = 0; i < s.camera.width; ++i) {
+            const glm::dvec3 d = rays.pixel_direction(i, j);
+            glm::dvec3 behind;
+            const double t_opaque = OpaqueSurfaces(s, SunLight(s)).hit(rays.eye, d, behind);
+            int crossed = 0;
+            for (std::size_t b = boxes_before; b < s.boxes.size(); ++b) {
+                double lo, hi;
+                crossed += box_shadow_interval(s.boxes[b], l, rays.eye, d, lo, hi) && std::max(lo, 0.0) < std::min(hi, t_opaque);
+            }
+            over += crossed > 16;
+        }
+    EXPECT_GT(over, s.camera.width * s.camera.height / 4) << "the grating should overflow the spans of many rays";
+    const Image exact = render_reference(s);
+    Scene without_bars = s;
+    without_bars.boxes.resize(boxes_before);
+    for (const char* spec : {"ppll", "tiles"}) {
+        const ShadowError e = shadow_error(make_method(&device(), spec)->render(s), exact);
+        const ShadowError none = shadow_error(make_method(&device(), spec)->render(without_bars), exact);
+        std::printf("  %s, accurate shadows through a grating (%d of %d rays cross over 16 shadows): mean %.3g, "
+                    "p99.9 %.3g of the peak (bars left out: %.3g, %.3g)\n",
+                    spec, over, s.camera.width * s.camera.height, e.mean, e.p999, none.mean, none.p999);
+        EXPECT_LT(e.mean, kAccurateMean) << spec;
+        EXPECT_LT(e.p999, kAccurateP999) << spec;
+        EXPECT_GT(none.mean, 3.0 * e.mean) << spec << ": the bars' shadows should be seen";
+    }
 }
 
 // Three overlapping puffs over a lit ground under a high sun, with accurate shadows, at 64x48.

@@ -92,9 +92,10 @@ void method_section(PanelState& s) {
     }
     ImGui::SameLine();
     if (ImGui::Button("apply")) {
-        const std::string spec = entry.name + (entry.setting.empty() || !s.method_setting[0]
-                                                   ? ""
-                                                   : ":" + std::string(s.method_setting));
+        // Appended, not ":" + std::string(...): GCC 12 warns (-Wrestrict, a false positive) on
+        // operator+(const char*, std::string&&) inlined here.
+        std::string spec = entry.name;
+        if (!entry.setting.empty() && s.method_setting[0]) spec.append(":").append(s.method_setting);
         try {
             s.session.set_method(spec);
             s.method_error.clear();

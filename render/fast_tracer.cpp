@@ -557,6 +557,18 @@ public:
                 out.items[next[std::countr_zero(hits)]++] = std::uint32_t(n);
     }
 
+    // The opaque surfaces of a tile row's eight rays (`boxes`: tile_box_mask), eight at a time: none where
+    // the tile has no candidate box (and the scene no box past the 64th, which every tile tests).
+    void row_opaque_hits(const TileRays& tile_rays, int row, std::uint64_t boxes, OpaqueSurfaces::Hit* out) const {
+        const int first = row * int(kTile);
+        if (boxes == 0 && box_rects_.size() <= 64) {
+            std::fill(out, out + kTile, OpaqueSurfaces::Hit{kInfinity, -1, -1});
+            return;
+        }
+        static_assert(kTile == 8, "nearest8 takes a row of eight rays");
+        opaque_.nearest8(eye_, tile_rays.x + first, tile_rays.y + first, tile_rays.z + first, boxes, out);
+    }
+
     // Radiance toward the eye along unit direction d, from the tile's spheres items[0, count) names,
     // listed near to far by their bounds.
     // kPlain: a scene without shadows or emission (plain_), whose integrator needs only sigma_t and
@@ -565,11 +577,13 @@ public:
     // tile pixel `pixel` (resolve_sun_jobs adds their light to the pixel's sum).
     // `boxes`: the boxes the ray may meet (tile_box_mask).
     // kWide: code compiled for AVX2 (SortedRun::insert).
+    // `known_opaque`: the ray's opaque surface where the caller found it already (row_opaque_hits), else null.
     template <bool kPlain, bool kWide>
     dvec3 radiance(const dvec3& d, const TileSphere* list, const std::uint32_t* items, std::size_t count,
-                   RayScratch& scratch, SunJobs& jobs, std::uint32_t pixel, std::uint64_t boxes) const {
+                   RayScratch& scratch, SunJobs& jobs, std::uint32_t pixel, std::uint64_t boxes,
+                   const OpaqueSurfaces::Hit* known_opaque = nullptr) const {
         // The opaque surface's distance now, its radiance (a lit face's T_sun) only if the ray gets there.
-        const OpaqueSurfaces::Hit opaque = opaque_.nearest(eye_, d, boxes);
+        const OpaqueSurfaces::Hit opaque = known_opaque ? *known_opaque : opaque_.nearest(eye_, d, boxes);
         const float t_opaque = float(opaque.t);
         const float dx = float(d.x), dy = float(d.y), dz = float(d.z);
 
@@ -778,12 +792,8 @@ private:
         // The opaque surfaces: none where the tile has no candidate box (and the scene no box past the
         // 64th, which every tile tests).
         float t_opaque[kTile];
-        const bool no_box = boxes == 0 && box_rects_.size() <= 64;
-        for (int l = 0; l < int(kTile); ++l) {
-            opaque[l] = no_box ? OpaqueSurfaces::Hit{kInfinity, -1, -1}
-                               : opaque_.nearest(eye_, tile_rays.direction(first + l), boxes);
-            t_opaque[l] = float(opaque[l].t);
-        }
+        row_opaque_hits(tile_rays, row, boxes, opaque);
+        for (int l = 0; l < int(kTile); ++l) t_opaque[l] = float(opaque[l].t);
         rays.t_opaque = load8(t_opaque);
         // L_ambient + L_sun P(theta), in double as radiance takes it (the same operations), four lanes
         // at a time, the halves put together in registers (through memory, an 8-lane load of two
@@ -1718,6 +1728,12 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
         for (int j = j0; j < j1; ++j)
             for (int i = i0; i < i1; ++i) one_ray |= std::uint64_t(1) << ((j - j0) * int(kTile) + (i - i0));
     }
+    // The one-ray walk's opaque surfaces, a row of eight rays at a time (one ray a pixel only).
+    OpaqueSurfaces::Hit opaque_hits[kTile * kTile];
+    if (k == 1)
+        for (int row = 0; row < int(kTile); ++row)
+            if ((one_ray >> (row * int(kTile))) & 0xffu)
+                f.tracer.row_opaque_hits(tile_rays, row, boxes, opaque_hits + row * int(kTile));
     for (; one_ray != 0; one_ray &= one_ray - 1) {
         const std::uint32_t p = std::uint32_t(std::countr_zero(one_ray));
         const int i = i0 + int(p % kTile), j = j0 + int(p / kTile);
@@ -1725,12 +1741,13 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
         for (int b = 0; b < k; ++b)
             for (int a = 0; a < k; ++a) {
                 const dvec3 d = k == 1 ? tile_rays.direction(int(p)) : f.rays.direction(i + (a + 0.5) / k, j + (b + 0.5) / k);
+                const OpaqueSurfaces::Hit* known = k == 1 ? opaque_hits + p : nullptr;
                 const std::uint32_t* items = w.lists.items.data() + w.lists.first[p];
                 const std::size_t count = w.lists.count[p];
                 sum += f.plain ? f.tracer.radiance<true, kWide>(d, w.lists.spheres.data(), items, count, w.ray,
-                                                                w.sun_jobs, p, boxes)
+                                                                w.sun_jobs, p, boxes, known)
                                : f.tracer.radiance<false, kWide>(d, w.lists.spheres.data(), items, count, w.ray,
-                                                                 w.sun_jobs, p, boxes);
+                                                                 w.sun_jobs, p, boxes, known);
             }
         sums[p] = sum;
     }

@@ -12,6 +12,8 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <vector>
 
 namespace brume {
@@ -37,6 +39,13 @@ public:
     // Only the boxes k < 64 whose bit k `candidates` holds are tested (a caller that knows which boxes
     // its rays may meet: trace, per tile), and every box past the 64th.
     Hit nearest(const glm::dvec3& o, const glm::dvec3& d, std::uint64_t candidates = ~std::uint64_t(0)) const;
+    // nearest() for eight rays from `o`, ray n's direction (dx[n], dy[n], dz[n]), into out[0..8): the
+    // same operations lane by lane in vectors of four doubles, so the same hits bit for bit
+    // (tests/test_opaque_surfaces.cpp). One ray at a time, the slab tests' reciprocals and branches were
+    // 8-11% of trace's unshadowed frame on the presets with a ground. Inline, so that trace's code
+    // compiled for AVX2 takes it in AVX2.
+    inline void nearest8(const glm::dvec3& o, const double* dx, const double* dy, const double* dz,
+                         std::uint64_t candidates, Hit* out) const;
     glm::dvec3 radiance(const Hit& hit, const glm::dvec3& o, const glm::dvec3& d) const {
         return hit.box >= 0 ? box_radiance(hit.box, hit.axis, o, d, hit.t) : lighting_.background;
     }
@@ -50,5 +59,64 @@ private:
     const SunLight& sun_;
     const FloatSunDepth* float_depth_;
 };
+
+namespace opaque_detail {
+using Double4 = double __attribute__((vector_size(32)));
+using Mask4 = long long __attribute__((vector_size(32)));  // a lane's comparison: all ones or 0
+}  // namespace opaque_detail
+
+// ray_box_distance (render/ray_box.h) in four lanes, each step the scalar one's: a slab the ray runs
+// along (d = 0) is all-or-nothing by the origin, and updates nothing; t1 > t2 swaps; the entry updates
+// where it is greater (NaN never), the exit is min(tf, t2) = t2 < tf ? t2 : tf.
+inline void OpaqueSurfaces::nearest8(const glm::dvec3& o, const double* dx, const double* dy, const double* dz,
+                                     std::uint64_t candidates, Hit* out) const {
+    using opaque_detail::Double4;
+    using opaque_detail::Mask4;
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const bool any = boxes_.size() > 64 ||
+                     (boxes_.size() == 64 ? candidates : candidates & ((std::uint64_t(1) << boxes_.size()) - 1)) != 0;
+    for (int half = 0; half < 2; ++half) {
+        Double4 d[3];
+        std::memcpy(&d[0], dx + 4 * half, sizeof(Double4));
+        std::memcpy(&d[1], dy + 4 * half, sizeof(Double4));
+        std::memcpy(&d[2], dz + 4 * half, sizeof(Double4));
+        Double4 best_t = Double4{} + kInf;
+        Mask4 best_box = Mask4{} - 1, best_axis = Mask4{} - 1;
+        if (any) {
+            Mask4 along[3];  // the ray runs along the slab: d = 0
+            Double4 inv[3];
+            for (int a = 0; a < 3; ++a) {
+                along[a] = d[a] == 0.0;
+                inv[a] = along[a] ? Double4{} : 1.0 / d[a];
+            }
+            for (std::size_t k = 0; k < boxes_.size(); ++k) {
+                if (k < 64 && !((candidates >> k) & 1u)) continue;
+                const Box& box = boxes_[k];
+                Double4 tn = Double4{} - kInf, tf = Double4{} + kInf;
+                Mask4 axis = Mask4{} - 1, miss = Mask4{};
+                for (int a = 0; a < 3; ++a) {
+                    const bool outside = o[a] < box.min[a] || o[a] > box.max[a];
+                    if (outside) miss |= along[a];
+                    const Double4 t1 = (box.min[a] - o[a]) * inv[a];
+                    const Double4 t2 = (box.max[a] - o[a]) * inv[a];
+                    const Mask4 swap = t1 > t2;
+                    const Double4 lo = swap ? t2 : t1, hi = swap ? t1 : t2;
+                    const Mask4 enter = (lo > tn) & ~along[a];
+                    tn = enter ? lo : tn;
+                    axis = enter ? Mask4{} + a : axis;
+                    tf = ((hi < tf) & ~along[a]) ? hi : tf;
+                }
+                const Double4 t_near = tn > 0.0 ? tn : Double4{};
+                const Mask4 rejected = miss | (tf < t_near) | (tn > tf);
+                const Double4 t = rejected ? Double4{} + kInf : t_near;
+                const Mask4 better = t < best_t;
+                best_t = better ? t : best_t;
+                best_box = better ? Mask4{} + (long long)k : best_box;
+                best_axis = better ? (tn > 0.0 ? axis : Mask4{} - 1) : best_axis;
+            }
+        }
+        for (int l = 0; l < 4; ++l) out[4 * half + l] = Hit{best_t[l], int(best_box[l]), int(best_axis[l])};
+    }
+}
 
 }  // namespace brume

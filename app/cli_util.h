@@ -16,6 +16,7 @@ struct VolumeReport;
 
 namespace brume {
 struct Image;
+struct Scene;
 }
 
 namespace brume::app {
@@ -75,6 +76,10 @@ std::string count_of(std::size_t n, const char* singular, const char* plural);
 
 // One line on what converting a [[vdb]] volume did: spheres, voxels, measured error, time.
 void print_volume_report(const VolumeReport& report);
+
+// A note where the scene has more outsized spheres (render/outsized_spheres.h) than the accurate shadow
+// technique takes whole: the rest blur its map past its stated error. Nothing otherwise; false then.
+bool note_outsized_spheres(const Scene& scene);
 
 // A JSON string literal (quotes, backslashes and control characters escaped).
 std::string json_string(const std::string& text);

@@ -213,6 +213,7 @@ int run_play(const PlayArgs& args) {
     const double replay_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - sim_start).count();
     double sim_s = replay_s;  // the summary's simulation time includes the preroll and the replay
     bool cap_noted = false;
+    bool outsized_noted = method.rfind("reference", 0) == 0;  // note_outsized_spheres, once a run (none for the exact reference)
 
     std::printf("%s: frames %d-%d of %d at %dx%d, %.4g fps, method %s%s -> %s\n", preset.name.c_str(), range.first,
                 range.last, preset.timeline.frame_count(), preset.scene.camera.width, preset.scene.camera.height,
@@ -254,6 +255,7 @@ int run_play(const PlayArgs& args) {
         scene.camera = camera_at(preset, sim.time());
         scene.camera.width = preset.scene.camera.width;
         scene.camera.height = preset.scene.camera.height;
+        if (!outsized_noted) outsized_noted = note_outsized_spheres(scene);
         const Image image = renderer->render(scene, nullptr);
         refuse_non_finite(image, "frame " + std::to_string(frame));
         if (!dir_made) {

@@ -179,6 +179,7 @@ int run_render(const RenderArgs& args) {
             volumes.push_back({"the volume", (fs::path(v.source.base_dir) / v.source.file).string()});
     check_outputs_distinct(output_names, volumes);
     for (const VolumeReport& v : convert_scene_volumes(scene)) print_volume_report(v);
+    if (args.method.rfind("reference", 0) != 0) note_outsized_spheres(scene);
 
     // Options reach every method that honours them (the registry says which); one given to a
     // method that would ignore it is refused rather than silently dropped.

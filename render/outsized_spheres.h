@@ -23,4 +23,10 @@ constexpr int kMaxOutsized = 4;
 // most 2.1 times its median), so their grids and maps are as they were without the rule.
 std::vector<std::size_t> outsized_spheres(std::span<const double> radii);
 
+// How many of `radii` are over kOutsizedRadii times the median radius, before the rule keeps the largest
+// kMaxOutsized (0 where none would be left for the grid): past kMaxOutsized the rest stay in the map's
+// lattice and set its spacing, and the accurate technique misses its error target (docs/accuracy.md,
+// "Scenes the map's spacing does not fit"). The commands say so.
+std::size_t outsized_sphere_count(std::span<const double> radii);
+
 }  // namespace brume

@@ -907,6 +907,22 @@ printf '[timeline]\nfps = 10.0\nduration = 0.5\nmax_particles = 5\n[[emitter]]\n
 run render "$nu/capped.toml" --frame 3 --size 8x8 -o "$nu/capped.exr" --stats "$nu/capped.json"
 expect_success render.budget_counted && grep -q "max_particles = 5" "$out" && grep -Eq '"skipped_births": [1-9]' "$nu/capped.json" &&
     ok render.budget_counted
+# More huge spheres than the accurate shadows take whole are said (docs/accuracy.md); one is not.
+{
+    printf '[lighting]\nshadows = true\n'
+    for k in 0 1 2 3 4 5 6 7 8 9; do printf '[[sphere]]\ncenter = [0.%d, 0.0, 0.0]\nradius = 0.3\nextinction = 1.0\nalbedo = [0.8, 0.8, 0.8]\n' "$k"; done
+} >"$nu/puffs.toml"
+cp "$nu/puffs.toml" "$nu/one_atmosphere.toml"
+printf '[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = 500.0\nextinction = 0.001\nalbedo = [0.8, 0.8, 0.8]\n' >>"$nu/one_atmosphere.toml"
+cp "$nu/one_atmosphere.toml" "$nu/five_atmospheres.toml"
+for k in 1 2 3 4; do printf '[[sphere]]\ncenter = [%d.0, 0.0, 0.0]\nradius = 500.0\nextinction = 0.001\nalbedo = [0.8, 0.8, 0.8]\n' "$k" >>"$nu/five_atmospheres.toml"; done
+run render "$nu/one_atmosphere.toml" --size 8x6 -o "$nu/one_atmosphere.exr"
+expect_success render.outsized_unsaid && ! grep -q "times the median radius" "$out" && ok render.outsized_unsaid
+run render "$nu/five_atmospheres.toml" --size 8x6 -o "$nu/five_atmospheres.exr"
+expect_success render.outsized_said && grep -qF "note: 5 spheres are over 16 times the median radius" "$out" &&
+    ok render.outsized_said
+run render "$nu/five_atmospheres.toml" --size 8x6 --shadows per-sphere -o "$nu/five_per_sphere.exr"
+expect_success render.outsized_per_sphere && ! grep -q "times the median radius" "$out" && ok render.outsized_per_sphere
 run render crossing --frame 144 --size 16x12 --png "$nu/never.png"
 expect_error render.preset_frame_range "--frame 144" "0-143" && [ ! -e "$nu/never.png" ] && ok render.preset_frame_range
 

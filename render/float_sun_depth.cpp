@@ -90,18 +90,11 @@ FloatSunDepth::FloatSunDepth(const Scene& scene, const SunLight& sun, MapInstruc
     };
     std::vector<Disc> discs;
     discs.reserve(scene.spheres.size());
-    double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf, diameter_sum = 0.0;
     for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
         const Sphere& sp = scene.spheres[k];
         if (!(sp.extinction > 0.0) || !(sp.radius > 0.0)) continue;
-        const Disc d{glm::dot(sp.center, u_), glm::dot(sp.center, v_), glm::dot(sp.center, l_), sp.radius,
-                     float(sp.extinction), std::uint32_t(k)};
-        u_lo = std::min(u_lo, d.u - d.r);
-        u_hi = std::max(u_hi, d.u + d.r);
-        v_lo = std::min(v_lo, d.v - d.r);
-        v_hi = std::max(v_hi, d.v + d.r);
-        diameter_sum += 2.0 * d.r;
-        discs.push_back(d);
+        discs.push_back(Disc{glm::dot(sp.center, u_), glm::dot(sp.center, v_), glm::dot(sp.center, l_), sp.radius,
+                             float(sp.extinction), std::uint32_t(k)});
     }
     if (discs.empty()) return;
     empty_ = false;
@@ -110,28 +103,26 @@ FloatSunDepth::FloatSunDepth(const Scene& scene, const SunLight& sun, MapInstruc
         std::vector<double> radii(discs.size());
         for (std::size_t k = 0; k < discs.size(); ++k) radii[k] = discs[k].r;
         const std::vector<std::size_t> over = outsized_spheres(radii);
-        if (!over.empty()) {
-            std::vector<Disc> kept;
-            kept.reserve(discs.size() - over.size());
-            diameter_sum = 0.0;
-            u_lo = v_lo = kInf;
-            u_hi = v_hi = -kInf;
-            for (std::size_t k = 0, next = 0; k < discs.size(); ++k) {
+        std::size_t kept = 0;
+        for (std::size_t k = 0, next = 0; k < discs.size(); ++k) {
+            if (next < over.size() && over[next] == k) {
                 const Disc& d = discs[k];
-                if (next < over.size() && over[next] == k) {
-                    outsized_.push_back(Outsized{d.u, d.v, d.s, d.r * d.r, double(d.tau)});
-                    ++next;
-                    continue;
-                }
-                u_lo = std::min(u_lo, d.u - d.r);
-                u_hi = std::max(u_hi, d.u + d.r);
-                v_lo = std::min(v_lo, d.v - d.r);
-                v_hi = std::max(v_hi, d.v + d.r);
-                diameter_sum += 2.0 * d.r;
-                kept.push_back(d);
+                outsized_.push_back(Outsized{d.u, d.v, d.s, d.r * d.r, double(d.tau)});
+                ++next;
+            } else {
+                discs[kept++] = discs[k];
             }
-            discs = std::move(kept);
         }
+        discs.resize(kept);
+    }
+    // The grid's extent and cell follow the listed discs.
+    double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf, diameter_sum = 0.0;
+    for (const Disc& d : discs) {
+        u_lo = std::min(u_lo, d.u - d.r);
+        u_hi = std::max(u_hi, d.u + d.r);
+        v_lo = std::min(v_lo, d.v - d.r);
+        v_hi = std::max(v_hi, d.v + d.r);
+        diameter_sum += 2.0 * d.r;
     }
     // From the sun down, by the far end toward the sun (ties by scene order), once: each cell's list,
     // filled in this order, is then in it too (a sort per cell took twice the rest of the build).

@@ -15,7 +15,7 @@ namespace brume {
 
 // A sphere is outsized over this many times the median radius, and at most this many are taken so.
 constexpr double kOutsizedRadii = 16.0;
-constexpr int kMaxOutsized = 4;
+constexpr int kMaxOutsized = 8;
 
 // The indices into `radii` (the spheres with a medium, in scene order) of the outsized ones, ascending:
 // each over kOutsizedRadii times the median radius, the largest kMaxOutsized of them (ties in order),

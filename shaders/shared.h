@@ -136,14 +136,15 @@ struct SunGridHeader {
     vec4 map_origin;  // xyz: the eye's lattice coordinates; w: 1 / lattice spacing
     uvec4 map_size;   // xyz: vertices along u, v, s (x = 0: no map); w: the map's first word in the data
     // The spheres the map leaves to a closed form (render/sun_depth_map.h Outsized), in lattice units:
-    // xyz the centre, w radius^2; and each one's tau * spacing, in order.
-    vec4 outsized[4];
-    vec4 outsized_depth;
+    // xyz the centre, w radius^2; and each one's tau * spacing, in order (SUN_MAX_OUTSIZED at most).
+    vec4 outsized[8];
+    vec4 outsized_depth[2];  // sphere k's in [k / 4][k % 4]
     // The same spheres as the grid leaves them out of every cell (render/sun_light.h outsized_indices):
-    // their indices into the sphere buffer, size.w of them; a lookup adds their chords.
-    uvec4 grid_outsized;
+    // their indices into the sphere buffer, size.w of them, k's in [k / 4][k % 4]; a lookup adds their
+    // chords.
+    uvec4 grid_outsized[2];
 };
-BRUME_CONST SUN_MAX_OUTSIZED = 4;
+BRUME_CONST SUN_MAX_OUTSIZED = 8;
 
 // Written by the particle pass (allocated) and the resolve pass (statistics); read back every frame.
 struct ListCounters {

@@ -60,7 +60,7 @@ float sun_transmittance(vec3 x, uint skip_box) {
     }
     // The outsized spheres, in no cell's list (render/outsized_spheres.h; none in the shipped presets).
     for (uint k = 0u; k < sun_grid.size.w; ++k) {
-        GpuSphere g = spheres[sun_grid.grid_outsized[k]];
+        GpuSphere g = spheres[sun_grid.grid_outsized[k >> 2u][k & 3u]];
         depth += g.albedo_extinction.w * sun_ray_length_inside(x, l, g.center_radius.xyz, g.center_radius.w * g.center_radius.w);
     }
     return exp(-depth);
@@ -78,7 +78,7 @@ float sun_outsized_depth(vec3 g) {
         if (!(h2 > 0.0)) continue;
         float half_chord = sqrt(h2), bottom = o.z - half_chord;
         float from = g.z > bottom ? g.z : bottom;  // NaN: from the bottom, as the CPU's
-        depth += sun_grid.outsized_depth[k] * max(o.z + half_chord - from, 0.0);
+        depth += sun_grid.outsized_depth[k >> 2u][k & 3u] * max(o.z + half_chord - from, 0.0);
     }
     return depth;
 }

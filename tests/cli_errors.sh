@@ -914,14 +914,14 @@ expect_success render.budget_counted && grep -q "max_particles = 5" "$out" && gr
 } >"$nu/puffs.toml"
 cp "$nu/puffs.toml" "$nu/one_atmosphere.toml"
 printf '[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = 500.0\nextinction = 0.001\nalbedo = [0.8, 0.8, 0.8]\n' >>"$nu/one_atmosphere.toml"
-cp "$nu/one_atmosphere.toml" "$nu/five_atmospheres.toml"
-for k in 1 2 3 4; do printf '[[sphere]]\ncenter = [%d.0, 0.0, 0.0]\nradius = 500.0\nextinction = 0.001\nalbedo = [0.8, 0.8, 0.8]\n' "$k" >>"$nu/five_atmospheres.toml"; done
+cp "$nu/one_atmosphere.toml" "$nu/nine_atmospheres.toml"
+for k in 1 2 3 4 5 6 7 8; do printf '[[sphere]]\ncenter = [%d.0, 0.0, 0.0]\nradius = 500.0\nextinction = 0.001\nalbedo = [0.8, 0.8, 0.8]\n' "$k" >>"$nu/nine_atmospheres.toml"; done
 run render "$nu/one_atmosphere.toml" --size 8x6 -o "$nu/one_atmosphere.exr"
 expect_success render.outsized_unsaid && ! grep -q "times the median radius" "$out" && ok render.outsized_unsaid
-run render "$nu/five_atmospheres.toml" --size 8x6 -o "$nu/five_atmospheres.exr"
-expect_success render.outsized_said && grep -qF "note: 5 spheres are over 16 times the median radius" "$out" &&
+run render "$nu/nine_atmospheres.toml" --size 8x6 -o "$nu/nine_atmospheres.exr"
+expect_success render.outsized_said && grep -qF "note: 9 spheres are over 16 times the median radius" "$out" &&
     ok render.outsized_said
-run render "$nu/five_atmospheres.toml" --size 8x6 --shadows per-sphere -o "$nu/five_per_sphere.exr"
+run render "$nu/nine_atmospheres.toml" --size 8x6 --shadows per-sphere -o "$nu/nine_per_sphere.exr"
 expect_success render.outsized_per_sphere && ! grep -q "times the median radius" "$out" && ok render.outsized_per_sphere
 run render crossing --frame 144 --size 16x12 --png "$nu/never.png"
 expect_error render.preset_frame_range "--frame 144" "0-143" && [ ! -e "$nu/never.png" ] && ok render.preset_frame_range

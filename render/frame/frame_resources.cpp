@@ -147,7 +147,7 @@ void FrameResources::ensure_sun_grid() {
     const std::vector<std::uint32_t>& outsized = sun_light.outsized_indices();
     sun_header_.size = gpu::uvec4(gpu::uint(sun_light.grid_side()), gpu::uint(sun_light.cell_items().size()), 0u,
                                   gpu::uint(outsized.size()));
-    for (std::size_t k = 0; k < outsized.size(); ++k) sun_header_.grid_outsized[int(k)] = outsized[k];
+    for (std::size_t k = 0; k < outsized.size(); ++k) sun_header_.grid_outsized[k / 4][int(k % 4)] = outsized[k];
     sun_grid_words_.reserve(grid_words);
     sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_start().begin(), sun_light.cell_start().end());
     sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_items().begin(), sun_light.cell_items().end());
@@ -185,7 +185,7 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     for (std::size_t k = 0; k < outsized.size(); ++k) {
         const SunDepthMap::Outsized& o = outsized[k];
         sun_header_.outsized[k] = gpu::vec4(o.u, o.v, o.s, o.r2);
-        sun_header_.outsized_depth[int(k)] = o.depth_per_cell;
+        sun_header_.outsized_depth[k / 4][int(k % 4)] = o.depth_per_cell;
     }
     write_sun_buffer(map.values());
 }

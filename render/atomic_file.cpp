@@ -28,7 +28,12 @@ fs::path directory_of(const fs::path& path) { return path.has_parent_path() ? pa
 
 // The prefix of every temporary file for `target`; the name starts with '.' so listings hide it,
 // and the target's name is cut so the whole stays within NAME_MAX.
-std::string temp_prefix(const fs::path& target) { return "." + target.filename().string().substr(0, 200) + ".tmp-"; }
+// (Appended, not "." + std::string&&: GCC 12 warns on that, -Wrestrict, a false positive.)
+std::string temp_prefix(const fs::path& target) {
+    std::string prefix = ".";
+    prefix.append(target.filename().string(), 0, 200).append(".tmp-");
+    return prefix;
+}
 
 bool same_file(const struct stat& a, const struct stat& b) { return a.st_dev == b.st_dev && a.st_ino == b.st_ino; }
 

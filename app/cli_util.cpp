@@ -23,10 +23,7 @@ std::string count_of(std::size_t n, const char* singular, const char* plural) {
 
 bool note_outsized_spheres(const Scene& scene) {
     if (!scene.lighting.shadows || scene.render.shadow_technique != ShadowTechnique::Accurate) return false;
-    std::vector<double> radii;
-    for (const Sphere& sp : scene.spheres)
-        if (sp.extinction > 0.0 && sp.radius > 0.0) radii.push_back(sp.radius);
-    const std::size_t over = outsized_sphere_count(radii);
+    const std::size_t over = outsized_sphere_count(scene);
     if (over <= std::size_t(kMaxOutsized)) return false;
     std::printf("note: %zu spheres are over %g times the median radius; accurate shadows take the %d largest whole "
                 "and the rest stay in the shadow map, which they may blur past its stated error (docs/accuracy.md, "

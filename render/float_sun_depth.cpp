@@ -100,17 +100,15 @@ FloatSunDepth::FloatSunDepth(const Scene& scene, const SunLight& sun, MapInstruc
     empty_ = false;
     // The outsized spheres (render/outsized_spheres.h, as SunLight takes them) out of the grid, in double.
     {
-        std::vector<double> radii(discs.size());
-        for (std::size_t k = 0; k < discs.size(); ++k) radii[k] = discs[k].r;
-        const std::vector<std::size_t> over = outsized_spheres(radii);
+        const std::vector<std::size_t> over = outsized_spheres(scene);  // in scene order, as the discs are
         std::size_t kept = 0;
         for (std::size_t k = 0, next = 0; k < discs.size(); ++k) {
-            if (next < over.size() && over[next] == k) {
-                const Disc& d = discs[k];
+            const Disc& d = discs[k];
+            if (next < over.size() && over[next] == d.index) {
                 outsized_.push_back(Outsized{d.u, d.v, d.s, d.r * d.r, double(d.tau)});
                 ++next;
             } else {
-                discs[kept++] = discs[k];
+                discs[kept++] = d;
             }
         }
         discs.resize(kept);

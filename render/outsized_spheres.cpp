@@ -6,29 +6,35 @@ namespace brume {
 
 namespace {
 
-// Every index of `radii` over kOutsizedRadii times the median radius, ascending; none where all are.
-std::vector<std::size_t> over_the_limit(std::span<const double> radii) {
+// Every index into scene.spheres of a sphere with a medium over kOutsizedRadii times the median radius
+// of those spheres, ascending; none where all of them are.
+std::vector<std::size_t> over_the_limit(const Scene& scene) {
+    std::vector<double> radii;
+    for (const Sphere& sp : scene.spheres)
+        if (sp.extinction > 0.0 && sp.radius > 0.0) radii.push_back(sp.radius);
     if (radii.empty()) return {};
-    std::vector<double> sorted(radii.begin(), radii.end());
-    const std::size_t middle = sorted.size() / 2;
-    std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(middle), sorted.end());
-    const double limit = kOutsizedRadii * sorted[middle];
+    const std::size_t middle = radii.size() / 2;
+    std::nth_element(radii.begin(), radii.begin() + std::ptrdiff_t(middle), radii.end());
+    const double limit = kOutsizedRadii * radii[middle];
     std::vector<std::size_t> over;
-    for (std::size_t k = 0; k < radii.size(); ++k)
-        if (radii[k] > limit) over.push_back(k);
+    for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+        const Sphere& sp = scene.spheres[k];
+        if (sp.extinction > 0.0 && sp.radius > limit) over.push_back(k);
+    }
     if (over.size() >= radii.size()) return {};
     return over;
 }
 
 }  // namespace
 
-std::size_t outsized_sphere_count(std::span<const double> radii) { return over_the_limit(radii).size(); }
+std::size_t outsized_sphere_count(const Scene& scene) { return over_the_limit(scene).size(); }
 
-std::vector<std::size_t> outsized_spheres(std::span<const double> radii) {
-    std::vector<std::size_t> over = over_the_limit(radii);
+std::vector<std::size_t> outsized_spheres(const Scene& scene) {
+    std::vector<std::size_t> over = over_the_limit(scene);
     if (over.empty()) return {};
     // The largest first (ties in scene order), at most kMaxOutsized, then back in scene order.
-    std::stable_sort(over.begin(), over.end(), [&](std::size_t a, std::size_t b) { return radii[a] > radii[b]; });
+    const auto radius = [&](std::size_t k) { return scene.spheres[k].radius; };
+    std::stable_sort(over.begin(), over.end(), [&](std::size_t a, std::size_t b) { return radius(a) > radius(b); });
     over.resize(std::min<std::size_t>(over.size(), std::size_t(kMaxOutsized)));
     std::sort(over.begin(), over.end());
     return over;

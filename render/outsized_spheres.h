@@ -7,8 +7,9 @@
 // reference 3.4x as slow). One rule for all of them, so that they agree on which spheres are taken so.
 #pragma once
 
+#include "sim/scene.h"
+
 #include <cstddef>
-#include <span>
 #include <vector>
 
 namespace brume {
@@ -17,16 +18,18 @@ namespace brume {
 constexpr double kOutsizedRadii = 16.0;
 constexpr int kMaxOutsized = 8;
 
-// The indices into `radii` (the spheres with a medium, in scene order) of the outsized ones, ascending:
-// each over kOutsizedRadii times the median radius, the largest kMaxOutsized of them (ties in order),
-// and none unless a sphere is left for the grid. No shipped preset has one (its largest radius is at
-// most 2.1 times its median), so their grids and maps are as they were without the rule.
-std::vector<std::size_t> outsized_spheres(std::span<const double> radii);
+// Among the scene's spheres with a medium (extinction > 0 and radius > 0: the others add no optical
+// depth, and no light-space structure holds them), the outsized ones, as ascending indices into
+// scene.spheres: each over kOutsizedRadii times the median radius of those spheres, the largest
+// kMaxOutsized of them (ties in scene order), and none unless a sphere is left for the grid. No shipped
+// preset has one (its largest radius is at most 2.1 times its median), so their grids and maps are as
+// they were without the rule.
+std::vector<std::size_t> outsized_spheres(const Scene& scene);
 
-// How many of `radii` are over kOutsizedRadii times the median radius, before the rule keeps the largest
-// kMaxOutsized (0 where none would be left for the grid): past kMaxOutsized the rest stay in the map's
-// lattice and set its spacing, and the accurate technique misses its error target (docs/accuracy.md,
-// "Scenes the map's spacing does not fit"). The commands say so.
-std::size_t outsized_sphere_count(std::span<const double> radii);
+// How many of those spheres are over kOutsizedRadii times the median radius, before the rule keeps the
+// largest kMaxOutsized (0 where none would be left for the grid): past kMaxOutsized the rest stay in
+// the map's lattice and set its spacing, and the accurate technique misses its error target
+// (docs/accuracy.md, "Scenes the map's spacing does not fit"). The commands say so.
+std::size_t outsized_sphere_count(const Scene& scene);
 
 }  // namespace brume

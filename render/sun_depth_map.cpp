@@ -54,29 +54,6 @@ struct Projected {
     double u, v, s, r, tau;
 };
 
-// The spheres a lookup takes in closed form (SunDepthMap::Outsized; render/outsized_spheres.h's rule),
-// moved out of `spheres`.
-std::vector<Projected> take_outsized(std::vector<Projected>& spheres) {
-    std::vector<double> radii(spheres.size());
-    for (std::size_t k = 0; k < spheres.size(); ++k) radii[k] = spheres[k].r;
-    const std::vector<std::size_t> over = outsized_spheres(radii);
-    if (over.empty()) return {};
-    std::vector<Projected> taken;
-    std::vector<Projected> kept;
-    kept.reserve(spheres.size() - over.size());
-    std::size_t next = 0;
-    for (std::size_t k = 0; k < spheres.size(); ++k) {
-        if (next < over.size() && over[next] == k) {
-            taken.push_back(spheres[k]);
-            ++next;
-        } else {
-            kept.push_back(spheres[k]);
-        }
-    }
-    spheres = std::move(kept);
-    return taken;
-}
-
 // A sphere as the splat takes it: in lattice units (cells), relative to the lattice's first vertex;
 // its rows and columns; what a whole cell of its chord adds, tau * cell.
 struct SplatSphere {
@@ -338,15 +315,21 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
     u_ = sun.grid_u();
     v_ = sun.grid_v();
     l_ = sun.toward_sun();
-    std::vector<Projected> spheres;
+    // The lattice's spheres, and apart from them the outsized ones a lookup takes in closed form
+    // (render/outsized_spheres.h), in scene order.
+    const std::vector<std::size_t> over = outsized_spheres(scene);
+    std::vector<Projected> spheres, outsized;
     spheres.reserve(scene.spheres.size());
-    for (const Sphere& sp : scene.spheres) {
+    for (std::size_t k = 0, next = 0; k < scene.spheres.size(); ++k) {
+        const Sphere& sp = scene.spheres[k];
         if (!(sp.extinction > 0.0) || !(sp.radius > 0.0)) continue;  // adds nothing to the optical depth
         const glm::dvec3 c = sp.center - origin;
-        spheres.push_back(Projected{glm::dot(c, u_), glm::dot(c, v_), glm::dot(c, l_), sp.radius, sp.extinction});
+        const Projected p{glm::dot(c, u_), glm::dot(c, v_), glm::dot(c, l_), sp.radius, sp.extinction};
+        const bool whole = next < over.size() && over[next] == k;
+        next += whole ? 1 : 0;
+        (whole ? outsized : spheres).push_back(p);
     }
     if (spheres.empty()) return;
-    const std::vector<Projected> outsized = take_outsized(spheres);
     std::vector<double> depth_across;  // tau r of each
     depth_across.reserve(spheres.size());
     constexpr double kInf = std::numeric_limits<double>::infinity();

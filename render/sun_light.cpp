@@ -59,17 +59,10 @@ SunLight::SunLight(const Scene& scene) : shadows_(scene.lighting.shadows), boxes
     discs_.reserve(scene.spheres.size());
     for (const Sphere& s : scene.spheres)
         discs_.push_back({s.center, s.radius, s.radius * s.radius, s.extinction, glm::dot(s.center, l_) + s.radius});
-    // The outsized spheres among those with a medium (the depth map's rule and set), out of the grid.
-    std::vector<std::uint32_t> media;
-    std::vector<double> radii;
-    for (std::size_t k = 0; k < discs_.size(); ++k) {
-        if (!(discs_[k].tau > 0.0) || !(discs_[k].radius > 0.0)) continue;
-        media.push_back(std::uint32_t(k));
-        radii.push_back(discs_[k].radius);
-    }
-    for (const std::size_t n : outsized_spheres(radii)) {
-        const Disc& d = discs_[media[n]];
-        outsized_indices_.push_back(media[n]);
+    // The outsized spheres (the depth map's rule), out of the grid.
+    for (const std::size_t k : outsized_spheres(scene)) {
+        const Disc& d = discs_[k];
+        outsized_indices_.push_back(std::uint32_t(k));
         outsized_.push_back(LightDisc{glm::dot(d.center, u_), glm::dot(d.center, v_), glm::dot(d.center, l_), d.radius2,
                                       d.tau, d.sun_end});
     }

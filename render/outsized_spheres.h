@@ -4,7 +4,8 @@
 // In a grid or lattice sized from the spheres' mean radius and spanning their discs, one such sphere set
 // the spacing and the extent: the map's spacing grew to about 225 units around three puffs of radius 1
 // (their shadows blurred away), and the light grids' cells listed every puff in every cell (the
-// reference 3.4x as slow). One rule for all of them, so that they agree on which spheres are taken so.
+// reference took 3.1 s a frame against 1.5 s). One rule for all of them, so that they agree on which
+// spheres are taken so.
 #pragma once
 
 #include "sim/scene.h"

@@ -111,6 +111,7 @@ struct alignas(64) Scratch {
     std::vector<std::uint32_t> candidates;
     std::vector<Event> events;
     std::vector<double> kinks;  // where T_sun along the current ray is not smooth, sorted
+    SunLight::ShadowSet shadow_set;  // what T_sun depends on between two of them
 };
 
 // Gauss-Legendre, 5 points on [-1, 1].
@@ -216,7 +217,7 @@ public:
                         kinks_found = true;
                     }
                     c = (sigma_s * lighting_.ambient + sigma_e) * l * phi(x) +
-                        sigma_s * sun_phase * sun_integral(o, d, t_prev, e.t, sigma_t, scratch.kinks);
+                        sigma_s * sun_phase * sun_integral(o, d, t_prev, e.t, sigma_t, scratch.kinks, scratch.shadow_set);
                 } else {
                     // Without shadows sigma_sun == sigma_s bit for bit, and this is sigma_s * ls exactly.
                     c = (sigma_s * ls - (sigma_s - sigma_sun) * sun_phase + sigma_e) * l * phi(x);
@@ -265,7 +266,7 @@ private:
     // except for square-root behaviour at the ends (a chord through a shadow cylinder starts as sqrt), which
     // the substitution t = p + (q - p)(3 s^2 - 2 s^3) makes smooth before the adaptive quadrature.
     double sun_integral(const dvec3& o, const dvec3& d, double a, double b, double sigma_t,
-                        const std::vector<double>& kinks) const {
+                        const std::vector<double>& kinks, SunLight::ShadowSet& shadow_set) const {
         double total = 0.0;
         double p = a;
         auto it = std::upper_bound(kinks.begin(), kinks.end(), a);
@@ -273,14 +274,20 @@ private:
             const double q = (it != kinks.end() && *it < b) ? *it : b;
             if (q > p) {
                 const double width = q - p;
-                const auto f = [&](double s) {
-                    const double t = p + width * (s * s * (3.0 - 2.0 * s));
-                    return std::exp(-sigma_t * (t - a)) * sun_light_.transmittance(o + t * d) *
-                           (width * 6.0 * s * (1.0 - s));
-                };
-                // The integral is at most width and at most about 1 / sigma_t; ask for 1e-10 of the smaller.
-                const double scale = sigma_t > 0.0 ? std::min(width, 1.0 / sigma_t) : width;
-                total += adaptive_gauss(f, 0.0, 1.0, gauss5(f, 0.0, 1.0), 1e-10 * scale, 24);
+                // What T_sun depends on cannot change between two kinks: taken once, at the middle.
+                sun_light_.shadow_set(o, d, p + 0.5 * width, shadow_set);
+                if (!shadow_set.box_blocked) {  // else T_sun is 0 throughout
+                    const auto f = [&](double s) {
+                        const double t = p + width * (s * s * (3.0 - 2.0 * s));
+                        // exp(-sigma_t (t - a)) T_sun in one exponential.
+                        return std::exp(-(sigma_t * (t - a) + SunLight::optical_depth(shadow_set, t))) *
+                               (width * 6.0 * s * (1.0 - s));
+                    };
+                    // The integral is at most width and at most about 1 / sigma_t; ask for 1e-10 of the
+                    // smaller.
+                    const double scale = sigma_t > 0.0 ? std::min(width, 1.0 / sigma_t) : width;
+                    total += adaptive_gauss(f, 0.0, 1.0, gauss5(f, 0.0, 1.0), 1e-10 * scale, 24);
+                }
             }
             if (q >= b) break;
             p = q;

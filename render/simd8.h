@@ -40,6 +40,11 @@ using Double4 = double __attribute__((vector_size(32)));
     std::memcpy(&v, p, sizeof v);
     return v;
 }
+[[gnu::always_inline]] inline Double4 load4(const double* p) {
+    Double4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
 
 // The square root of each lane (>= 0), correctly rounded as std::sqrt: SSE2's, on any x86-64, a half
 // at a time (the halves taken apart and put together in registers: through memory, the 32-byte load

@@ -2,6 +2,7 @@
 
 #include "render/outsized_spheres.h"
 #include "render/ray_box.h"
+#include "render/simd8.h"
 
 #include <glm/geometric.hpp>
 
@@ -189,6 +190,78 @@ double SunLight::optical_depth(const dvec3& x) const {
     }
     for (const LightDisc& d : outsized_) depth += depth_in(d, xu, xv, xs);
     return depth;
+}
+
+void SunLight::shadow_set(const dvec3& o, const dvec3& d, double t, ShadowSet& out) const {
+    out.box_blocked = false;
+    out.a = out.line0 = out.line1 = 0.0;
+    out.reach.clear();
+    out.closest.clear();
+    out.weight.clear();
+    if (!shadows_) return;
+    const dvec3 x = o + t * d;
+    out.box_blocked = box_blocks(x);
+    if (out.box_blocked) return;  // T_sun is 0 wherever the set holds: no sphere matters
+    const double xu = glm::dot(x, u_), xv = glm::dot(x, v_), xs = glm::dot(x, l_);
+    const double ou = glm::dot(o, u_), ov = glm::dot(o, v_), os = glm::dot(o, l_);
+    const double du = glm::dot(d, u_), dv = glm::dot(d, v_), ds = glm::dot(d, l_);
+    out.a = du * du + dv * dv;
+    const auto take = [&](const LightDisc& disc) {
+        const double depth = depth_in(disc, xu, xv, xs);  // not 0: x's ray toward the sun passes through
+        if (!(depth > 0.0)) return;
+        const double pu = ou - disc.u, pv = ov - disc.v;  // o across the sun, from the sphere's axis
+        // The nearest approach to the axis (kinks()'s form); a ray along the sun keeps its distance.
+        const double closest = out.a > 0.0 ? -(pu * du + pv * dv) / out.a : 0.0;
+        const double hu = pu + closest * du, hv = pv + closest * dv;
+        out.reach.push_back(disc.radius2 - (hu * hu + hv * hv));
+        out.closest.push_back(closest);
+        const double b = xs - disc.s;
+        const double half = std::sqrt(disc.radius2 - ((xu - disc.u) * (xu - disc.u) + (xv - disc.v) * (xv - disc.v)));
+        if (-b - half >= 0.0) {  // below the sphere: the whole chord (depth_in's branch)
+            out.weight.push_back(2.0 * disc.tau);
+        } else {  // inside it: from x to the top, half - (s(t) - s_k)
+            out.weight.push_back(disc.tau);
+            out.line0 -= disc.tau * (os - disc.s);
+            out.line1 -= disc.tau * ds;
+        }
+    };
+    const Grid& g = grid();
+    if (g.side != 0) {
+        const int i = int(std::floor((xu - g.u0) / g.cell));
+        const int j = int(std::floor((xv - g.v0) / g.cell));
+        if (i >= 0 && j >= 0 && i < g.side && j < g.side) {
+            const std::size_t c = std::size_t(j) * g.side + i;
+            for (std::uint32_t n = g.cell_start[c]; n < g.cell_start[c + 1]; ++n) {
+                const LightDisc& disc = g.cell_discs[n];
+                if (disc.sun_end <= xs) break;  // the lists' order, as optical_depth's
+                take(disc);
+            }
+        }
+    }
+    for (const LightDisc& disc : outsized_) take(disc);
+    while (out.weight.size() % 4 != 0) {  // lanes that add 0
+        out.reach.push_back(0.0);
+        out.closest.push_back(0.0);
+        out.weight.push_back(0.0);
+    }
+}
+
+double SunLight::optical_depth(const ShadowSet& set, double t) {
+    using simd::Double4;
+    const std::size_t n = set.weight.size();  // a multiple of 4
+    const double* reach = set.reach.data();
+    const double* closest = set.closest.data();
+    const double* weight = set.weight.data();
+    const Double4 zero{};
+    Double4 sum{};
+    // A member the point has just left (a kink's rounding) adds 0, as depth_in's clamp would.
+    for (std::size_t k = 0; k < n; k += 4) {
+        const Double4 e = t - simd::load4(closest + k);
+        const Double4 q = simd::load4(reach + k) - set.a * e * e;
+        sum += simd::load4(weight + k) * simd::sqrt4(q > zero ? q : zero);
+    }
+    const double depth = set.line0 + t * set.line1 + ((sum[0] + sum[1]) + (sum[2] + sum[3]));
+    return std::max(depth, 0.0);
 }
 
 bool SunLight::box_blocks(const dvec3& x, int skip_box) const {

@@ -107,5 +107,58 @@ TEST(SunLight, AnOutsizedSphereIsInNoCellAndEveryLookupTakesIt) {
     EXPECT_GT(in_puffs_shadow, 200);  // the points saw the puffs' shadows, not the atmosphere alone
 }
 
+// Between two neighbouring kinks of a ray the reference reads T_sun through a ShadowSet taken once, in
+// the middle (render/reference.cpp sun_integral): at every point of that stretch it must give T_sun as
+// the full lookup does, with spheres entering and leaving the set from stretch to stretch, boxes' shadows,
+// an outsized sphere, rays that start inside the smoke, and rays along the sun (no distance across it).
+TEST(SunLight, AShadowSetTakenBetweenTwoKinksHoldsAtEveryPointBetweenThem) {
+    Scene s = testing::random_sun_cloud(300, 4u, {0.3, -1.0, 0.2}, 0.1, 0.6);
+    s.spheres.push_back(testing::sphere({0.5, 1.0, -0.3}, 60.0, 0.01));  // an atmosphere (outsized)
+    s.boxes.push_back(Box{{-3, -2, -3}, {3, -1.5, 3}, {}, {0.5, 0.5, 0.5}});
+    s.boxes.push_back(Box{{0.2, -1.5, 0.1}, {0.5, 3.5, 0.4}, {}, {0.5, 0.5, 0.5}});
+    const SunLight sun(s);
+    ASSERT_EQ(sun.outsized_indices().size(), 1u);
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> pos(-3.0, 3.0), unit(-1.0, 1.0), frac(0.0, 1.0);
+    SunLight::ShadowSet set;
+    std::vector<double> kinks;
+    std::size_t stretches = 0, blocked = 0, largest = 0, changed = 0;
+    for (int r = 0; r < 300; ++r) {
+        const glm::dvec3 o(pos(rng), pos(rng) * 0.6 + 1.0, pos(rng));
+        glm::dvec3 d(unit(rng), unit(rng), unit(rng));
+        if (r % 10 == 0) d = r % 20 == 0 ? sun.toward_sun() : -sun.toward_sun();
+        d = glm::normalize(d);
+        kinks.clear();
+        sun.kinks(o, d, 0.0, 8.0, kinks);
+        kinks.push_back(0.0);
+        kinks.push_back(8.0);
+        std::sort(kinks.begin(), kinks.end());
+        std::size_t previous_members = 0;
+        for (std::size_t k = 0; k + 1 < kinks.size(); ++k) {
+            const double p = kinks[k], q = kinks[k + 1];
+            if (!(q > p)) continue;
+            sun.shadow_set(o, d, 0.5 * (p + q), set);
+            ++stretches;
+            blocked += set.box_blocked;
+            const std::size_t members = std::size_t(std::count_if(set.weight.begin(), set.weight.end(),
+                                                                  [](double w) { return w > 0.0; }));
+            largest = std::max(largest, members);
+            changed += members != previous_members;
+            previous_members = members;
+            for (const double f : {1e-6, 0.01, frac(rng), 0.5, frac(rng), 0.99, 1.0 - 1e-6}) {
+                const double t = p + f * (q - p);
+                const double want = sun.transmittance(o + t * d);
+                const double got = set.box_blocked ? 0.0 : std::exp(-SunLight::optical_depth(set, t));
+                ASSERT_NEAR(got, want, (f < 0.001 || f > 0.999) ? 1e-9 : 1e-12) << "ray " << r << " stretch " << k << " at " << f;
+            }
+        }
+    }
+    // The rays crossed many shadows: sets of many sizes, some under a box.
+    EXPECT_GT(stretches, 5000u);
+    EXPECT_GT(blocked, 50u);
+    EXPECT_GT(largest, 10u);
+    EXPECT_GT(changed, 2000u);
+}
+
 }  // namespace
 }  // namespace brume

@@ -206,20 +206,24 @@ void SunLight::shadow_set(const dvec3& o, const dvec3& d, double t, ShadowSet& o
     const double ou = glm::dot(o, u_), ov = glm::dot(o, v_), os = glm::dot(o, l_);
     const double du = glm::dot(d, u_), dv = glm::dot(d, v_), ds = glm::dot(d, l_);
     out.a = du * du + dv * dv;
-    const auto take = [&](const LightDisc& disc) {
-        const double depth = depth_in(disc, xu, xv, xs);  // not 0: x's ray toward the sun passes through
-        if (!(depth > 0.0)) return;
+    // A member: a sphere x's ray toward the sun passes through (depth_in's cases: x inside the shadow
+    // cylinder and below the sphere, or inside it below the top of its chord).
+    const auto take = [&](const LightDisc& disc) __attribute__((always_inline)) {
+        const double eu = xu - disc.u, ev = xv - disc.v;
+        const double disc2 = disc.radius2 - (eu * eu + ev * ev);
+        if (!(disc2 > 0.0) || !(disc.tau > 0.0)) return;
+        const double half = std::sqrt(disc2), b = xs - disc.s;
+        const bool below = -b - half >= 0.0;
+        if (!below && !(half - b > 0.0)) return;  // above the sphere's chord
         const double pu = ou - disc.u, pv = ov - disc.v;  // o across the sun, from the sphere's axis
         // The nearest approach to the axis (kinks()'s form); a ray along the sun keeps its distance.
         const double closest = out.a > 0.0 ? -(pu * du + pv * dv) / out.a : 0.0;
         const double hu = pu + closest * du, hv = pv + closest * dv;
         out.reach.push_back(disc.radius2 - (hu * hu + hv * hv));
         out.closest.push_back(closest);
-        const double b = xs - disc.s;
-        const double half = std::sqrt(disc.radius2 - ((xu - disc.u) * (xu - disc.u) + (xv - disc.v) * (xv - disc.v)));
-        if (-b - half >= 0.0) {  // below the sphere: the whole chord (depth_in's branch)
+        if (below) {  // the whole chord
             out.weight.push_back(2.0 * disc.tau);
-        } else {  // inside it: from x to the top, half - (s(t) - s_k)
+        } else {  // from x to the top: half - (s(t) - s_k)
             out.weight.push_back(disc.tau);
             out.line0 -= disc.tau * (os - disc.s);
             out.line1 -= disc.tau * ds;

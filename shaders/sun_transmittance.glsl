@@ -7,6 +7,7 @@
 // Needs bindings.glsl and rays.glsl.
 #ifndef BRUME_SUN_TRANSMITTANCE_GLSL
 #define BRUME_SUN_TRANSMITTANCE_GLSL
+#extension GL_EXT_control_flow_attributes : require
 
 // Length of the ray x + s l (s > 0, l unit) inside the sphere (c, r^2); through the whole sphere the
 // chord itself, not a difference of roots that cancels far away.
@@ -59,7 +60,12 @@ float sun_transmittance(vec3 x, uint skip_box) {
         if (tau > 0.0) depth += tau * sun_ray_length_inside(x, l, g.center_radius.xyz, g.center_radius.w * g.center_radius.w);
     }
     // The outsized spheres, in no cell's list (render/outsized_spheres.h; none in the shipped presets).
-    for (uint k = 0u; k < sun_grid.size.w; ++k) {
+    // Not unrolled (here and in sun_outsized_depth): lavapipe's compiler unrolls a loop over a fixed
+    // array to the array's length, and those copies, run by no lane, cost the whole resolve around
+    // them. With the arrays at 8 (they were 4), ppll's shadowed resolve took 1.2-1.4x its time, tiles'
+    // up to 1.7x; not unrolled, 0.62-0.77x and 0.60-0.66x of that (docs/performance.md, seventeenth
+    // session).
+    [[dont_unroll]] for (uint k = 0u; k < sun_grid.size.w; ++k) {
         GpuSphere g = spheres[sun_grid.grid_outsized[k >> 2u][k & 3u]];
         depth += g.albedo_extinction.w * sun_ray_length_inside(x, l, g.center_radius.xyz, g.center_radius.w * g.center_radius.w);
     }
@@ -71,7 +77,7 @@ float sun_transmittance(vec3 x, uint skip_box) {
 // SunDepthMap::outsized_depth.
 float sun_outsized_depth(vec3 g) {
     float depth = 0.0;
-    for (uint k = 0u; k < sun_grid.size.z; ++k) {
+    [[dont_unroll]] for (uint k = 0u; k < sun_grid.size.z; ++k) {
         vec4 o = sun_grid.outsized[k];
         vec2 d = g.xy - o.xy;
         float h2 = o.w - dot(d, d);

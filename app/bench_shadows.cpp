@@ -311,7 +311,7 @@ int run_bench_shadows(const BenchArgs& args) {
         std::ofstream data(dir / "shadows.dat");
         data << "# series scene ms mean_error_over_peak p999_error_over_peak temporal\n";
         std::ostringstream plot;
-        plot << "set terminal svg size 720,440\nset output 'shadows.svg'\nset logscale xy\nset key right top\n"
+        plot << "set terminal svg size 880,440\nset output 'shadows.svg'\nset logscale xy\nset key outside right top\n"
              << "set xlabel 'ms per frame (ppll, tiles: GPU; trace: CPU wall clock)'\nset ylabel 'mean |error| / peak against the exact reference'\n"
              << "set title 'brume bench shadows: " << w << "x" << h << ", " << device.name() << "'\nplot ";
         int index = 0;
@@ -329,7 +329,7 @@ int run_bench_shadows(const BenchArgs& args) {
                      << " using 3:4:2 with labels offset 0,1 font ',8' notitle";
                 ++index;
             }
-        plot << "\nset terminal pngcairo size 720,440\nset output 'shadows.png'\nreplot\n";
+        plot << "\nset terminal pngcairo size 880,440\nset output 'shadows.png'\nreplot\n";
         data.close();
         for (const std::string& file : draw_charts(dir, {{"shadows", plot.str()}})) std::printf("# chart: %s\n", file.c_str());
     }

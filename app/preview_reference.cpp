@@ -22,11 +22,16 @@ void ReferenceCheck::reduced_size(int width, int height, int& out_width, int& ou
 bool ReferenceCheck::start(const Scene& scene, Image method_image, int frame, const std::string& method) {
     if (job_.valid()) return false;
     error_.clear();
-    job_ = std::async(std::launch::async, [scene, image = std::move(method_image), frame, method] {
+    pixels_done_.store(0, std::memory_order_relaxed);
+    pixels_total_ = std::uint64_t(scene.camera.width) * std::uint64_t(scene.camera.height);
+    // The job counts into pixels_done_, which outlives it (the destructor waits for the job).
+    job_ = std::async(std::launch::async, [scene, image = std::move(method_image), frame, method,
+                                           done = &pixels_done_] {
         const auto t0 = std::chrono::steady_clock::now();
         ReferenceOptions options;
         // One core stays with the window (and lavapipe) so that it keeps drawing.
         options.threads = int(std::max(1u, std::thread::hardware_concurrency() - 1));
+        options.pixels_done = done;
         // A scene shaded by the per-sphere shadow technique (the shipped presets) is compared with the
         // reference's per-sphere mode, the model the methods compute (docs/accuracy.md).
         if (scene.lighting.shadows && scene.render.shadow_technique == ShadowTechnique::PerSphere)

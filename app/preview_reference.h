@@ -6,7 +6,9 @@
 #include "render/image.h"
 #include "sim/scene.h"
 
+#include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <future>
 #include <optional>
 #include <string>
@@ -36,6 +38,10 @@ public:
     // the method's frame of that scene. False while a check is still running.
     bool start(const Scene& scene, Image method_image, int frame, const std::string& method);
     bool running() const { return job_.valid(); }
+    // The running check's share of pixels done, 0 to 1 (ReferenceOptions::pixels_done).
+    double share_done() const {
+        return pixels_total_ > 0 ? double(pixels_done_.load(std::memory_order_relaxed)) / double(pixels_total_) : 0.0;
+    }
     // Collects a finished check; its result stays in last().
     void poll();
     const std::optional<ReferenceError>& last() const { return last_; }
@@ -43,6 +49,8 @@ public:
 
 private:
     std::future<ReferenceError> job_;
+    std::atomic<std::uint64_t> pixels_done_{0};  // the job's reference counts into it
+    std::uint64_t pixels_total_ = 0;
     std::optional<ReferenceError> last_;
     std::string error_;
 };

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -464,8 +465,15 @@ Image render_reference(const Scene& scene, const ReferenceOptions& options) {
     const std::vector<SphereCone>* bins = options.brute_force ? nullptr : &cones;
 
     Image image(rays.width, rays.height);
-    parallel_tiles(tiles.size(), options.threads, [&](std::size_t n, Scratch& s) {
-        const Tile& tile = tiles[n];
+    // The tiles in a scattered order (a golden-ratio stride through them): each pixel's answer is its
+    // own, so the order changes no bit, and the share of pixels done is then a fair share of the
+    // frame's time (options.pixels_done: a progress display's estimate), where in raster order the
+    // sky came first and the smoke last.
+    const std::size_t count = tiles.size();
+    std::size_t stride = std::max<std::size_t>(1, std::size_t(double(count) * 0.6180339887498949));
+    while (std::gcd(stride, count) != 1) ++stride;
+    parallel_tiles(count, options.threads, [&](std::size_t n, Scratch& s) {
+        const Tile& tile = tiles[n * stride % count];
         gather_candidates(bins, tracer.media().size(), tile, s.candidates);
         for (int j = tile.j0; j < tile.j1; ++j) {
             for (int i = tile.i0; i < tile.i1; ++i) {
@@ -477,6 +485,9 @@ Image render_reference(const Scene& scene, const ReferenceOptions& options) {
                 store(image, i, j, sum / double(k * k));
             }
         }
+        if (options.pixels_done)
+            options.pixels_done->fetch_add(std::uint64_t(tile.i1 - tile.i0) * std::uint64_t(tile.j1 - tile.j0),
+                                           std::memory_order_relaxed);
     });
     return image;
 }

@@ -7,6 +7,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -22,6 +23,10 @@ struct ReferenceOptions {
     int threads = 0;           // 0: std::thread::hardware_concurrency()
     bool brute_force = false;  // test every sphere against every pixel (checks the screen-tile binning)
     ReferenceShadows shadows = ReferenceShadows::Exact;
+    // Where given, render_reference adds each finished screen tile's pixels to it (relaxed), for a
+    // caller that shows a long frame's progress from another thread (a shadowed frame takes seconds
+    // to minutes: app/frame_progress.h). It ends at width x height.
+    std::atomic<std::uint64_t>* pixels_done = nullptr;
 };
 
 // One ray per pixel centre (sim/camera_rays.h), or the mean of camera.supersample^2 sub-pixel rays. Bit-identical for any thread count, sphere order and

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -498,6 +499,21 @@ TEST(Reference, ThreadCountDoesNotChangeABit) {
     const Image tol_one = reference_tolerance(s, 1e-5, {.threads = 1});
     const Image tol_many = reference_tolerance(s, 1e-5, {.threads = 3});
     EXPECT_TRUE(bit_identical(tol_one, tol_many));
+}
+
+// The progress count (ReferenceOptions::pixels_done) ends at the frame's pixels, each counted once, with
+// tiles cut by the image's edge, supersampling (pixels, not rays) and several threads; and counting
+// changes no bit of the image.
+TEST(Reference, ProgressCountsEveryPixelOnce) {
+    Scene s = random_scene(4, 60, 37, 23, 45.0);
+    s.camera.supersample = 2;
+    const Image plain = render_reference(s, {.threads = 1});
+    for (const int threads : {1, 3}) {
+        std::atomic<std::uint64_t> done{5};  // added to, not reset
+        const Image counted = render_reference(s, {.threads = threads, .pixels_done = &done});
+        EXPECT_EQ(done.load(), 5u + 37u * 23u) << threads << " threads";
+        EXPECT_TRUE(bit_identical(plain, counted)) << threads << " threads";
+    }
 }
 
 TEST(Reference, ToleranceIsZeroInsideAndPositiveAtSilhouettes) {

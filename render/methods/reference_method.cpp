@@ -9,6 +9,7 @@ namespace brume {
 Image ReferenceMethod::render(const Scene& scene, FrameStats* stats) {
     ReferenceOptions options;
     options.threads = threads_;
+    options.pixels_done = pixels_done_;
     const auto start = std::chrono::steady_clock::now();
     Image image = render_reference(scene, options);
     if (stats) {

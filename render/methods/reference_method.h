@@ -3,6 +3,9 @@
 
 #include "render/methods/method.h"
 
+#include <atomic>
+#include <cstdint>
+
 namespace brume {
 
 class ReferenceMethod : public Method {
@@ -11,9 +14,12 @@ public:
     std::string name() const override { return "reference"; }
     bool exact() const override { return true; }
     Image render(const Scene& scene, FrameStats* stats) override;
+    // Each frame's finished pixels are added to `counter` (ReferenceOptions::pixels_done); null: none.
+    void count_pixels_into(std::atomic<std::uint64_t>* counter) { pixels_done_ = counter; }
 
 private:
     int threads_;
+    std::atomic<std::uint64_t>* pixels_done_ = nullptr;
 };
 
 }  // namespace brume

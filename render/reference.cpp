@@ -116,8 +116,9 @@ struct alignas(64) Scratch {
 };
 
 // Gauss-Kronrod 7-15 on [-1, 1] (the standard nodes and weights): the 15-point Kronrod rule, exact for
-// polynomials to degree 22, and inside it the 7-point Gauss rule, exact to degree 13, whose difference
-// bounds the Gauss rule's error and so, far more than, the Kronrod's. Nodes +-kNode[j], j < 7, and 0.
+// polynomials to degree 22, and inside it the 7-point Gauss rule, exact to degree 13. Their difference
+// estimates the 7-point rule's error, far larger than the 15-point rule's, so a panel accepted on it is
+// better than asked. Nodes +-kNode[j], j < 7, and 0.
 constexpr double kNode[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
                              0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
                              0.586087235467691130294144845693013, 0.405845151377397166906606412076961,

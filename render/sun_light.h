@@ -47,8 +47,9 @@ public:
     // the ray crosses its shadow cylinder or its surface, a box only at its shadow volume's faces), so
     // a caller that reads T_sun at many points between them (the reference's quadrature) takes the set
     // once, at a point inside, and then pays for its members alone: not for the rest of a light-grid
-    // cell's list, nor for the cells it passes. On vdb-cloud at 160x90 the reference took 0.44x of
-    // its time (docs/performance.md, seventeenth session).
+    // cell's list, nor for the cells it passes. On vdb-cloud at 160x90 the reference took 0.27x of
+    // its time (8.8 s to 2.3 s, before the quadrature became Gauss-Kronrod; docs/performance.md,
+    // seventeenth session).
     struct ShadowSet;
     void shadow_set(const glm::dvec3& o, const glm::dvec3& d, double t, ShadowSet& out) const;
     // The spheres' optical depth toward the sun from o + t d, for a t where `set` (taken on the same

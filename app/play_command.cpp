@@ -1,11 +1,13 @@
 #include "app/play_command.h"
 
 #include "app/cli_util.h"
+#include "app/frame_progress.h"
 #include "app/output_paths.h"
 #include "app/progress.h"
 #include "app/video.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
+#include "render/methods/reference_method.h"
 #include "render/methods/registry.h"
 #include "render/output_set.h"
 #include "render/reference.h"
@@ -182,6 +184,11 @@ int run_play(const PlayArgs& args) {
         device = std::make_unique<vk::Device>(device_options);
     }
     std::unique_ptr<Method> renderer = make_method(device.get(), method, options);
+    // The exact reference's shadowed frames take seconds to minutes each: within a frame, its share of
+    // pixels replaces the run's bar on a terminal (app/frame_progress.h), which returns when it is done.
+    std::atomic<std::uint64_t> pixels_done{0};
+    auto* reference = dynamic_cast<ReferenceMethod*>(renderer.get());
+    if (reference) reference->count_pixels_into(&pixels_done);
 
     g_stop_requested = false;
     auto previous_int = std::signal(SIGINT, request_stop);
@@ -256,7 +263,13 @@ int run_play(const PlayArgs& args) {
         scene.camera.width = preset.scene.camera.width;
         scene.camera.height = preset.scene.camera.height;
         if (!outsized_noted) outsized_noted = note_outsized_spheres(scene);
+        std::optional<FrameProgress> frame_progress;
+        if (reference)
+            frame_progress.emplace(preset.name + " frame " + std::to_string(frame),
+                                   std::uint64_t(scene.camera.width) * std::uint64_t(scene.camera.height), pixels_done,
+                                   stdout);  // the run's bar's stream, so that the two share its line
         const Image image = renderer->render(scene, nullptr);
+        frame_progress.reset();
         refuse_non_finite(image, "frame " + std::to_string(frame));
         if (!dir_made) {
             for (fs::path p = dir; !p.empty() && !fs::exists(fs::symlink_status(p, ec)); p = p.parent_path())

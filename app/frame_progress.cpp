@@ -23,7 +23,7 @@ FrameProgress::~FrameProgress() {
     stop_signal_.notify_one();
     thread_.join();
     if (shown_) {
-        std::fprintf(out_, "\r\033[K");  // the frame's own line follows on stdout
+        std::fprintf(out_, "\r\033[K");  // cleared for what the command prints next
         std::fflush(out_);
     }
 }

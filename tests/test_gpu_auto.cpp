@@ -1,6 +1,7 @@
-// `auto`: power-distance sorting where no spheres intersect (exact there); where they do, the fastest
-// of tiles, ppll and trace (the float CPU tracer) as measured on this device, and the next one when a
-// path refuses a frame. lavapipe is a CPU device, so auto takes trace here unless a test asks it to
+// `auto`: on a GPU, power-distance sorting where no spheres intersect (exact there, but for accurate
+// shadows); otherwise the fastest of tiles, ppll and trace (the float CPU tracer) as measured on this
+// device, and the next one when a path refuses a frame. lavapipe is a CPU device, so auto takes trace
+// here for every frame unless a test keeps it to the GPU paths (allow_cpu = false) or asks it to
 // measure (then trace first, ppll, tiles).
 #include "gpu_test_env.h"
 #include "shadow_error.h"
@@ -35,8 +36,14 @@ Scene scene_with(std::vector<Sphere> spheres) {
 
 class Auto : public GpuTest {};
 
-TEST_F(Auto, DisjointSpheresTakeTheSortedPathAndStayExact) {
-    // Random disjoint spheres of very different sizes: the sorted path must be exact.
+// As on a GPU: auto without trace.
+AutoOptions gpu_paths() {
+    AutoOptions o;
+    o.allow_cpu = false;
+    return o;
+}
+
+std::vector<Sphere> random_disjoint_spheres() {
     std::mt19937 rng(4);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::vector<Sphere> spheres;
@@ -47,11 +54,63 @@ TEST_F(Auto, DisjointSpheresTakeTheSortedPathAndStayExact) {
         trial.push_back(s);
         if (!find_intersecting_spheres(trial)) spheres = trial;
     }
-    const Scene s = scene_with(spheres);
-    AutoMethod method(device());
+    return spheres;
+}
+
+TEST_F(Auto, OnTheGpuPathsDisjointSpheresTakeTheSortedPathAndStayExact) {
+    // Random disjoint spheres of very different sizes: the sorted path must be exact.
+    const Scene s = scene_with(random_disjoint_spheres());
+    AutoMethod method(device(), gpu_paths());
     const Image img = method.render(s, nullptr);
     EXPECT_EQ(method.last_choice(), "power-sorted");
     const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+// On a CPU device trace is faster than the compositor on disjoint spheres too (docs/methods.md, "auto").
+TEST_F(Auto, OnACpuDeviceDisjointSpheresTakeTrace) {
+    ASSERT_EQ(device().properties().deviceType, VK_PHYSICAL_DEVICE_TYPE_CPU) << "the tests run on lavapipe";
+    const Scene s = scene_with(random_disjoint_spheres());
+    AutoMethod method(device());
+    FrameStats stats;
+    const Image img = method.render(s, &stats);
+    EXPECT_EQ(method.last_choice(), "trace");
+    const ImageDiff d = compare_with_reference(img, s);
+    EXPECT_EQ(d.pixels_over, 0u) << describe(d);
+}
+
+// The compositor lights each sphere by one sun transmittance, the per-sphere technique's: with
+// accurate shadows a disjoint frame must take an exact path, or a sphere in another's shadow is lit
+// wrongly across its face while the stats name the accurate technique. Per-sphere shadows may still
+// take the compositor, which is exact for them.
+TEST_F(Auto, AccurateShadowsOnDisjointSpheresDoNotTakeTheCompositor) {
+    Scene s = testing::small_scene(96, 72);
+    s.camera.position = {0, 1, 6};
+    s.camera.look_at = {0, 1, 0};
+    s.lighting.shadows = true;
+    s.lighting.sun_direction = {0, -1, 0};
+    s.boxes.push_back(Box{{-5, -1, -5}, {5, 0, 5}, {0.1, 0.1, 0.1}, {0.6, 0.6, 0.6}});  // a lit floor
+    // The upper sphere's shadow covers part of the lower one.
+    s.spheres = {sphere({0.3, 2.2, 0}, 0.7, 3.0, {0.9, 0.9, 0.9}), sphere({0, 0.8, 0}, 0.6, 3.0, {0.9, 0.9, 0.9})};
+    ASSERT_FALSE(find_intersecting_spheres(s.spheres));
+    ASSERT_EQ(s.render.shadow_technique, ShadowTechnique::Accurate);
+    const Image exact = render_reference(s);
+    for (const bool cpu : {true, false}) {
+        AutoMethod method(device(), cpu ? AutoOptions{} : gpu_paths());
+        const Image img = method.render(s, nullptr);
+        EXPECT_EQ(method.last_choice(), cpu ? "trace" : "ppll");
+        const testing::ShadowError e = testing::shadow_error(img, exact);
+        EXPECT_LT(e.mean, 1e-3) << method.last_choice();
+        EXPECT_LT(e.p999, 1e-2) << method.last_choice();
+    }
+    Scene per_sphere = s;
+    per_sphere.render.shadow_technique = ShadowTechnique::PerSphere;
+    AutoMethod method(device(), gpu_paths());
+    const Image img = method.render(per_sphere, nullptr);
+    EXPECT_EQ(method.last_choice(), "power-sorted");
+    ReferenceOptions o;
+    o.shadows = ReferenceShadows::PerSphere;
+    const ImageDiff d = compare_with_reference(img, testing::ReferenceImage(per_sphere, o));
     EXPECT_EQ(d.pixels_over, 0u) << describe(d);
 }
 
@@ -60,7 +119,7 @@ TEST_F(Auto, PowerDistanceFixesWhatCentreDepthGetsWrong) {
     // centre is nearer but the big one is entered first along some rays.
     const Scene s = scene_with({sphere({-6.954, 2.015, -12.298}, 0.919, 3.0, {0.95, 0.2, 0.1}),
                                 sphere({8.865, 5.527, -12.366}, 15.061, 0.08, {0.2, 0.4, 0.95})});
-    AutoMethod method(device());
+    AutoMethod method(device(), gpu_paths());
     const Image exact = method.render(s, nullptr);
     EXPECT_EQ(method.last_choice(), "power-sorted");
     const ImageDiff d = compare_with_reference(exact, s);

@@ -139,11 +139,22 @@ void AutoMethod::prepare_chosen(FrameContext& ctx) {
     }
 }
 
+bool AutoMethod::takes_power_sorted(const Scene& scene) const {
+    // On a CPU device trace is the faster on disjoint spheres too, and it needs no test for them:
+    // lavapipe's compositing took 2.2-4.3x trace's frame (disjoint-300 at 160x120, 640x360 and
+    // 1280x720; two disjoint spheres of radii 0.9 and 15, and 21,603 disjoint snowflakes, at 640x360,
+    // where the sweep-and-prune test alone took 9 ms; docs/methods.md, "auto").
+    if (cpu_device_ && options_.allow_cpu) return false;
+    // The compositor lights a sphere by one sun transmittance, the per-sphere technique's: exact without
+    // shadows and for that technique, not for the accurate one, whose T_sun varies across a sphere.
+    if (scene.lighting.shadows && scene.render.shadow_technique == ShadowTechnique::Accurate) return false;
+    return !find_intersecting_spheres(scene.spheres).has_value();
+}
+
 void AutoMethod::prepare(FrameContext& ctx) {
     frame_start_ = std::chrono::steady_clock::now();
     const Scene& scene = ctx.scene();
-    const bool intersecting = find_intersecting_spheres(scene.spheres).has_value();
-    if (!intersecting) {
+    if (takes_power_sorted(scene)) {
         chosen_ = &power_sorted_;
         measuring_ = false;
         decide_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start_).count();

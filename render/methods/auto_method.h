@@ -4,6 +4,9 @@
 // power-distance order (|c - eye|^2 - r^2) is exact, with each sphere's chord clipped by the eye and
 // the opaque surface, and needs no per-pixel lists. The choice is made per frame on the CPU
 // (sim/sphere_overlap.h, O(n log n); why: docs/decisions.md, "`auto` decides per frame on the CPU").
+// Not with accurate shadows: the compositor lights a sphere by one sun transmittance (the per-sphere
+// technique's), and the accurate technique's varies across it. Nor on a CPU device, where trace is
+// 2.2-4.3x faster on disjoint spheres too and needs no test for them (takes_power_sorted).
 //
 // Frames with intersecting spheres take the fastest exact path measured on this device: `tiles`
 // (compute, render/methods/tiles.h), ppll, or `trace`, the float CPU tracer (render/fast_tracer.h).
@@ -92,6 +95,9 @@ private:
     // chosen_->prepare(), moving on to the next path while one refuses the scene's budget.
     void prepare_chosen(FrameContext& ctx);
     std::uint64_t fingerprint(const Scene& scene) const;
+    // Whether this frame is composited in power-distance order: on a GPU (or without trace), when no
+    // two spheres share volume and the light is one the compositor is exact for.
+    bool takes_power_sorted(const Scene& scene) const;
 
     AutoOptions options_;
     PpllMethod ppll_;

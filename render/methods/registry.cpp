@@ -93,8 +93,8 @@ const std::vector<MethodEntry>& method_catalogue() {
         {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)", false, true, false,
          kHonoursThreads, {}, &make_reference},
         {"auto", "", "",
-         "per frame the cheapest exact path: power-distance sorted spheres when none intersect, else the fastest of "
-         "tiles, ppll and trace as measured on this device (trace, unmeasured, on a CPU device)",
+         "per frame the cheapest exact path: trace on a CPU device; on a GPU power-distance sorted spheres when none "
+         "intersect (and the shadows are not accurate), else the fastest of tiles, ppll and trace as measured",
          true, true, false, kHonoursMaxMemory | kHonoursThreads, {}, &make_auto},
         {"sorted", "", "",
          "painter's algorithm: planar billboards sorted back to front by centre (insertion sort reusing last "

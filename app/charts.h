@@ -47,4 +47,14 @@ std::vector<std::string> draw_charts(const std::filesystem::path& dir,
 // The Pareto front of `points`: those no other point beats on both time and error, by time.
 std::vector<ChartPoint> pareto_front(std::vector<ChartPoint> points);
 
+// The speed-against-accuracy chart's labels: points that would be drawn on top of one another (within
+// kLabelMergeTime of each other's time and kLabelMergeError of their error, as ratios) share one
+// label, "trace, auto", at the first one's place, where two labels were printed over each other.
+struct ChartLabel {
+    double ms = 0, error = 0;
+    std::string text;
+};
+inline constexpr double kLabelMergeTime = 1.05, kLabelMergeError = 1.12;
+std::vector<ChartLabel> chart_labels(const std::vector<ChartPoint>& points);
+
 }  // namespace brume::app

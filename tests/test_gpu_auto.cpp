@@ -75,6 +75,8 @@ TEST_F(Auto, OnACpuDeviceDisjointSpheresTakeTrace) {
     FrameStats stats;
     const Image img = method.render(s, &stats);
     EXPECT_EQ(method.last_choice(), "trace");
+    ASSERT_FALSE(stats.passes.empty());
+    EXPECT_EQ(stats.passes.front().name, "decide (cpu): trace");  // the stats name the path taken
     const ImageDiff d = compare_with_reference(img, s);
     EXPECT_EQ(d.pixels_over, 0u) << describe(d);
 }

@@ -202,8 +202,9 @@ private:
     std::size_t size_ = 0;
     std::size_t capacity_ = 0;  // depth_'s floats, at least size_
     // A build's worker scratch for the band of rows it splats: each cell's share of the chords that end
-    // in it (`ends`) and the whole-cell runs as differences (`runs`), cell by cell (cell k of every
-    // column of the band side by side, so that the sums take eight columns as one vector); for each
+    // in it (`ends`) and the whole-cell runs as differences (`runs`), group of eight columns by group
+    // (each group's cells one after another, a cell's eight columns side by side, so that the sums
+    // take eight columns as one vector and read down a group's cells in one run); for each
     // column the highest and lowest cell a chord reached (-1 and ns: none). Zeroed once, and put back
     // to zero as the sums read it, so a band costs what its spheres touch, not the band's size; kept
     // from build to build (`bottom`'s none written again when ns changes: scratch_ns_).

@@ -167,8 +167,8 @@ template <Light kLight, class Lit>
                                                      const Int8& segment, const Float8& len, float min_transmittance,
                                                      const Lit& lit) {
     const Float8 x = m.sigma_t * len;
-    const Float8 segment_transmittance = simd::exp_nonpositive8(-x);
-    const Float8 w = len * simd::phi8(x, segment_transmittance);
+    Float8 segment_transmittance, w;
+    simd::segment_transmittance8(x, len, segment_transmittance, w);
     const Float8 tw = out.transmittance * w;
     if constexpr (kLight == Light::kPlain) {
         out.r = segment ? out.r + m.sigma_r * rays.source_r * tw : out.r;

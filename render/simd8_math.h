@@ -1,4 +1,5 @@
-// The integrators' functions over eight lanes at once (render/simd8.h's Float8): exp, (1 - exp(-x)) / x,
+// The integrators' functions over eight lanes at once (render/simd8.h's Float8): exp, a segment's
+// transmittance and (1 - exp(-x)) / x,
 // sqrt and a table lookup by lane. Each lane computes what the scalar form in render/fast_tracer.cpp
 // computes for one value, by the same arithmetic, so a lane and the scalar code agree but for how the
 // compiler fuses multiply-adds.
@@ -47,14 +48,32 @@ template <class F>
     return in_range ? exp_in_range8(in_range ? y : Float8{}) : Float8{};
 }
 
-// (1 - exp(-x)) / x for x >= 0, exp(-x) given, in each lane: the scalar phi's series below 1/8, its
-// quotient above (both computed, the quotient's divisor kept away from 0, one chosen).
-[[gnu::always_inline]] inline Float8 phi8(Float8 x, Float8 exp_minus_x) {
-    const Int8 small = x < 0.125f;
-    const Float8 series =
-        1.0f - x * 0.5f * (1.0f - x * (1.0f / 3.0f) * (1.0f - x * 0.25f * (1.0f - x * 0.2f * (1.0f - x * (1.0f / 6.0f)))));
-    const Float8 quotient = (1.0f - exp_minus_x) / (small ? Float8{} + 1.0f : x);
-    return small ? series : quotient;
+// (1 - exp(-x)) / x for 0 <= x < 1/8, by its series to x^5 (what it leaves out is below 1e-9 there):
+// nested products with the reciprocals (written as quotients, x / 3, ..., it was five dependent
+// divisions: a compiler may not turn x / 3 into x * (1 / 3), they round differently). One definition
+// for a float (render/fast_tracer.cpp segment_light) and for eight lanes, so both round alike.
+template <class F>
+[[gnu::always_inline]] inline F phi_series(F x) {
+    return 1.0f - x * 0.5f * (1.0f - x * (1.0f / 3.0f) * (1.0f - x * 0.25f * (1.0f - x * 0.2f * (1.0f - x * (1.0f / 6.0f)))));
+}
+
+// A segment of optical depth x >= 0 and length len, in each lane: its transmittance e^-x and its weight
+// len (1 - e^-x) / x, as the scalar segment_light (render/fast_tracer.cpp) takes them. Below x = 1/8 both
+// come from phi_series, e^-x as 1 - x phi (to float's rounding), and where every lane is that thin no
+// exponential is taken; above, e^-x and the quotient (its divisor kept away from 0 in the thin lanes).
+[[gnu::always_inline]] inline void segment_transmittance8(Float8 x, Float8 len, Float8& transmittance, Float8& weight) {
+    const Int8 thin = x < 0.125f;
+    const Float8 series = phi_series(x);
+    const Float8 thin_transmittance = 1.0f - x * series;
+    if (mask8(thin) == 0xff) {
+        transmittance = thin_transmittance;
+        weight = len * series;
+        return;
+    }
+    const Float8 e = exp_nonpositive8(-x);
+    const Float8 quotient = (1.0f - e) / (thin ? Float8{} + 1.0f : x);
+    transmittance = thin ? thin_transmittance : e;
+    weight = len * (thin ? series : quotient);
 }
 
 // The integral over a piece of length len of exp(-e(t)), its exponent e linear along the piece from

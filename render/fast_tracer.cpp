@@ -163,7 +163,7 @@ static_assert(sizeof(TileSphere) == 8 * sizeof(float), "chords8 reads a sphere's
 // float's rounding: no exponential for the thin segments, most of vdb-cloud's and the fogs'. Against
 // exp and the quotient for every segment (one thread, in turn): vdb-cloud's unshadowed frame 0.89-0.93x,
 // bench scale's smoke clouds 0.82-0.91x; the shadowed presets and the fogs, whose packet walks
-// take the same lane by lane (simd::segment_transmittance8), within the noise. Images within 1e-6
+// take the same lane by lane (simd::segment_transmittance8), within the noise. Images within 1.1e-6
 // of the peak of before.
 [[gnu::always_inline]] inline void segment_light(float x, float len, float& transmittance, float& weight) {
     if (x < 0.125f) {

@@ -1819,8 +1819,8 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
 }
 
 // trace_tile compiled twice, everything it calls that can be inlined inlined into it (flatten): for
-// any x86-64, and for one with AVX2 and FMA, where the same code ran 5-18% faster a frame
-// (docs/performance.md). Nothing but what is inlined here takes the second target, so no function
+// any x86-64, and for one with AVX2 and FMA, where the same code ran 5-18% faster a frame when
+// this was built and 1.9-10x faster since its walks run in eight lanes (docs/performance.md). Nothing but what is inlined here takes the second target, so no function
 // the rest of the program calls (a template that another file also instantiates, say) is ever
 // compiled for it.
 template <bool kOrdered, class Store>

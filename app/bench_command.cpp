@@ -6,6 +6,7 @@
 #include "app/bench_shadows.h"
 #include "app/bench_vdb.h"
 #include "app/cli_util.h"
+#include "app/host_cpu.h"
 #include "render/image_compare.h"
 #include "render/methods/fill_ceiling.h"
 #include "render/methods/ppll.h"
@@ -117,6 +118,7 @@ int run_bench_sim(const BenchArgs& args) {
     const double ms = benchmark_step_ms(args.particles, args.steps);
     std::printf("# brume bench sim: one simulation step of a plume (gravity, buoyancy, wind, drag, 2-octave curl\n"
                 "# noise, age curves, box collisions), one core, median of %d steps\n", args.steps);
+    std::printf("# host: %s\n", host_cpu_description().c_str());
     std::printf("%10s %10s %14s\n", "particles", "ms/step", "ns/particle");
     std::printf("%10zu %10.3f %14.1f\n", args.particles, ms, ms * 1e6 / double(args.particles));
     return 0;
@@ -157,6 +159,7 @@ int run_bench(const BenchArgs& args) {
     std::printf("# brume bench layers: ppll on %s (LP_NUM_THREADS=%s), median of %d frames after a warm-up of 1 frame "
                 "and %.0f ms;\n",
                 device.name().c_str(), threads ? threads : "default", args.frames, warm_ms);
+    std::printf("# host: %s\n", host_cpu_description().c_str());
     std::printf("# reference = CPU double-precision renderer, all cores, median of %d; paper = Barta & Kovács, Tables 1-2\n",
                 args.reference_frames);
     std::printf("# fill_ms = the fill ceiling: the same impostors with a shader that does nothing but cannot be skipped "

@@ -2,17 +2,18 @@
 
 #include "app/charts.h"
 #include "app/cli_util.h"
+#include "app/host_cpu.h"
 #include "render/atomic_file.h"
 #include "render/image_compare.h"
 #include "render/methods/registry.h"
 #include "render/reference.h"
 #include "render/vk/device.h"
 #include "sim/builtin_presets.h"
-#include "sim/vdb/volume_loader.h"
 #include "sim/builtin_scenes.h"
 #include "sim/camera_path.h"
 #include "sim/layers_scene.h"
 #include "sim/simulator.h"
+#include "sim/vdb/volume_loader.h"
 
 #include <glm/geometric.hpp>
 
@@ -189,6 +190,7 @@ int run_bench_methods(const BenchArgs& args) {
 
     std::printf("# brume bench: %zu methods x %zu scenes at %dx%d on %s; errors against the CPU reference\n",
                 methods.size(), scenes.size(), w, h, device.name().c_str());
+    std::printf("# host: %s\n", host_cpu_description().c_str());
     std::printf("%-16s %-12s %9s %12s %10s %9s %10s %11s %11s\n", "method", "scene", "ms", "memory", "rmse/peak",
                 "psnr_db", "max/peak", "temporal", "temp_max");
 
@@ -264,7 +266,8 @@ int run_bench_methods(const BenchArgs& args) {
     std::ostringstream csv, json;
     csv << "method,scene,exact,frames,median_gpu_ms,memory_bytes,rmse_over_peak,psnr_db,max_error_over_peak,"
            "temporal_error_mean,temporal_error_max\n";
-    json << "{\n  \"device\": " << json_string(device.name()) << ",\n  \"width\": " << w << ",\n  \"height\": " << h
+    json << "{\n  \"device\": " << json_string(device.name()) << ",\n  \"host\": " << json_string(host_cpu_description())
+         << ",\n  \"width\": " << w << ",\n  \"height\": " << h
          << ",\n  \"results\": [\n";
     for (std::size_t k = 0; k < rows.size(); ++k) {
         const Row& r = rows[k];

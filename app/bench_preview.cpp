@@ -1,6 +1,7 @@
 #include "app/bench_preview.h"
 
 #include "app/cli_util.h"
+#include "app/host_cpu.h"
 #include "app/preview_command.h"
 #include "app/preview_timeline.h"
 #include "app/preview_window.h"
@@ -96,6 +97,7 @@ int run_bench_preview(const BenchArgs& args) {
     std::printf("# brume bench preview: each preset plays %d frames in a %s window (panel on, adaptive resolution, "
                 "target 30 FPS) on %s (LP_NUM_THREADS=%s)\n",
                 args.preview_frames, size.c_str(), device.name().c_str(), threads ? threads : "default");
+    std::printf("# host: %s\n", host_cpu_description().c_str());
     std::printf("# window figures: mean wall-clock ms of the frames after the internal resolution last changed\n"
                 "# competitor: the frame path without a window (brume play's render + readback), median of %d frames,\n"
                 "# at the settled internal size and at the full size; ceiling: the fill ceiling at the full size (GPU ms)\n",

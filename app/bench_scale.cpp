@@ -2,6 +2,7 @@
 
 #include "app/charts.h"
 #include "app/cli_util.h"
+#include "app/host_cpu.h"
 #include "render/fast_tracer.h"
 #include "render/frame/list_heat_map.h"
 #include "render/image_compare.h"
@@ -125,6 +126,7 @@ int run_bench_scale(const BenchArgs& args) {
     std::printf("# brume bench scale: smoke clouds at %dx%d (radius ~ N^-1/3, fixed seed), device %s "
                 "(LP_NUM_THREADS=%s), median of %d frames after a warm-up of 1 frame and %.0f ms\n",
                 w, h, device.name().c_str(), threads ? threads : "default", args.frames, warm_ms);
+    std::printf("# host: %s\n", host_cpu_description().c_str());
     std::printf("# fragments (ppll's list nodes), mean and longest list from the list-length pass; ns/frag = ms per "
                 "fragment; vs_ref = reference ms / method ms (above 1: faster than the CPU reference); a method that "
                 "refuses a frame says why in its row; trace runs %s code\n",

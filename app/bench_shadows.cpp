@@ -2,6 +2,7 @@
 
 #include "app/charts.h"
 #include "app/cli_util.h"
+#include "app/host_cpu.h"
 #include "render/fast_tracer.h"
 #include "render/image_compare.h"
 #include "render/methods/fill_ceiling.h"
@@ -145,6 +146,7 @@ int run_bench_shadows(const BenchArgs& args) {
                 "(and %.0f ms on the GPU)\n",
                 device.name().c_str(), threads ? threads : "default", fast_trace_instructions(), w, h, args.frames,
                 warm_ms);
+    std::printf("# host: %s\n", host_cpu_description().c_str());
     if (args.no_reference)
         std::printf("# --no-reference: no error columns and no competitor\n");
     else

@@ -2,6 +2,7 @@
 
 #include "app/charts.h"
 #include "app/cli_util.h"
+#include "app/host_cpu.h"
 #include "render/atomic_file.h"
 #include "sim/vdb/density_source.h"
 #include "sim/vdb/optical_depth_error.h"
@@ -88,6 +89,7 @@ int run_bench_vdb(const BenchArgs& args) {
                 "# times on %u hardware threads\n",
                 args.vdb_sample.c_str(), SphereCloudOptions{}.axis_view_resolution,
                 SphereCloudOptions{}.axis_view_resolution, kDefaultFitSphereCap, std::max(1u, std::thread::hardware_concurrency()));
+    std::printf("# host: %s\n", host_cpu_description().c_str());
     std::printf("%-16s %9s %7s %9s %9s %8s %-15s %6s %8s %8s %8s %8s %8s %8s %8s\n", "grid", "voxels", "read_s",
                 "tolerance", "spheres", "vox/sph", "cells", "tried", "conv_s", "rms_err", "max_err", "bias", "unseen",
                 "abs_err", "T_err");

@@ -1,0 +1,83 @@
+// The CPU line of the benchmarks' headers (app/host_cpu.h): what /proc/cpuinfo says, read right.
+#include "app/host_cpu.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+using brume::app::CpuInfo;
+using brume::app::describe_cpu;
+using brume::app::parse_cpuinfo;
+
+namespace {
+
+// The start of /proc/cpuinfo on this project's machines (two processors; the second one's fields differ
+// here so that a parser reading past the first would be caught).
+constexpr const char* kAmd =
+    "processor\t: 0\n"
+    "vendor_id\t: AuthenticAMD\n"
+    "cpu family\t: 25\n"
+    "model\t\t: 1\n"
+    "model name\t: AMD EPYC\n"
+    "stepping\t: 1\n"
+    "flags\t\t: fpu vme de pse tsc msr avx2 fma\n"
+    "\n"
+    "processor\t: 1\n"
+    "vendor_id\t: AuthenticAMD\n"
+    "cpu family\t: 26\n"
+    "model\t\t: 2\n"
+    "model name\t: Another CPU\n"
+    "\n";
+
+constexpr const char* kIntel =
+    "processor\t: 0\n"
+    "vendor_id\t: GenuineIntel\n"
+    "cpu family\t: 6\n"
+    "model\t\t: 106\n"
+    "model name\t: Intel(R) Xeon(R) Platinum 8375C CPU @ 2.90GHz\n"
+    "stepping\t: 6\n";
+
+}  // namespace
+
+TEST(HostCpu, ReadsTheFirstProcessorsModelFamilyAndModel) {
+    const CpuInfo amd = parse_cpuinfo(kAmd);
+    EXPECT_EQ(amd.model_name, "AMD EPYC");
+    EXPECT_EQ(amd.family, 25);
+    EXPECT_EQ(amd.model, 1);
+    const CpuInfo intel = parse_cpuinfo(kIntel);  // no blank line at its end
+    EXPECT_EQ(intel.model_name, "Intel(R) Xeon(R) Platinum 8375C CPU @ 2.90GHz");
+    EXPECT_EQ(intel.family, 6);
+    EXPECT_EQ(intel.model, 106);
+}
+
+TEST(HostCpu, ATextWithoutTheFieldsLeavesThemUnknown) {
+    for (const char* text : {"", "\n\n", "no colon here\n", "cpu family\t: twenty\nmodel\t: -3\n"}) {
+        const CpuInfo cpu = parse_cpuinfo(text);
+        EXPECT_TRUE(cpu.model_name.empty()) << text;
+        EXPECT_EQ(cpu.family, -1) << text;
+        EXPECT_EQ(cpu.model, -1) << text;
+    }
+    // Leading blank lines are no processor's end.
+    EXPECT_EQ(parse_cpuinfo("\n\nmodel name : X\n").model_name, "X");
+}
+
+TEST(HostCpu, DescribesTheCpuInOneLine) {
+    EXPECT_EQ(describe_cpu(parse_cpuinfo(kAmd), 2, true, false),
+              "AMD EPYC (family 25, model 1), 2 hardware threads, AVX2+FMA, no AVX-512");
+    EXPECT_EQ(describe_cpu(parse_cpuinfo(kIntel), 1, true, true),
+              "Intel(R) Xeon(R) Platinum 8375C CPU @ 2.90GHz (family 6, model 106), 1 hardware thread, AVX2+FMA, "
+              "AVX-512");
+    EXPECT_EQ(describe_cpu(CpuInfo{}, 0, false, false), "unknown CPU, no AVX2+FMA, no AVX-512");
+}
+
+TEST(HostCpu, ThisMachinesLineNamesItsOwnCpu) {
+    std::ifstream file("/proc/cpuinfo");
+    if (!file) GTEST_SKIP() << "no /proc/cpuinfo here";
+    std::ostringstream text;
+    text << file.rdbuf();
+    const CpuInfo cpu = parse_cpuinfo(text.str());
+    const std::string line = brume::app::host_cpu_description();
+    EXPECT_EQ(line.rfind(cpu.model_name.empty() ? "unknown CPU" : cpu.model_name, 0), 0u) << line;
+    EXPECT_NE(line.find("hardware thread"), std::string::npos) << line;
+}

@@ -1719,6 +1719,15 @@ template <>
 constexpr bool kCompiledForAvx2<simd::GatherAvx2> = true;
 #endif
 
+// Whether the packet and ordered walks (eight rays in SIMD lanes) are taken: in the code compiled for
+// AVX2 only. In the portable code eight lanes are two SSE2 registers, a walk's sixteen event slots of
+// them spill to the stack and a select takes three instructions, so there the lanes were slower than
+// walking each ray alone: one thread, 640x360, layers 188 against 76 ms a frame, fog-bank 315 against
+// 132 (594 against 391 shadowed), low-sun 150 against 62, ground-fog 196 against 92, plume 60 against
+// 51; only explosion's went the other way, 47 against 53 (docs/performance.md, "On an AMD EPYC").
+template <class Gather>
+constexpr bool kWalksInLanes = kCompiledForAvx2<Gather>;
+
 // Tile t: its pixel lists, then its pixels, each handed to store(i, j, value); `gather` reads the sun
 // map's vertices (render/simd8.h).
 template <bool kOrdered, class Store, class Gather>
@@ -1731,8 +1740,10 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
     if (k == 1) pixel_directions(f.rays, f.ndc_x.data(), i0, j0, tile_rays);
     const std::uint32_t* entries = f.bins.entries.data() + 2 * std::size_t(f.bins.first[t]);
     const std::size_t entry_count = f.bins.first[t + 1] - f.bins.first[t];
-    // A tile of few spheres, one ray a pixel: eight rays at once, a row at a time (render/packet_walk.h).
-    const bool packets = !kOrdered && f.packets && k == 1 && entry_count <= std::size_t(packet::kMaxSpheres);
+    // A tile of few spheres, one ray a pixel: eight rays at once, a row at a time (render/packet_walk.h),
+    // in the code compiled for AVX2 (kWalksInLanes).
+    const bool packets = kWalksInLanes<Gather> && !kOrdered && f.packets && k == 1 &&
+                         entry_count <= std::size_t(packet::kMaxSpheres);
     // More spheres, up to a few dozen, that cover the tile (takes_ordered_walk): eight rays at once in an
     // order they share (render/ordered_walk.h), a ray whose order differs by the one-ray walk, whose
     // lists are then made. Compiled apart (kOrdered), so that its code does not enlarge the others'.
@@ -1819,10 +1830,10 @@ inline void trace_tile(const FrameTiles& f, std::size_t t, TileScratch& w, const
 }
 
 // trace_tile compiled twice, everything it calls that can be inlined inlined into it (flatten): for
-// any x86-64, and for one with AVX2 and FMA, where the same code ran 5-18% faster a frame when
-// this was built and 1.9-10x faster since its walks run in eight lanes (docs/performance.md). Nothing but what is inlined here takes the second target, so no function
-// the rest of the program calls (a template that another file also instantiates, say) is ever
-// compiled for it.
+// any x86-64, and for one with AVX2 and FMA, where the same code ran 5-18% faster a frame when this
+// was built and 1.5-3.4x faster once its walks ran in eight lanes (docs/performance.md). Nothing but
+// what is inlined here takes the second target, so no function the rest of the program calls (a
+// template that another file also instantiates, say) is ever compiled for it.
 template <bool kOrdered, class Store>
 [[gnu::flatten]] void trace_tile_portable(const FrameTiles& f, std::size_t t, TileScratch& w, const Store& store) {
     trace_tile<kOrdered>(f, t, w, store, simd::GatherByLanes{});
@@ -1870,13 +1881,15 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     const std::size_t tiles = bins.tile_count();
     std::vector<TileScratch> scratch(std::size_t(worker_count(options.threads, tiles)));
     const bool avx2 = options.instructions == TraceInstructions::Best && simd::cpu_has_avx2_fma();
+    // The packet and ordered walks only in the code compiled for AVX2 (kWalksInLanes): the portable code
+    // walks every ray alone.
     parallel_for(tiles, options.threads, [&](std::size_t t, int worker) {
         TileScratch& w = scratch[std::size_t(worker)];
-        const bool ordered = takes_ordered_walk(frame, t);
 #if defined(__x86_64__) && defined(__GNUC__)
-        if (avx2) return ordered ? trace_tile_avx2<true>(frame, t, w, store) : trace_tile_avx2<false>(frame, t, w, store);
+        if (avx2)
+            return takes_ordered_walk(frame, t) ? trace_tile_avx2<true>(frame, t, w, store)
+                                                : trace_tile_avx2<false>(frame, t, w, store);
 #endif
-        if (ordered) return trace_tile_portable<true>(frame, t, w, store);
         trace_tile_portable<false>(frame, t, w, store);
     });
     if (options.counts) {

@@ -16,7 +16,8 @@
 // walk's to float rounding (where the compiler fuses a multiply-add in one walk and not the other).
 // A tile of 9-64 spheres that cover it does likewise in an order its rows share, each lane's events
 // put right by a few transposition passes and checked (render/ordered_walk.h); a ray whose order
-// they could not put right walks alone.
+// they could not put right walks alone. Both in the code compiled for AVX2 only: in the portable code
+// the lanes cost more than they save.
 //
 // What differs from the reference is float arithmetic only (the same as the GPU methods' exact
 // integrator, shaders/exact_integrator.glsl): the opaque surfaces are the reference's own
@@ -40,10 +41,10 @@
 namespace brume {
 
 // The instructions trace's per-pixel work is compiled for: Best takes AVX2 and FMA where the CPU has
-// them (1.9-10x faster a frame, 2026-12-07: the walks' eight lanes are one AVX register, two SSE2
-// registers and selects of three instructions in the portable code; the images then differ from
-// Portable's in float rounding, within the same bounds against the reference), Portable any x86-64's
-// (tests hold the two together).
+// them (1.5-3.4x faster a frame, 2026-12-07; the packet and ordered walks, eight rays in SIMD lanes,
+// run in that code only: render/fast_tracer.cpp kWalksInLanes; the images then differ from Portable's
+// in float rounding, within the same bounds against the reference), Portable any x86-64's (tests hold
+// the two together).
 enum class TraceInstructions { Best, Portable };
 
 // What a caller that traces frame after frame keeps between them, so that a frame reuses the memory of
@@ -69,7 +70,8 @@ struct FastTraceOptions {
     TraceInstructions instructions = TraceInstructions::Best;
     FastTraceScratch* scratch = nullptr;  // null: the frame allocates its own
     // Tiles of few spheres take eight rays at once (render/packet_walk.h), and so do tiles of a few
-    // dozen spheres that cover them (render/ordered_walk.h); false: every ray walks alone (the tests
+    // dozen spheres that cover them (render/ordered_walk.h), in the code compiled for AVX2 (the portable
+    // code walks every ray alone: there the lanes were slower); false: every ray walks alone (the tests
     // hold them together).
     bool packets = true;
     FastTraceCounts* counts = nullptr;  // where given, how the frame's tiles were walked
@@ -80,7 +82,7 @@ struct FastTraceOptions {
 };
 
 // The instructions `options` gives the per-pixel work on this CPU: "AVX2+FMA" or "portable", for the
-// benchmarks' headers (the same code differs 1.9-10x a frame between them).
+// benchmarks' headers (the two differ 1.5-3.4x a frame).
 const char* fast_trace_instructions(const FastTraceOptions& options = {});
 
 // One ray per pixel centre, or the mean of camera.supersample^2 sub-pixel rays, as the reference.

@@ -49,7 +49,8 @@ std::string describe_cpu(const CpuInfo& cpu, unsigned hardware_threads, bool avx
     std::ostringstream out;
     out << (cpu.model_name.empty() ? "unknown CPU" : cpu.model_name);
     if (cpu.family >= 0 && cpu.model >= 0) out << " (family " << cpu.family << ", model " << cpu.model << ")";
-    if (hardware_threads > 0) out << ", " << hardware_threads << (hardware_threads == 1 ? " hardware thread" : " hardware threads");
+    if (hardware_threads > 0)
+        out << ", " << hardware_threads << (hardware_threads == 1 ? " hardware thread" : " hardware threads");
     out << ", " << (avx2_fma ? "AVX2+FMA" : "no AVX2+FMA") << ", " << (avx512vl ? "AVX-512" : "no AVX-512");
     return out.str();
 }

@@ -1,6 +1,6 @@
 // The CPU a benchmark ran on, for its header. Machines of this project's kind differ by up to 5x in
-// absolute speed, and not only by hour: on an AMD EPYC (Zen 3) trace took 1.03-1.34x the times an
-// Intel machine had printed while lavapipe took 1.7-5.1x (docs/performance.md, "On an AMD EPYC"). A
+// absolute speed, and not only by hour: on an AMD EPYC (Zen 3) trace took 1.03-1.34x the times another
+// machine of the kind had printed while lavapipe took 1.7-5.1x (docs/performance.md, "On an AMD EPYC"). A
 // reader comparing two runs has to know whether they came from one machine.
 #pragma once
 

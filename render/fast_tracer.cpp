@@ -962,7 +962,7 @@ private:
     // such pieces). In three passes (SunJobs::LanePieces), so that neither the lookups nor the closed
     // forms wait on the cutting's branches: the pieces, the depths at their points, then the integrals.
     // A piece whose light times its change of depth calls for halving goes to the tile's jobs, as the
-    // one-ray walk's pieces do, and refine_sun_jobs halves it there.
+    // one-ray walk's pieces do, and sun_jobs::refine_pieces halves it there.
     template <class Gather>
     void lit_steps_light(const packet::LitSteps& steps, const TileRays& tile_rays, int row, const packet::Rays& rays,
                          RayScratch& scratch, SunJobs& jobs, const Gather& gather, FastTraceCounts& counts,
@@ -1123,7 +1123,7 @@ private:
     // exp(-sigma_t (t - a)) T_sun(eye + t d) dt, where light = {0, T(a) sigma_s L_sun P(theta)}. T_sun is
     // 0 inside the ray's box shadows (exact intervals) and exp(-optical depth) elsewhere, the depth read
     // from the map at the ends of pieces no longer than kSunPieceCells (halved where it changes fast,
-    // refine_sun_jobs) and linear between them, where the integral has a closed form. The lit pieces go to the
+    // sun_jobs::refine_pieces) and linear between them, where the integral has a closed form. The lit pieces go to the
     // tile's jobs (SunJobs), whose integrals resolve_sun_jobs takes after the tile's rays.
     void add_sun_pieces(State& st, const Ray& ray, float a, float b, float sigma_t, const Float4& light) const {
         const float cells = kSunPieceCells * sun_map_.cell(), thin_max = kSunPieceThinWiden * cells;

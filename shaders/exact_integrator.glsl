@@ -104,7 +104,7 @@ float sun_depth_along(vec3 from_eye, vec3 dir, float t) {
 }
 
 // integral over [a, b] of exp(-sigma_t (t - a)) T_sun(origin + t dir) dt, the accurate technique with
-// trace's pieces and rules (render/fast_tracer.cpp add_sun_pieces and resolve_sun_jobs, which take the
+// trace's pieces and rules (render/fast_tracer.cpp add_sun_pieces, render/sun_jobs.h resolve, which take the
 // pieces of a whole tile together after its rays, not one segment at a time): T_sun is 0 inside the ray's box
 // shadows (find_sun_box_spans, exact) and exp(-depth) elsewhere, the depth read from the map at the
 // ends of pieces no longer than SUN_PIECE_CELLS map cells (in thin media up to SUN_PIECE_THIN_WIDEN

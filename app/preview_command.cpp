@@ -2,8 +2,6 @@
 
 #include "app/cli_util.h"
 #include "app/preview_adaptive.h"
-#include "app/preview_camera.h"
-#include "app/preview_capture.h"
 #include "app/preview_controls.h"
 #include "app/preview_edit.h"
 #include "app/preview_image_presenter.h"
@@ -14,6 +12,7 @@
 #include "app/preview_reload.h"
 #include "app/preview_renderer.h"
 #include "app/preview_script.h"
+#include "app/preview_script_runner.h"
 #include "app/preview_sequence.h"
 #include "app/preview_session.h"
 #include "app/preview_window.h"
@@ -30,7 +29,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -56,264 +54,6 @@ void default_viewport(const Preset& preset, int& width, int& height) {
     width = w * factor;
     height = h * factor;
 }
-
-// What a script command reaches besides the session.
-struct ScriptTargets {
-    PreviewSession& session;
-    PreviewRenderer& renderer;  // screenshots are rendered there (a job: never dropped)
-    const PreviewWindow& window;
-    SwapchainPresenter& presenter;
-    bool& panel_visible;
-    const PresetWatcher* watcher;  // null: a built-in preset, nothing to reload
-    std::unique_ptr<PresetEditor>& editor;
-    // The preset as `brume play` would prepare it: the viewport's size, the grid files beside the file.
-    std::function<void(Preset&)> prepare;
-    bool& preset_edit_stale;  // the panel's list of values, read again after a scripted edit
-    ReferenceCheck& reference;
-    std::function<void()> start_reference;
-    std::function<bool()> reference_busy;  // its frame is rendering, or the reference is
-    SequenceRender& sequence;
-    // Starts brume play of frames first-last into dir with the preview's options; throws when refused.
-    std::function<void(const std::string& dir, int first, int last, const std::string& formats)> start_sequence;
-    // Applies an edited preset (read, not prepared): at once, or on a worker when preparing it is
-    // slow (app/preview_pending_edit.h); true when it went to the worker.
-    std::function<bool(Preset edited, const std::string& key)> submit_edit;
-    PendingEdit& pending_edit;
-    std::string& pending_edit_error;
-};
-
-// Runs script commands until one has to wait for shown frames, or the script ends. Returns false
-// once `quit` ran.
-class ScriptRunner {
-public:
-    explicit ScriptRunner(std::vector<ScriptCommand> commands) : commands_(commands.begin(), commands.end()) {}
-
-    bool active() const {
-        return !commands_.empty() || reload_wait_.active || reference_wait_ || sequence_wait_ || edit_wait_ ||
-               screenshot_.id != 0;
-    }
-    // A capture waits for the next frame shown: the main loop asks the presenter to copy it.
-    bool wants_capture() const { return !capture_.path.empty(); }
-    // After each shown frame: counts down a wait, and writes a capture asked for by the last command.
-    void frame_shown(SwapchainPresenter& presenter) {
-        if (frames_to_wait_ > 0) --frames_to_wait_;
-        if (capture_.path.empty()) return;
-        VkExtent2D extent{};
-        const std::vector<std::uint8_t> pixels = presenter.take_capture(extent);
-        if (pixels.empty()) return;  // not this frame (an out-of-date swapchain): the next one
-        try {
-            write_capture_png(pixels, extent, capture_.path);
-        } catch (const std::exception& e) {
-            throw std::runtime_error(capture_.where + ": " + e.what());
-        }
-        std::printf("capture %s: the window at %ux%u\n", capture_.path.c_str(), extent.width, extent.height);
-        std::fflush(stdout);
-        capture_ = {};
-    }
-    // Executes what can run now. Throws std::runtime_error prefixed with "FILE:LINE: ".
-    bool run(ScriptTargets& targets) {
-        if (reload_wait_.active) {
-            if (targets.watcher->changes() == reload_wait_.seen) {
-                if (seconds_since(reload_wait_.since) > 30.0)
-                    throw std::runtime_error(reload_wait_.where + ": wait-reload: " + targets.watcher->path().string() +
-                                             " did not change within 30 s");
-                return true;
-            }
-            reload_wait_.active = false;
-        }
-        if (screenshot_.id != 0) {
-            std::optional<RenderedFrame> done = targets.renderer.take_job(screenshot_.id);
-            if (!done) return true;
-            const PendingScreenshot shot = std::exchange(screenshot_, {});
-            try {
-                if (!done->error.empty()) throw std::runtime_error(done->error);
-                targets.session.write_screenshot(done->image, shot.path);
-            } catch (const std::exception& e) {
-                throw std::runtime_error(shot.where + ": " + e.what());
-            }
-            std::printf("%s", shot.line.c_str());
-            if (shot.heat_map) {
-                const ListLengthFigures& f = done->heat;
-                std::printf(", heat map: longest %.17g, mean %.17g over %llu pixels, %llu nodes", f.longest, f.mean,
-                            static_cast<unsigned long long>(f.nonempty_pixels), static_cast<unsigned long long>(f.total));
-            }
-            std::printf("\n");
-            std::fflush(stdout);
-        }
-        if (reference_wait_) {
-            if (targets.reference_busy()) return true;
-            reference_wait_ = false;
-            if (!targets.reference.error().empty())
-                throw std::runtime_error(reference_where_ + ": reference-error: " + targets.reference.error());
-            const ReferenceError& r = *targets.reference.last();
-            std::printf("reference error: frame %d, method %s at %dx%d: max %.6g of peak, rmse %.6g of peak, "
-                        "PSNR %.2f dB (reference %.2f s)\n",
-                        r.frame, r.method.c_str(), r.width, r.height, r.max_of_peak, r.rmse_of_peak, r.psnr_db,
-                        r.seconds);
-            std::fflush(stdout);
-        }
-        if (edit_wait_) {
-            if (targets.pending_edit.busy()) return true;
-            edit_wait_ = false;
-            if (!targets.pending_edit_error.empty())
-                throw std::runtime_error(edit_where_ + ": set: " + targets.pending_edit_error);
-            std::printf("set prepared: the view shows the edit\n");
-            std::fflush(stdout);
-        }
-        if (sequence_wait_) {
-            if (targets.sequence.running()) return true;
-            sequence_wait_ = false;
-            const SequenceRender& q = targets.sequence;
-            if (q.status() != 0)
-                throw std::runtime_error(sequence_where_ + ": render-sequence: brume play exited with status " +
-                                         std::to_string(q.status()) + ": " + q.last_line());
-            std::printf("render-sequence: %d of %d frames written by brume play: %s\n", q.frames_done(), q.frames_total(),
-                        q.last_line().c_str());
-            std::fflush(stdout);
-        }
-        while (frames_to_wait_ == 0 && capture_.path.empty() && !reload_wait_.active && !reference_wait_ &&
-               !sequence_wait_ && !edit_wait_ && screenshot_.id == 0 && !commands_.empty()) {
-            const ScriptCommand c = commands_.front();
-            commands_.pop_front();
-            try {
-                if (!execute(c, targets)) return false;
-            } catch (const std::exception& e) {
-                throw std::runtime_error(c.where + ": " + e.what());
-            }
-        }
-        return true;
-    }
-
-private:
-    bool execute(const ScriptCommand& c, ScriptTargets& targets) {
-        PreviewSession& session = targets.session;
-        const PreviewWindow& window = targets.window;
-        PreviewTimeline& timeline = session.timeline();
-        switch (c.kind) {
-        case ScriptCommand::Kind::Frame:
-            if (c.number >= timeline.frame_count())
-                throw std::invalid_argument("frame " + std::to_string(c.number) + " is outside the preset's frames 0-" +
-                                            std::to_string(timeline.frame_count() - 1));
-            timeline.seek(int(c.number));
-            break;
-        case ScriptCommand::Kind::Play: session.playback().playing = true; break;
-        case ScriptCommand::Kind::Pause: session.playback().playing = false; break;
-        case ScriptCommand::Kind::Wait: frames_to_wait_ = c.number; break;
-        case ScriptCommand::Kind::WaitReload:
-            if (!targets.watcher) throw std::runtime_error("wait-reload: a built-in preset is not watched; open a file");
-            reload_wait_ = {true, targets.watcher->changes(), Clock::now(), c.where};
-            std::printf("waiting for %s to change\n", targets.watcher->path().string().c_str());
-            break;
-        case ScriptCommand::Kind::Set: {
-            Preset edited = targets.editor->set(c.text, c.value);
-            if (targets.submit_edit(std::move(edited), c.text)) {
-                std::printf("set %s = %s (preparing on a worker)\n", c.text.c_str(), c.value.c_str());
-                edit_wait_ = true;
-                edit_where_ = c.where;
-                targets.preset_edit_stale = true;
-                break;
-            }
-            const int replayed_from = session.last_edit_replayed_from();
-            std::printf("set %s = %s (%s)\n", c.text.c_str(), c.value.c_str(),
-                        replayed_from == 0  ? "the simulation restarts from frame 0"
-                        : replayed_from > 0 ? ("the simulation replays from frame " + std::to_string(replayed_from) +
-                                               ", before the emitter's first birth; " +
-                                               std::to_string(timeline.checkpoints().size()) + " checkpoints kept").c_str()
-                                            : ("simulated frames kept: 0-" + std::to_string(timeline.simulated_until()) +
-                                               ", " + std::to_string(timeline.checkpoints().size()) + " checkpoints").c_str());
-            targets.preset_edit_stale = true;
-            break;
-        }
-        case ScriptCommand::Kind::Save:
-            write_file_atomically(c.text, targets.editor->saved_text());
-            std::printf("saved %s\n", c.text.c_str());
-            break;
-        case ScriptCommand::Kind::Orbit: session.set_user_camera(orbit_camera(session.camera(), c.x, c.y)); break;
-        case ScriptCommand::Kind::Method: session.set_method(c.text); break;
-        case ScriptCommand::Kind::Compare:
-            session.set_comparison(c.text, c.number == 0   ? CompareMode::Off
-                                           : c.number == 1 ? CompareMode::Split
-                                                           : CompareMode::Difference);
-            break;
-        case ScriptCommand::Kind::Resize:
-            window.set_size(int(c.number), int(c.number2));
-            frames_to_wait_ = 1;  // the next frame is shown at the new size
-            break;
-        case ScriptCommand::Kind::Screenshot: {
-            // The frame of the state the script has set, at the viewport's size, rendered on the render
-            // thread as a job (never dropped for a newer view); the script waits for it.
-            const VkExtent2D viewport = window.framebuffer_extent();
-            if (viewport.width == 0 || viewport.height == 0)
-                throw std::runtime_error("screenshot " + c.text + ": the window is minimised, there is no viewport");
-            FrameRequest request = session.frame_request(viewport.width, viewport.height, true);
-            request.want_stats = false;
-            char line[512];
-            std::snprintf(line, sizeof line, "screenshot %s: frame %d at %ux%u, method %s", c.text.c_str(),
-                          timeline.frame(), viewport.width, viewport.height, session.method_spec().c_str());
-            screenshot_ = {targets.renderer.request_job(std::move(request)), c.text, c.where, line, session.heat_map()};
-            break;
-        }
-        case ScriptCommand::Kind::Capture: {
-            check_writable_path(c.text);
-            const vk::Swapchain& swapchain = targets.presenter.swapchain();
-            if (swapchain.valid() && !swapchain.can_copy())
-                throw std::runtime_error("capture: this window's swapchain images cannot be copied from");
-            capture_.path = c.text;
-            capture_.where = c.where;
-            break;
-        }
-        case ScriptCommand::Kind::ReferenceError:
-            targets.start_reference();
-            reference_wait_ = true;
-            reference_where_ = c.where;
-            break;
-        case ScriptCommand::Kind::Panel: targets.panel_visible = c.number != 0; break;
-        case ScriptCommand::Kind::HeatMap: session.set_heat_map(c.number != 0); break;
-        case ScriptCommand::Kind::RenderSequence:
-            if (c.number2 >= timeline.frame_count())
-                throw std::invalid_argument("render-sequence: frame " + std::to_string(c.number2) +
-                                            " is outside the preset's frames 0-" + std::to_string(timeline.frame_count() - 1));
-            targets.start_sequence(c.text, int(c.number), int(c.number2), "png");
-            sequence_wait_ = true;
-            sequence_where_ = c.where;
-            std::printf("render-sequence %s: frames %lld-%lld started\n", c.text.c_str(), c.number, c.number2);
-            break;
-        case ScriptCommand::Kind::Camera: {
-            const Camera cam = session.camera();
-            std::printf("camera position %.17g %.17g %.17g look_at %.17g %.17g %.17g\n", cam.position.x, cam.position.y,
-                        cam.position.z, cam.look_at.x, cam.look_at.y, cam.look_at.z);
-            break;
-        }
-        case ScriptCommand::Kind::Quit: return false;
-        }
-        std::fflush(stdout);
-        return true;
-    }
-
-    std::deque<ScriptCommand> commands_;
-    bool sequence_wait_ = false;
-    std::string sequence_where_;
-    bool edit_wait_ = false;
-    std::string edit_where_;
-    bool reference_wait_ = false;
-    std::string reference_where_;
-    struct ReloadWait {
-        bool active = false;
-        int seen = 0;
-        Clock::time_point since;
-        std::string where;
-    } reload_wait_;
-    struct PendingCapture {
-        std::string path, where;
-    } capture_;
-    struct PendingScreenshot {
-        std::uint64_t id = 0;  // the render thread's job; 0: none
-        std::string path, where, line;
-        bool heat_map = false;
-    } screenshot_;
-    // The script starts once the first frame is on the screen, so every run shows the window working.
-    long long frames_to_wait_ = 1;
-};
 
 // Smoothed per-part wall-clock times for the panel, and for the summary a scripted run prints, a
 // tally of the frames since the internal resolution last changed (the figures it settled on).

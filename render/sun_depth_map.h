@@ -144,8 +144,9 @@ public:
                      fs = s - __builtin_convertvector(k, Float8);
         const Int8 c = (j * nu_ + i) * ns_ + k;
         const float* depth = depth_.get();
-        // The eight vertices: along s (+1), u (+ns) and v (+stride_v).
-        const auto along_s = [&](int offset) {
+        // The eight vertices: along s (+1), u (+ns) and v (+stride_v). Inlined wherever this is (a Float8
+        // returned by a call crosses it differently with and without AVX: GCC's -Wpsabi).
+        const auto along_s = [&](int offset) __attribute__((always_inline)) {
             Float8 lo, hi;
             gather.pair(depth, c + offset, lo, hi);
             return lo + fs * (hi - lo);

@@ -884,11 +884,10 @@ private:
         int inside = 0;
         float t_prev = 0.0f;
         // The accurate technique: the ray's box shadows, sorted pairs (lo, hi), once shadows_ready (its
-        // first lit segment), and the first one not yet passed; the t of the last point it gave its
-        // jobs (SunJobs), which the next piece shares if it starts there.
+        // first lit segment), and the first one not yet passed; the end of the last piece it gave its
+        // jobs (SunJobs::add), which the next piece shares if it starts there.
         bool shadows_ready = false;
-        float last_point = -1.0f;
-        std::size_t last_point_index = 0;  // and its index in the jobs' points
+        SunJobs::RayEnd sun_end;
         const float* shadows = nullptr;
         std::size_t shadow_count = 0;
         std::size_t shadow_next = 0;
@@ -1156,28 +1155,9 @@ private:
     }
 
     // The lit piece [p, q] of the segment that began at a, with T(a) st.transmittance, as one of the
-    // tile's jobs.
+    // tile's jobs (SunJobs::add).
     void add_sun_job(State& st, const Ray& ray, float p, float q, float a, float sigma_t, const Float4& light) const {
-        SunJobs& jobs = *ray.sun_jobs;
-        jobs.make_room();
-        // A piece shares its start with this ray's piece before where that one ended there (the same
-        // lattice coordinates, so the same depth), wherever its point lies among the points of the rays
-        // whose jobs interleave with it.
-        const std::size_t j = jobs.count++;
-        if (st.last_point != p) jobs.add_point(ray.map, p);
-        jobs.start_point[j] = std::uint32_t(st.last_point != p ? jobs.points - 1 : st.last_point_index);
-        jobs.add_point(ray.map, q);
-        jobs.end_point[j] = std::uint32_t(jobs.points - 1);
-        st.last_point = q;
-        st.last_point_index = jobs.points - 1;
-        jobs.p[j] = p;
-        jobs.length[j] = q - p;
-        jobs.sigma_t[j] = sigma_t;
-        jobs.attenuation[j] = sigma_t * (p - a);
-        jobs.weight[j] = st.transmittance;
-        jobs.ray[j] = ray.ray_id;
-        jobs.pixel[j] = ray.pixel;
-        jobs.light[j] = light;
+        ray.sun_jobs->add(ray.map, ray.ray_id, ray.pixel, st.sun_end, p, q, a, sigma_t, st.transmittance, light);
     }
 
 public:

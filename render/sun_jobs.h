@@ -191,6 +191,36 @@ struct SunJobs {
         gs[points] = r.s0 + t * r.ds;
         ++points;
     }
+
+    // Where a ray's pieces stand: the end of its last one (its lattice point's index), which the
+    // next piece shares if it starts there.
+    struct RayEnd {
+        float t = -1.0f;
+        std::size_t point = 0;
+    };
+    // The lit piece [p, q] of a segment that began at a, on the ray `ray` (`map`, its entry in `rays`),
+    // for tile pixel `pixel`, with the view's transmittance at a and the light it carries per unit of
+    // the integral: a job, its end a point, and its start too unless the ray's piece before ended
+    // there (the same lattice coordinates, so the same depth), wherever that point lies among the
+    // points of the rays whose jobs interleave with it.
+    void add(const SunDepthMap::Ray& map, std::uint32_t ray, std::uint32_t pixel, RayEnd& end, float p, float q,
+             float a, float sigma_t, float transmittance, const Float4& piece_light) {
+        make_room();
+        const std::size_t j = count++;
+        if (end.t != p) add_point(map, p);
+        start_point[j] = std::uint32_t(end.t != p ? points - 1 : end.point);
+        add_point(map, q);
+        end_point[j] = std::uint32_t(points - 1);
+        end = {q, points - 1};
+        this->p[j] = p;
+        length[j] = q - p;
+        this->sigma_t[j] = sigma_t;
+        attenuation[j] = sigma_t * (p - a);
+        weight[j] = transmittance;
+        this->ray[j] = ray;
+        this->pixel[j] = pixel;
+        light[j] = piece_light;
+    }
 };
 
 // Job i's light times `amount`, into its pixel's sum.

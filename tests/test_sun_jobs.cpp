@@ -92,32 +92,13 @@ Scene sphere_over_the_rays() {
     return s;
 }
 
-// A ray's lit pieces as the walks hand them over (FastTracer::add_sun_job): a piece shares its start
-// with the ray's piece before where that one ended there, wherever that point lies among the points of
-// the rays whose jobs came in between.
+// A ray's lit pieces, handed to the jobs as the walks hand them (FastTracer::add_sun_job).
 struct RayPieces {
     std::uint32_t ray = 0, pixel = 0;
-    float last_point = -1.0f;
-    std::size_t last_point_index = 0;
+    SunJobs::RayEnd end;
 
     void add(SunJobs& jobs, float p, float q, float a, float sigma_t, float transmittance, const simd::Float4& light) {
-        const SunDepthMap::Ray& map = jobs.rays[ray];
-        jobs.make_room();
-        const std::size_t j = jobs.count++;
-        if (last_point != p) jobs.add_point(map, p);
-        jobs.start_point[j] = std::uint32_t(last_point != p ? jobs.points - 1 : last_point_index);
-        jobs.add_point(map, q);
-        jobs.end_point[j] = std::uint32_t(jobs.points - 1);
-        last_point = q;
-        last_point_index = jobs.points - 1;
-        jobs.p[j] = p;
-        jobs.length[j] = q - p;
-        jobs.sigma_t[j] = sigma_t;
-        jobs.attenuation[j] = sigma_t * (p - a);
-        jobs.weight[j] = transmittance;
-        jobs.ray[j] = ray;
-        jobs.pixel[j] = pixel;
-        jobs.light[j] = light;
+        jobs.add(jobs.rays[ray], ray, pixel, end, p, q, a, sigma_t, transmittance, light);
     }
 };
 

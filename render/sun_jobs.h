@@ -6,8 +6,8 @@
 // packet row); what is here carries nothing from one piece to the next, so it runs over SIMD lanes.
 // The GPU takes the same pieces with the same tests (sun_segment_integral, shaders/exact_integrator.glsl).
 //
-// Included by render/fast_tracer.cpp alone: its functions are inlined into the tracer's tile loop,
-// which is compiled once for any x86-64 and once for AVX2.
+// Included by render/fast_tracer.cpp, where its functions are inlined into the tracer's tile loop
+// (compiled once for any x86-64 and once for AVX2), and by tests/test_sun_jobs.cpp.
 #pragma once
 
 #include "render/simd8.h"

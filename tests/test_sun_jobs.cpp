@@ -1,9 +1,9 @@
 // The accurate shadow technique's pieces on a CPU (render/sun_jobs.h), apart from the walks that cut
-// them (render/fast_tracer.cpp): a piece's closed form against the same integral in double, its halving
-// test, and a tile's jobs resolved into their pixels, against the integral of the map's own depth by
-// fine quadrature in double (so that what is measured is the pieces' linear depth and its halving, not
-// the map's interpolation). CPU only; the images these pieces make are held to the exact reference by
-// test_fast_tracer and test_gpu_light.
+// them (render/fast_tracer.cpp): a piece's closed form against the same integral in double, and its
+// halving test; each piece resolved alone against the integral of the map's own depth by fine
+// quadrature in double (so that what is measured is the pieces' linear depth and its halving, not the
+// map's interpolation); a tile's interleaved jobs resolved into their pixels. CPU only; the images these
+// pieces make are held to the exact reference by test_fast_tracer and test_gpu_light.
 #include "render/sun_jobs.h"
 #include "render/sun_light.h"
 
@@ -31,8 +31,8 @@ double piece_integral_in_double(double od_p, double od_q, double len, double sig
 }
 
 // Random pieces, eight at a time, as the walks make them: thin and thick media, the depth toward the
-// sun rising or falling along the piece (a view ray leaving a shadow toward the sun), pieces from a
-// ten-thousandth of a cell to many cells.
+// sun rising or falling along the piece (a view ray leaving a shadow toward the sun), pieces from 1e-4
+// to 2 units long.
 TEST(SunJobs, APiecesClosedFormIsTheIntegralToFloatPrecision) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> unit(0.0, 1.0);

@@ -1589,8 +1589,8 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     std::vector<std::uint32_t> order(scene_order.size());  // near to far, by position
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = memory.position_of[scene_order[i]];
     SunDepthMap own_map;
-    const FastTracer tracer(scene, memory.position_of, options.threads, options.scratch ? options.scratch->sun_map : own_map,
-                            options.sun,
+    const FastTracer tracer(scene, memory.position_of, options.threads,
+                            options.scratch ? options.scratch->sun_map : own_map, options.sun,
                             options.instructions == TraceInstructions::Best ? MapInstructions::Best
                                                                              : MapInstructions::Portable);
     TileBins bins;

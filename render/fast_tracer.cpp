@@ -1291,7 +1291,7 @@ struct MemoryOrder {
     std::vector<std::uint32_t> position_of;  // by scene index, the position
 };
 MemoryOrder memory_order(const std::vector<PixelRect>& rects, const std::vector<std::uint32_t>& near_to_far, int width,
-                         int height) {
+                         int height, int threads) {
     int shift = 0;  // tiles per code: 2^shift a side
     while (((width - 1) / int(kTile) >> shift) >= 2048 || ((height - 1) / int(kTile) >> shift) >= 2048) ++shift;
     const auto spread = [](std::uint32_t v) {  // the bits of v < 2^11 at the even places
@@ -1309,15 +1309,26 @@ MemoryOrder memory_order(const std::vector<PixelRect>& rects, const std::vector<
         const int y = std::clamp(r.y0 + (r.y1 - r.y0) / 2, 0, height - 1) / int(kTile) >> shift;
         return std::size_t(spread(std::uint32_t(x)) | (spread(std::uint32_t(y)) << 1));
     };
+    // Each sphere's code, in scene order over the threads; then the counts; then the spheres placed near
+    // to far, reading the codes (4 bytes a sphere). With the rectangles (16 bytes) read at random there
+    // and no codes kept, this took over five times as long at 1,000,000 spheres (perf: 1,258 against
+    // 235 samples), all of it serial: about a seventh of the frame on two threads.
+    const std::size_t n = rects.size();
+    std::vector<std::uint32_t> code(n);
+    constexpr std::size_t kChunk = 16384;
+    parallel_for((n + kChunk - 1) / kChunk, threads, [&](std::size_t chunk, int) {
+        for (std::size_t k = chunk * kChunk; k < std::min(n, (chunk + 1) * kChunk); ++k)
+            code[k] = std::uint32_t(code_of(rects[k]));
+    });
     std::vector<std::uint32_t> next(codes + 2, 0);  // each code's count, then its next position
-    for (const PixelRect& r : rects) ++next[code_of(r) + 1];
+    for (const std::uint32_t c : code) ++next[c + 1];
     for (std::size_t c = 1; c < next.size(); ++c) next[c] += next[c - 1];
     MemoryOrder order;
-    order.sphere_at.resize(rects.size());
-    order.position_of.resize(rects.size());
+    order.sphere_at.resize(n);
+    order.position_of.resize(n);
     for (const std::uint32_t k : near_to_far) {
-        const std::uint32_t p = next[code_of(rects[k])]++;
-        order.sphere_at[p] = std::uint32_t(k);
+        const std::uint32_t p = next[code[k]]++;
+        order.sphere_at[p] = k;
         order.position_of[k] = p;
     }
     return order;
@@ -1583,7 +1594,7 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     std::vector<double> scene_bound;
     nearest_event_bounds(scene, scene_bound, options.threads);
     const std::vector<std::uint32_t> scene_order = near_to_far(scene_bound, options.threads);
-    const MemoryOrder memory = memory_order(scene_rects, scene_order, width, height);
+    const MemoryOrder memory = memory_order(scene_rects, scene_order, width, height, options.threads);
     const std::vector<PixelRect> rects = by_position(scene_rects, memory.sphere_at, options.threads);
     const std::vector<double> bound = by_position(scene_bound, memory.sphere_at, options.threads);
     std::vector<std::uint32_t> order(scene_order.size());  // near to far, by position

@@ -1289,6 +1289,7 @@ std::vector<std::uint32_t> near_to_far(const std::vector<double>& bound, int thr
 struct MemoryOrder {
     std::vector<std::uint32_t> sphere_at;    // by position, the scene index
     std::vector<std::uint32_t> position_of;  // by scene index, the position
+    std::vector<std::uint32_t> near_to_far;  // the positions, near to far (the given order)
 };
 MemoryOrder memory_order(const std::vector<PixelRect>& rects, const std::vector<std::uint32_t>& near_to_far, int width,
                          int height, int threads) {
@@ -1326,10 +1327,12 @@ MemoryOrder memory_order(const std::vector<PixelRect>& rects, const std::vector<
     MemoryOrder order;
     order.sphere_at.resize(n);
     order.position_of.resize(n);
-    for (const std::uint32_t k : near_to_far) {
-        const std::uint32_t p = next[code[k]]++;
+    order.near_to_far.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t k = near_to_far[i], p = next[code[k]]++;
         order.sphere_at[p] = k;
         order.position_of[k] = p;
+        order.near_to_far[i] = p;
     }
     return order;
 }
@@ -1597,15 +1600,13 @@ void trace_frame(const Scene& scene, const FastTraceOptions& options, const Stor
     const MemoryOrder memory = memory_order(scene_rects, scene_order, width, height, options.threads);
     const std::vector<PixelRect> rects = by_position(scene_rects, memory.sphere_at, options.threads);
     const std::vector<double> bound = by_position(scene_bound, memory.sphere_at, options.threads);
-    std::vector<std::uint32_t> order(scene_order.size());  // near to far, by position
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = memory.position_of[scene_order[i]];
     SunDepthMap own_map;
     const FastTracer tracer(scene, memory.position_of, options.threads,
                             options.scratch ? options.scratch->sun_map : own_map, options.sun,
                             options.instructions == TraceInstructions::Best ? MapInstructions::Best
                                                                              : MapInstructions::Portable);
     TileBins bins;
-    bin_spheres(rects, width, height, kTile, order, bound, bins, options.threads);
+    bin_spheres(rects, width, height, kTile, memory.near_to_far, bound, bins, options.threads);
 
     const CameraRays rays = make_camera_rays(scene.camera);
     const std::vector<double> ndc_x = column_ndc(rays, std::size_t(bins.tiles_x) * kTile);

@@ -15,8 +15,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
+#include <vector>
 
 namespace brume {
 namespace {
@@ -71,6 +74,48 @@ TEST_F(FramePathTest, OverflowRendersTheFrameAgainAndCountsIt) {
     double sum = 0.0;
     for (const PassTime& p : stats.passes) sum += p.ms;
     EXPECT_DOUBLE_EQ(stats.total_ms, sum);
+}
+
+// The light's CPU preparation is part of a GPU frame's cost: the sun grid (the lit ground's exact
+// T_sun), the per-sphere T_sun at the centres, and the accurate technique's depth map are listed as
+// "(cpu)" passes after the method's sort and before the GPU passes, each only in the frames that
+// build it, and the total counts them (a shadow technique's cost against the unshadowed frame, as
+// bench shadows takes it, included the GPU passes alone before).
+TEST_F(FramePathTest, TheLightsCpuPreparationIsTimedAmongThePasses) {
+    Scene scene = default_scene();
+    ASSERT_TRUE(scene.lighting.shadows);
+    scene.camera.width = 64;
+    scene.camera.height = 48;
+    const auto names = [](const FrameStats& stats) {
+        std::vector<std::string> out;
+        for (const PassTime& p : stats.passes) out.push_back(p.name);
+        return out;
+    };
+    const auto total = [](const FrameStats& stats) {
+        double sum = 0.0;
+        for (const PassTime& p : stats.passes) sum += p.ms;
+        return sum;
+    };
+    PpllMethod ppll(device());
+    FrameStats stats;
+    for (const ShadowTechnique technique : {ShadowTechnique::Accurate, ShadowTechnique::PerSphere}) {
+        scene.render.shadow_technique = technique;
+        ppll.render(scene, &stats);
+        const std::vector<std::string> passes = names(stats);
+        ASSERT_GE(passes.size(), 4u);
+        EXPECT_EQ(passes[0], "sort (cpu)");
+        EXPECT_EQ(passes[1], "sun grid (cpu)");  // the ground is lit: the opaque pass reads the grid
+        EXPECT_EQ(passes[2], technique == ShadowTechnique::Accurate ? "sun map (cpu)" : "sphere sun (cpu)");
+        EXPECT_EQ(passes[3], "clear+opaque");
+        EXPECT_GT(stats.passes[2].ms, 0.0);
+        EXPECT_DOUBLE_EQ(stats.total_ms, total(stats));
+    }
+    scene.lighting.shadows = false;
+    ppll.render(scene, &stats);
+    const std::vector<std::string> passes = names(stats);
+    for (const char* light : {"sun grid (cpu)", "sphere sun (cpu)", "sun map (cpu)"})
+        EXPECT_EQ(std::count(passes.begin(), passes.end(), light), 0) << light;
+    EXPECT_EQ(passes[1], "clear+opaque");
 }
 
 // Peel's early stop runs as frame steps: the frame path submits the next step when asked.

@@ -103,6 +103,14 @@ void FramePath::run(GpuMethod& method, const Scene& scene, FrameStats* stats, bo
     if (stats) {
         *stats = FrameStats{};
         stats->passes = clock_.passes();
+        // The light's CPU preparation (the sun grid, the per-sphere T_sun, the depth map), which the
+        // GPU passes wait for, before them; a method's own CPU passes (its sort) go first (report).
+        const FrameResources::LightPrepTimes& light = resources_.light_prep_times();
+        std::vector<PassTime> cpu;
+        if (light.sun_grid_ms >= 0.0) cpu.push_back({"sun grid (cpu)", light.sun_grid_ms});
+        if (light.sphere_sun_ms >= 0.0) cpu.push_back({"sphere sun (cpu)", light.sphere_sun_ms});
+        if (light.sun_map_ms >= 0.0) cpu.push_back({"sun map (cpu)", light.sun_map_ms});
+        stats->passes.insert(stats->passes.begin(), cpu.begin(), cpu.end());
         stats->regrows = regrows;
         method.report(*stats, ctx);
         stats->total_ms = 0.0;

@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -16,6 +17,14 @@
 namespace brume {
 
 using namespace vk;
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
 
 FrameResources::FrameResources(const Device& device) : device_(device), descriptors_(device) {
     GraphicsPipelineDesc desc;
@@ -52,6 +61,7 @@ void FrameResources::upload(const Scene& scene) {
     // (ensure_sphere_sun) on the CPU, the opaque pass's exact T_sun at lit box hits through its GPU
     // copy (ensure_sun_grid). A CPU tracer's frame reads neither.
     sun_light_ = std::make_unique<SunLight>(scene);
+    light_prep_ = LightPrepTimes{};
     eye_ = scene.camera.position;  // every position goes to the device relative to it (gpu_types.h)
     // Room for the depth map the previous frame had, so that an animation does not regrow every frame.
     if (sun_header_.map_size.x > 0)
@@ -128,6 +138,7 @@ void FrameResources::ensure_sun_grid() {
     if (sun_grid_done_) return;
     sun_grid_done_ = true;
     const SunLight& sun_light = *sun_light_;
+    const auto start = std::chrono::steady_clock::now();
     if (sun_light.grid_side() == 0) return;  // no shadows or no spheres, as upload's header says
     const std::size_t grid_words = sun_light.cell_start().size() + sun_light.cell_items().size();
     const VkDeviceSize grid_bytes = sizeof(gpu::SunGridHeader) + grid_words * sizeof(std::uint32_t);
@@ -152,16 +163,19 @@ void FrameResources::ensure_sun_grid() {
     sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_start().begin(), sun_light.cell_start().end());
     sun_grid_words_.insert(sun_grid_words_.end(), sun_light.cell_items().begin(), sun_light.cell_items().end());
     write_sun_buffer({});
+    light_prep_.sun_grid_ms = ms_since(start);
 }
 
 void FrameResources::ensure_sphere_sun(const Scene& scene) {
     if (sphere_sun_done_) return;
+    const auto start = std::chrono::steady_clock::now();
     // The same code as the reference's per-sphere mode, in double, so the GPU differs from it by float
     // rounding alone.
     auto* spheres = sphere_buffer_.as<gpu::GpuSphere>();
     for (std::size_t i = 0; i < scene.spheres.size(); ++i)
         spheres[i] = gpu::to_gpu(scene.spheres[i], eye_, sun_light_->transmittance(scene.spheres[i].center));
     sphere_sun_done_ = true;
+    light_prep_.sphere_sun_ms = ms_since(start);
 }
 
 static_assert(gpu::SUN_MAX_OUTSIZED == kMaxOutsized, "the header holds every outsized sphere a map or grid keeps");
@@ -173,9 +187,13 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     if (!scene.lighting.shadows || scene.render.shadow_technique != ShadowTechnique::Accurate ||
         sun_header_.size.x == 0)
         return;  // no map is read, or no sphere casts a shadow (size.x = 0 also tells the shader)
+    const auto start = std::chrono::steady_clock::now();
     SunDepthMap& map = sun_depth_map_;
     map.build(scene, *sun_light_, scene.camera.position, 0);  // in the last frame's memory
-    if (map.empty()) return;
+    if (map.empty()) {
+        light_prep_.sun_map_ms = ms_since(start);
+        return;
+    }
     const glm::dvec3 o = map.origin_coordinates();
     sun_header_.map_origin = gpu::vec4(float(o.x), float(o.y), float(o.z), float(map.inverse_cell()));
     sun_header_.map_size = gpu::uvec4(gpu::uint(map.size_u()), gpu::uint(map.size_v()), gpu::uint(map.size_s()),
@@ -188,6 +206,7 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
         sun_header_.outsized_depth[k / 4][int(k % 4)] = o.depth_per_cell;
     }
     write_sun_buffer(map.values());
+    light_prep_.sun_map_ms = ms_since(start);
 }
 
 void FrameResources::record_opaque_pass(VkCommandBuffer cmd) const {

@@ -47,6 +47,18 @@ public:
     // and the depth map goes after it (ensure_sun_depth_map calls this first). A frame traced on the
     // CPU never asks, and its SunLight never builds the grid.
     void ensure_sun_grid();
+    // The CPU time each of the three above took this frame (since upload), wall clock; negative where
+    // it built nothing (no shadows, another technique, or no reader). No GPU pass times this work, yet
+    // every frame that reads it waits for it: FramePath::run lists it among the frame's passes as
+    // "(cpu)" passes, as a method lists its CPU sort, so that a frame's total and a shadow technique's
+    // cost against the unshadowed frame count it (the depth map's build is most of what the accurate
+    // technique adds on the CPU side: docs/performance.md).
+    struct LightPrepTimes {
+        double sun_grid_ms = -1.0;
+        double sphere_sun_ms = -1.0;
+        double sun_map_ms = -1.0;
+    };
+    const LightPrepTimes& light_prep_times() const { return light_prep_; }
     // Writes the frame's bindings (uniforms, spheres, boxes, opaque image) into a method's set.
     void write_frame_bindings(const vk::SharedDescriptors& descriptors) const;
 
@@ -98,6 +110,7 @@ private:
     glm::dvec3 eye_{0.0};                  // the scene's eye: the device's origin (render/vk/gpu_types.h)
     bool sphere_sun_done_ = true;          // ensure_sphere_sun wrote this frame's, or none are needed
     SunDepthMap sun_depth_map_;  // kept from frame to frame for its memory (ensure_sun_depth_map)
+    LightPrepTimes light_prep_;  // this frame's (upload resets it)
     // Writes the header and the grid words, then `map` (may be empty) after them, growing the buffer
     // when it must (after waiting for the device) and rewriting the opaque pass's set then.
     void write_sun_buffer(std::span<const float> map);

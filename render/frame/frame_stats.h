@@ -1,4 +1,4 @@
-// What one frame of a GPU method measured: GPU time per pass and the list statistics.
+// What one frame of a GPU method measured: the time of each pass and the list statistics.
 #pragma once
 
 #include <cstdint>
@@ -13,8 +13,10 @@ struct PassTime {
 };
 
 struct FrameStats {
-    std::vector<PassTime> passes;  // GPU time of each pass, in order
-    double total_ms = 0.0;         // GPU time of the whole frame (sum of the passes)
+    // Each pass in order: GPU time, or for a pass named "... (cpu)" the CPU's wall clock of work the
+    // GPU passes wait for (a method's sort, the light's preparation: FramePath::run).
+    std::vector<PassTime> passes;
+    double total_ms = 0.0;  // the whole frame: the sum of the passes
     std::uint64_t memory_bytes = 0;  // GPU memory the method holds beyond the shared frame targets
     std::uint64_t fragments = 0;   // list nodes written: one per (sphere, pixel) whose ray meets the medium
     std::uint64_t pool_capacity = 0;  // nodes the pool holds

@@ -13,6 +13,7 @@
 #include "render/simd8.h"
 #include "render/simd8_math.h"
 #include "render/sun_depth_map.h"
+#include "shaders/shared.h"
 
 #include <glm/vec3.hpp>
 
@@ -59,17 +60,17 @@ using simd::load8;
 // unit) are untouched, their images the same. p99.9 at 128x96 (bench shadows, docs/accuracy.md) rose
 // within the 1e-2 bound where the media are thin: low-sun 2.25e-3 to 6.65e-3, vdb-cloud 2.33e-3 to
 // 5.16e-3, crossing 1.74e-3 to 3.81e-3, fog-bank 5.0e-4 to 1.0e-3.
-constexpr float kSunPieceCells = 4.0f;
-constexpr int kSunPieceSplits = 4;
-constexpr float kSunPieceDepthChange = 0.1f;
-constexpr float kSunPieceThinDepth = 0.25f;
-constexpr float kSunPieceThinWiden = 4.0f;
+constexpr float kSunPieceCells = gpu::SUN_PIECE_CELLS;
+constexpr int kSunPieceSplits = gpu::SUN_PIECE_SPLITS;
+constexpr float kSunPieceDepthChange = gpu::SUN_PIECE_DEPTH_CHANGE;
+constexpr float kSunPieceThinDepth = gpu::SUN_PIECE_THIN_DEPTH;
+constexpr float kSunPieceThinWiden = gpu::SUN_PIECE_THIN_WIDEN;
 // At most this many pieces a segment before halving: a longer segment's pieces are its length over
-// kSunMaxPieces (a power of 2, so the division is exact), as the GPU's (SUN_MAX_PIECES,
-// shaders/exact_integrator.glsl). A ray through an atmosphere sphere of radius 10,000 (tau 1e-4, the
+// kSunMaxPieces (a power of 2, so the division is exact), as the GPU's (the constants here are
+// shaders/shared.h's SUN_PIECE_* and SUN_MAX_PIECES, which sun_segment_integral reads too). A ray through an atmosphere sphere of radius 10,000 (tau 1e-4, the
 // depth toward the sun along it all but linear) had been cut into 16-cell pieces, 20,000 of them:
 // 500 puffs inside one took trace 1,335 ms a frame at 160x120, against 18 ms without it.
-constexpr float kSunMaxPieces = 256.0f;
+constexpr float kSunMaxPieces = gpu::SUN_MAX_PIECES;
 
 // The accurate technique's sun integrals of a tile, taken together after its rays (SunJobs): a lit piece
 // [p, q] of a view segment that began at a, with its ray's media, is a job; its ends are points, whose

@@ -118,12 +118,7 @@ float sun_depth_along(vec3 from_eye, vec3 dir, float t) {
 // With more boxes than SUN_BOX_SPANS (no spans kept) the 3-point rules with each node testing the
 // boxes (sun_quadrature) run instead, in a loop of one iteration or none: lavapipe runs no body that
 // no lane takes.
-const float SUN_PIECE_CELLS = 4.0;
-const int SUN_PIECE_SPLITS = 4;
-const float SUN_PIECE_DEPTH_CHANGE = 0.1;
-const float SUN_PIECE_THIN_DEPTH = 0.25;  // render/fast_tracer.cpp kSunPieceThinDepth
-const float SUN_PIECE_THIN_WIDEN = 4.0;   // render/fast_tracer.cpp kSunPieceThinWiden
-const float SUN_MAX_PIECES = 256.0;
+// (SUN_PIECE_* and SUN_MAX_PIECES: shaders/shared.h, the CPU's too.)
 const float SUN_DIVISIBLE_TRANSMITTANCE = 1e-20;
 float sun_segment_integral(inout Integrator it, float a, float b, float sigma_t, float segment_transmittance) {
     bool spans_kept = sun_box_span_count != SUN_BOX_SPANS_NONE;

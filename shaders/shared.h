@@ -13,8 +13,12 @@ using vec4 = glm::vec4;
 using uvec4 = glm::uvec4;
 using uint = std::uint32_t;
 #define BRUME_CONST inline constexpr uint
+#define BRUME_CONST_FLOAT inline constexpr float
+#define BRUME_CONST_INT inline constexpr int
 #else
 #define BRUME_CONST const uint
+#define BRUME_CONST_FLOAT const float
+#define BRUME_CONST_INT const int
 #endif
 
 // Descriptor set 0, the one layout every pass of every method uses (render/vk/descriptors.cpp).
@@ -145,6 +149,20 @@ struct SunGridHeader {
     uvec4 grid_outsized[2];
 };
 BRUME_CONST SUN_MAX_OUTSIZED = 8;
+
+// The accurate technique's pieces along a view segment, the same on the CPU (render/sun_jobs.h, where
+// each one's choice is measured) and the GPU (shaders/exact_integrator.glsl sun_segment_integral): the
+// depth toward the sun is read at the ends of pieces of at most SUN_PIECE_CELLS map cells (in thin
+// media up to SUN_PIECE_THIN_WIDEN times that, while sigma_t len stays within SUN_PIECE_THIN_DEPTH),
+// taken as linear between them, and a piece is halved, up to SUN_PIECE_SPLITS times, where the light
+// it may carry times its change of depth exceeds SUN_PIECE_DEPTH_CHANGE; a segment takes at most
+// SUN_MAX_PIECES pieces before halving. Written once, so trace and the GPU methods cut the same pieces.
+BRUME_CONST_FLOAT SUN_PIECE_CELLS = 4.0f;
+BRUME_CONST_INT SUN_PIECE_SPLITS = 4;
+BRUME_CONST_FLOAT SUN_PIECE_DEPTH_CHANGE = 0.1f;
+BRUME_CONST_FLOAT SUN_PIECE_THIN_DEPTH = 0.25f;
+BRUME_CONST_FLOAT SUN_PIECE_THIN_WIDEN = 4.0f;
+BRUME_CONST_FLOAT SUN_MAX_PIECES = 256.0f;
 
 // Written by the particle pass (allocated) and the resolve pass (statistics); read back every frame.
 struct ListCounters {

@@ -320,8 +320,17 @@ SunDepthMap::SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dve
     build(scene, sun, origin, threads, max_vertices, instructions);
 }
 
+void SunDepthMap::plan(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, std::size_t max_vertices) {
+    lay_out(scene, sun, origin, 0, max_vertices, MapInstructions::Best, false);
+}
+
 void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
                         std::size_t max_vertices, MapInstructions instructions) {
+    lay_out(scene, sun, origin, threads, max_vertices, instructions, true);
+}
+
+void SunDepthMap::lay_out(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
+                          std::size_t max_vertices, MapInstructions instructions, bool fill) {
     make_empty();  // until the lattice is known; the vertices' memory and the workers' scratch stay
     if (!sun.shadows() || scene.spheres.empty()) return;
     max_vertices = std::min(max_vertices, kMaxVertices);
@@ -398,6 +407,7 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
                      float(p.tau * cell)};
     }
     const std::size_t vertex_count = std::size_t(nu) * std::size_t(nv) * std::size_t(ns);
+    if (!fill) return;  // plan(): the lattice without its vertices (empty(), planned())
     // Left unwritten here: each band writes every vertex of its rows exactly once (below), so a frame
     // pays one streaming pass over the map, in parallel, not a zeroing pass before it. The last build's
     // memory is reused where it is large enough: freed and allocated again, its pages went back to the

@@ -57,6 +57,14 @@ public:
     void build(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
                std::size_t max_vertices = kDefaultMaxVertices, MapInstructions instructions = MapInstructions::Best);
 
+    // The lattice that build() would fill (its spacing, extent and outsized spheres, so its header and
+    // ray()), without the vertices: for a map that the GPU fills in the frame path's light pass
+    // (shaders/sun_map_build.comp, render/frame/frame_resources.h). empty() stays true (there are no
+    // values here to read); planned() says whether there is a lattice to fill.
+    void plan(const Scene& scene, const SunLight& sun, const glm::dvec3& origin,
+              std::size_t max_vertices = kDefaultMaxVertices);
+    bool planned() const { return nu_ > 0; }
+
     static constexpr std::size_t kDefaultMaxVertices = std::size_t(8) << 20;  // 32 MiB of floats
     // The most any budget allows: a vertex's index stays an int.
     static constexpr std::size_t kMaxVertices = std::size_t(1) << 30;
@@ -189,6 +197,9 @@ public:
 private:
     // No lattice (empty(), every lookup 0), its memory kept; also what a build that throws leaves.
     void make_empty();
+    // build() (fill) and plan() (the lattice alone).
+    void lay_out(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
+                 std::size_t max_vertices, MapInstructions instructions, bool fill);
 
     glm::dvec3 u_{0.0}, v_{0.0}, l_{0.0};
     double u_lo_ = 0.0, v_lo_ = 0.0, s_lo_ = 0.0;  // the lattice's first vertex on each axis

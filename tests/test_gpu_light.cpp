@@ -15,6 +15,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
 #include <vector>
 
 namespace brume {
@@ -233,6 +236,47 @@ TEST_F(GpuLight, AccurateShadowsInsideAnAtmosphereMeetTheirTarget) {
                         e.p999);
             EXPECT_LT(e.mean, kAccurateMean) << spec << ", " << fog_spheres << " fog spheres";
             EXPECT_LT(e.p999, kAccurateP999) << spec << ", " << fog_spheres << " fog spheres";
+        }
+    }
+}
+
+// On a GPU the accurate technique's depth map is filled by the device in the frame path's light pass
+// (shaders/sun_map_build.comp; render/frame/frame_resources.h sun_map_on_device), where lavapipe takes
+// the host's build. Forced onto lavapipe, the device's map gives ppll and tiles the images the host's
+// gives, to float rounding (it sums in float where the host sums in double), on the default scene, a
+// cloud over a lit ground, and puffs inside six outsized fog spheres (which no column holds: a lookup
+// adds them); and a frame lists the fill as its "sun map" pass, after the opaque pass.
+TEST_F(GpuLight, TheDevicesDepthMapGivesTheHostsImages) {
+    Scene fogged = shadowed_cloud(false);
+    for (int k = 0; k < 6; ++k)
+        fogged.spheres.push_back(
+            sphere({40.0 * k - 100.0, 30.0 - 15.0 * k, 25.0 * k - 60.0}, 1000.0 + 100.0 * k, 2e-4, {0.8, 0.8, 0.8}));
+    Scene small_default = default_scene();
+    small_default.camera.width = 80;
+    small_default.camera.height = 60;
+    const std::vector<Scene> scenes = {small_default, three_puffs_over_a_lit_ground(), fogged};
+    for (const char* spec : {"ppll", "tiles"}) {
+        for (std::size_t n = 0; n < scenes.size(); ++n) {
+            const Scene& s = scenes[n];
+            ASSERT_TRUE(s.lighting.shadows);
+            ASSERT_EQ(s.render.shadow_technique, ShadowTechnique::Accurate);
+            ::setenv("BRUME_SUN_MAP", "host", 1);
+            const Image host = make_method(&device(), spec)->render(s);
+            ::setenv("BRUME_SUN_MAP", "device", 1);
+            const std::unique_ptr<Method> method = make_method(&device(), spec);
+            FrameStats stats;
+            const Image on_device = method->render(s, &stats);
+            ::unsetenv("BRUME_SUN_MAP");
+            const ShadowError apart = shadow_error(on_device, host);
+            std::printf("  %s, scene %zu: the device's map against the host's, mean %.3g, p99.9 %.3g of the peak\n",
+                        spec, n, apart.mean, apart.p999);
+            EXPECT_LT(apart.p999, 1e-5) << spec << ", scene " << n;
+            std::vector<std::string> passes;
+            for (const PassTime& p : stats.passes) passes.push_back(p.name);
+            const auto opaque = std::find(passes.begin(), passes.end(), "clear+opaque");
+            ASSERT_NE(opaque, passes.end()) << spec;
+            ASSERT_NE(opaque + 1, passes.end()) << spec;
+            EXPECT_EQ(*(opaque + 1), "sun map") << spec << ", scene " << n;
         }
     }
 }

@@ -42,7 +42,9 @@ void FramePath::record_shared_passes(VkCommandBuffer cmd, FrameContext& ctx, con
         ctx.mark(cmd, "clear+opaque");
     }
     // The light pass slot: a pass that every method's shading reads (sun transmittance, a shadow
-    // map) is recorded here, after the opaque pass and before any method pass.
+    // map) is recorded here, after the opaque pass and before any method pass. On a GPU the
+    // accurate technique's depth map is filled here (FrameResources::record_sun_map_build).
+    if (resources_.record_sun_map_build(cmd)) ctx.mark(cmd, "sun map");
 }
 
 void FramePath::run(GpuMethod& method, const Scene& scene, FrameStats* stats, bool list_stats, Output output) {

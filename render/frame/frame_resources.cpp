@@ -2,6 +2,7 @@
 
 #include "opaque_boxes.frag.h"
 #include "opaque_boxes.vert.h"
+#include "sun_map_build.comp.h"
 #include "render/sun_depth_map.h"
 #include "render/sun_light.h"
 #include "render/vk/pipelines.h"
@@ -11,8 +12,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 namespace brume {
 
@@ -22,6 +25,20 @@ namespace {
 
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Where the accurate technique's depth map is filled (FrameResources::sun_map_on_device): on a GPU, by
+// the device in the light pass; on a CPU device (lavapipe) by the CPU's build, whose AVX2 splat and
+// sums are the faster code there. BRUME_SUN_MAP=device or =host overrides that (the tests hold the
+// device's build on lavapipe).
+bool fill_sun_map_on_device(const Device& device) {
+    if (const char* where = std::getenv("BRUME_SUN_MAP")) {
+        const std::string w = where;
+        if (w == "device") return true;
+        if (w == "host") return false;
+        throw std::invalid_argument("BRUME_SUN_MAP='" + w + "': 'device' or 'host'");
+    }
+    return device.properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
 }
 
 }  // namespace
@@ -35,6 +52,10 @@ FrameResources::FrameResources(const Device& device) : device_(device), descript
     desc.depth_format = kDepthFormat;
     desc.depth_compare = VK_COMPARE_OP_GREATER;  // depth = 1/(1+t): nearer is larger
     opaque_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), desc);
+    sun_map_on_device_ = fill_sun_map_on_device(device);
+    if (sun_map_on_device_)
+        sun_map_pipeline_ = create_compute_pipeline(device, descriptors_.pipeline_layout(), "sun_map_build",
+                                                    BRUME_SPIRV(spv_sun_map_build_comp));
     uniform_buffer_ = Buffer(device, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                              MemoryUse::Upload, "frame.uniforms");
 }
@@ -106,6 +127,7 @@ void FrameResources::upload(const Scene& scene) {
     sun_grid_words_.clear();
     sun_grid_done_ = false;
     sun_depth_map_done_ = false;
+    sun_map_pending_ = false;
     write_sun_buffer({});
     if (resize || new_spheres || new_boxes || new_grid) write_frame_bindings(descriptors_);
     auto* boxes = box_buffer_.as<gpu::GpuBox>();
@@ -117,8 +139,8 @@ void FrameResources::upload(const Scene& scene) {
     background_ = glm::vec3(scene.lighting.background);
 }
 
-void FrameResources::write_sun_buffer(std::span<const float> map) {
-    const std::size_t words = sun_grid_words_.size() + map.size();
+void FrameResources::write_sun_buffer(std::span<const float> map, std::size_t map_room) {
+    const std::size_t words = sun_grid_words_.size() + std::max(map.size(), map_room);
     const VkDeviceSize bytes_needed = sizeof(gpu::SunGridHeader) + std::max<std::size_t>(words, 1) * sizeof(std::uint32_t);
     if (sun_grid_buffer_.size() < bytes_needed) {
         device_.wait_idle();  // a presenter's pass of the last frame may still hold the set
@@ -189,8 +211,13 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
         return;  // no map is read, or no sphere casts a shadow (size.x = 0 also tells the shader)
     const auto start = std::chrono::steady_clock::now();
     SunDepthMap& map = sun_depth_map_;
-    map.build(scene, *sun_light_, scene.camera.position, 0);  // in the last frame's memory
-    if (map.empty()) {
+    // On the device only its lattice here (record_sun_map_build fills it); on the host the whole
+    // map, in the last frame's memory.
+    if (sun_map_on_device_)
+        map.plan(scene, *sun_light_, scene.camera.position);
+    else
+        map.build(scene, *sun_light_, scene.camera.position, 0);
+    if (sun_map_on_device_ ? !map.planned() : map.empty()) {
         light_prep_.sun_map_ms = ms_since(start);
         return;
     }
@@ -205,8 +232,27 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
         sun_header_.outsized[k] = gpu::vec4(o.u, o.v, o.s, o.r2);
         sun_header_.outsized_depth[k / 4][int(k % 4)] = o.depth_per_cell;
     }
-    write_sun_buffer(map.values());
+    const std::size_t vertices = std::size_t(map.size_u()) * std::size_t(map.size_v()) * std::size_t(map.size_s());
+    write_sun_buffer(map.values(), vertices);
+    sun_map_pending_ = sun_map_on_device_;
     light_prep_.sun_map_ms = ms_since(start);
+}
+
+bool FrameResources::record_sun_map_build(VkCommandBuffer cmd) const {
+    if (!sun_map_pending_) return false;
+    const SunDepthMap& map = sun_depth_map_;
+    const std::uint64_t columns = std::uint64_t(map.size_u()) * std::uint64_t(map.size_v());
+    // An invocation a column, 64 a group; the shader strides over any beyond the groups' limit.
+    const std::uint32_t groups = std::uint32_t(std::min<std::uint64_t>(
+        (columns + 63) / 64, std::min<std::uint64_t>(device_.properties().limits.maxComputeWorkGroupCount[0], 65535)));
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, sun_map_pipeline_.get());
+    descriptors_.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE);
+    vkCmdDispatch(cmd, groups, 1, 1);
+    // The resolves read it: ppll's fragment shader, tiles' compute shader.
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    return true;
 }
 
 void FrameResources::record_opaque_pass(VkCommandBuffer cmd) const {

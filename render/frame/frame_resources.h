@@ -36,6 +36,13 @@ public:
     // the sun grid on the first call of a frame (the CPU tracers build their own, so a frame path
     // builds it only for the methods that read it: FrameContext::need_sun_depth_map).
     void ensure_sun_depth_map(const Scene& scene);
+    // Where the depth map is filled: on a GPU by the device (the frame path's light pass records
+    // record_sun_map_build, shaders/sun_map_build.comp, after the CPU planned its lattice); on a CPU
+    // device by the host's build, which is faster there. BRUME_SUN_MAP=device|host overrides it.
+    bool sun_map_on_device() const { return sun_map_on_device_; }
+    // Records the device's fill of this frame's map and the barrier before the resolves that read it;
+    // false (nothing recorded) where the host built it or there is none.
+    bool record_sun_map_build(VkCommandBuffer cmd) const;
     // The per-sphere shadow technique's T_sun at each sphere's centre (GpuSphere emission_sun.w, which
     // upload() leaves at 1), for the scene last uploaded, written on the first call of a frame: the
     // frame path asks for it before any method that reads it records (GpuMethod::reads_sphere_sun).
@@ -95,6 +102,9 @@ private:
     const vk::Device& device_;
     vk::SharedDescriptors descriptors_;  // the opaque pass's own set: the frame bindings only
     vk::UniquePipeline opaque_pipeline_;
+    vk::UniquePipeline sun_map_pipeline_;  // shaders/sun_map_build.comp, where the device fills the map
+    bool sun_map_on_device_ = false;
+    bool sun_map_pending_ = false;  // this frame's map is planned, for the light pass to fill
     vk::Buffer uniform_buffer_;
     vk::Buffer sphere_buffer_;
     vk::Buffer box_buffer_;
@@ -113,7 +123,7 @@ private:
     LightPrepTimes light_prep_;  // this frame's (upload resets it)
     // Writes the header and the grid words, then `map` (may be empty) after them, growing the buffer
     // when it must (after waiting for the device) and rewriting the opaque pass's set then.
-    void write_sun_buffer(std::span<const float> map);
+    void write_sun_buffer(std::span<const float> map, std::size_t map_room = 0);
     vk::DeviceImage opaque_image_;
     vk::DeviceImage depth_image_;
     vk::DeviceImage hdr_image_;

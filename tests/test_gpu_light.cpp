@@ -24,6 +24,7 @@ namespace brume {
 namespace {
 
 using testing::GpuTest;
+using testing::same_bits;
 using testing::shadow_error;
 using testing::ShadowError;
 using testing::sphere;
@@ -279,6 +280,31 @@ TEST_F(GpuLight, TheDevicesDepthMapGivesTheHostsImages) {
             EXPECT_EQ(*(opaque + 1), "sun map") << spec << ", scene " << n;
         }
     }
+}
+
+// The device's fill walks each column in one invocation; a map stretched far along the sun's rays (a
+// puff under another 4,000 units up the sun's ray: the lattice, held to its vertex budget, is then tens
+// of thousands of vertices tall and a few columns wide) would run past lavapipe's loop budget, which
+// cuts a shader's loops silently. Such a frame takes the host's build, even when the device's is asked
+// for: the same image as the host's, and no "sun map" pass on the device.
+TEST_F(GpuLight, AMapTooTallForTheDevicesFillIsBuiltByTheHost) {
+    Scene s = testing::small_scene(32, 24);
+    s.lighting.shadows = true;
+    s.lighting.sun_direction = {0.0, -1.0, 0.0};
+    s.render.shadow_technique = ShadowTechnique::Accurate;
+    s.spheres.push_back(sphere({0.0, 0.0, 0.0}, 0.5, 2.0));
+    s.spheres.push_back(sphere({0.0, 4000.0, 0.0}, 0.5, 2.0));
+    ::setenv("BRUME_SUN_MAP", "host", 1);
+    const Image host = make_method(&device(), "ppll")->render(s);
+    ::setenv("BRUME_SUN_MAP", "device", 1);
+    const std::unique_ptr<Method> method = make_method(&device(), "ppll");
+    FrameStats stats;
+    const Image asked_of_device = method->render(s, &stats);
+    ::unsetenv("BRUME_SUN_MAP");
+    EXPECT_TRUE(same_bits(asked_of_device, host));
+    for (const PassTime& p : stats.passes) EXPECT_NE(p.name, "sun map");
+    EXPECT_TRUE(std::any_of(stats.passes.begin(), stats.passes.end(),
+                            [](const PassTime& p) { return p.name == "sun map (cpu)"; }));
 }
 
 // The built-in default scene ships with shadows by the accurate technique (presets/default.toml): at

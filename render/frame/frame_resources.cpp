@@ -213,11 +213,13 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     SunDepthMap& map = sun_depth_map_;
     // On the device only its lattice here (record_sun_map_build fills it); on the host the whole
     // map, in the last frame's memory.
-    if (sun_map_on_device_)
+    bool fill_on_device = sun_map_on_device_;
+    if (fill_on_device) {
         map.plan(scene, *sun_light_, scene.camera.position);
-    else
-        map.build(scene, *sun_light_, scene.camera.position, 0);
-    if (sun_map_on_device_ ? !map.planned() : map.empty()) {
+        fill_on_device = map.planned() && device_fill_fits(scene, map);
+    }
+    if (!fill_on_device) map.build(scene, *sun_light_, scene.camera.position, 0);
+    if (fill_on_device ? !map.planned() : map.empty()) {
         light_prep_.sun_map_ms = ms_since(start);
         return;
     }
@@ -234,8 +236,34 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     }
     const std::size_t vertices = std::size_t(map.size_u()) * std::size_t(map.size_v()) * std::size_t(map.size_s());
     write_sun_buffer(map.values(), vertices);
-    sun_map_pending_ = sun_map_on_device_;
+    sun_map_pending_ = fill_on_device;
     light_prep_.sun_map_ms = ms_since(start);
+}
+
+bool FrameResources::device_fill_fits(const Scene& scene, const SunDepthMap& map) const {
+    // An invocation's loop iterations at most: the column's vertices twice (cleared, then summed) and,
+    // for each sphere of the fullest grid cell, one plus the cells of the longest chord.
+    const std::vector<std::uint32_t>& starts = sun_light_->cell_start();
+    std::uint64_t fullest = 0;
+    for (std::size_t c = 0; c + 1 < starts.size(); ++c) fullest = std::max<std::uint64_t>(fullest, starts[c + 1] - starts[c]);
+    // The largest radius in the lattice: the outsized spheres are in no cell (a lookup adds them).
+    const std::vector<std::uint32_t>& outsized = sun_light_->outsized_indices();
+    double largest = 0.0;
+    for (std::size_t k = 0, next = 0; k < scene.spheres.size(); ++k) {
+        if (next < outsized.size() && outsized[next] == k) {
+            ++next;
+            continue;
+        }
+        largest = std::max(largest, scene.spheres[k].radius);
+    }
+    const double chord_cells = 2.0 * largest * map.inverse_cell() + 2.0;
+    const double iterations = 2.0 * double(map.size_s()) + double(fullest) * (1.0 + chord_cells);
+    // lavapipe ends a shader's loops after 65,535 iterations in all, silently (the resolves detect it,
+    // this fill could not): keep well inside. On a GPU a column that long would keep one thread busy
+    // for the whole frame (a map stretched far along the sun's rays by two distant spheres): the host's
+    // build takes it, with its work spread over the cells.
+    const bool cpu_device = device_.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    return iterations <= (cpu_device ? 60000.0 : 1.0e6);
 }
 
 bool FrameResources::record_sun_map_build(VkCommandBuffer cmd) const {

@@ -105,6 +105,9 @@ private:
     vk::UniquePipeline sun_map_pipeline_;  // shaders/sun_map_build.comp, where the device fills the map
     bool sun_map_on_device_ = false;
     bool sun_map_pending_ = false;  // this frame's map is planned, for the light pass to fill
+    // Whether the device's fill of this planned map keeps each invocation within its loop budget
+    // (lavapipe's, or a GPU's frame); else the host builds it.
+    bool device_fill_fits(const Scene& scene, const SunDepthMap& map) const;
     vk::Buffer uniform_buffer_;
     vk::Buffer sphere_buffer_;
     vk::Buffer box_buffer_;

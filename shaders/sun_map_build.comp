@@ -1,9 +1,9 @@
 #version 450
-// The accurate shadow technique's light-space depth map (render/sun_depth_map.h), built on the device in
-// the frame path's light pass (render/frame/frame_path.cpp record_shared_passes) where the CPU only
-// planned its lattice (SunDepthMap::plan): each invocation fills one column (i, j) of the lattice, the
-// vertices along s from the bottom (k = 0, below every sphere) to the top (k = ns - 1, at or above
-// every sphere), as the CPU's build does:
+// The accurate shadow technique's light-space depth map (render/sun_depth_map.h), built on the device
+// in the frame path's light pass (render/frame/sun_map_pass.h, from FramePath::record_shared_passes)
+// where the CPU only planned its lattice (SunDepthMap::plan): each invocation fills one column (i, j)
+// of the lattice, the vertices along s from the bottom (k = 0, below every sphere) to the top
+// (k = ns - 1, at or above every sphere), as the CPU's build does:
 //   depth(k) = sum over cells c >= k of inc(c),  inc(c) = sum over spheres of tau |[c, c + 1] ∩ chord|,
 // in lattice units (one unit a spacing, tau times the spacing per unit of chord). The spheres are those
 // that the sun grid's cell of the column lists (every sphere whose shadow disc covers the column; the

@@ -242,7 +242,7 @@ TEST_F(GpuLight, AccurateShadowsInsideAnAtmosphereMeetTheirTarget) {
 }
 
 // On a GPU the accurate technique's depth map is filled by the device in the frame path's light pass
-// (shaders/sun_map_build.comp; render/frame/frame_resources.h sun_map_on_device), where lavapipe takes
+// (shaders/sun_map_build.comp; render/frame/sun_map_pass.h SunMapPass::wanted_on), where lavapipe takes
 // the host's build. Forced onto lavapipe, the device's map gives ppll and tiles the images the host's
 // gives, to float rounding (it sums in float where the host sums in double), on the default scene, a
 // cloud over a lit ground, and puffs inside six outsized fog spheres (which no column holds: a lookup

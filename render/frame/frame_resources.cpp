@@ -2,7 +2,6 @@
 
 #include "opaque_boxes.frag.h"
 #include "opaque_boxes.vert.h"
-#include "sun_map_build.comp.h"
 #include "render/sun_depth_map.h"
 #include "render/sun_light.h"
 #include "render/vk/pipelines.h"
@@ -12,10 +11,8 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
-#include <string>
 
 namespace brume {
 
@@ -25,20 +22,6 @@ namespace {
 
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-// Where the accurate technique's depth map is filled (FrameResources::sun_map_on_device): on a GPU, by
-// the device in the light pass; on a CPU device (lavapipe) by the CPU's build, whose AVX2 splat and
-// sums are the faster code there. BRUME_SUN_MAP=device or =host overrides that (the tests hold the
-// device's build on lavapipe).
-bool fill_sun_map_on_device(const Device& device) {
-    if (const char* where = std::getenv("BRUME_SUN_MAP")) {
-        const std::string w = where;
-        if (w == "device") return true;
-        if (w == "host") return false;
-        throw std::invalid_argument("BRUME_SUN_MAP='" + w + "': 'device' or 'host'");
-    }
-    return device.properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
 }
 
 }  // namespace
@@ -52,10 +35,7 @@ FrameResources::FrameResources(const Device& device) : device_(device), descript
     desc.depth_format = kDepthFormat;
     desc.depth_compare = VK_COMPARE_OP_GREATER;  // depth = 1/(1+t): nearer is larger
     opaque_pipeline_ = create_graphics_pipeline(device, descriptors_.pipeline_layout(), desc);
-    sun_map_on_device_ = fill_sun_map_on_device(device);
-    if (sun_map_on_device_)
-        sun_map_pipeline_ = create_compute_pipeline(device, descriptors_.pipeline_layout(), "sun_map_build",
-                                                    BRUME_SPIRV(spv_sun_map_build_comp));
+    if (SunMapPass::wanted_on(device)) sun_map_pass_.emplace(device, descriptors_);
     uniform_buffer_ = Buffer(device, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                              MemoryUse::Upload, "frame.uniforms");
 }
@@ -213,10 +193,10 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     SunDepthMap& map = sun_depth_map_;
     // On the device only its lattice here (record_sun_map_build fills it); on the host the whole
     // map, in the last frame's memory.
-    bool fill_on_device = sun_map_on_device_;
+    bool fill_on_device = sun_map_pass_.has_value();
     if (fill_on_device) {
         map.plan(scene, *sun_light_, scene.camera.position);
-        fill_on_device = map.planned() && device_fill_fits(scene, map);
+        fill_on_device = map.planned() && sun_map_pass_->fits(scene, *sun_light_, map);
     }
     if (!fill_on_device) map.build(scene, *sun_light_, scene.camera.position, 0);
     if (fill_on_device ? !map.planned() : map.empty()) {
@@ -240,46 +220,9 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     light_prep_.sun_map_ms = ms_since(start);
 }
 
-bool FrameResources::device_fill_fits(const Scene& scene, const SunDepthMap& map) const {
-    // An invocation's loop iterations at most: the column's vertices twice (cleared, then summed) and,
-    // for each sphere of the fullest grid cell, one plus the cells of the longest chord.
-    const std::vector<std::uint32_t>& starts = sun_light_->cell_start();
-    std::uint64_t fullest = 0;
-    for (std::size_t c = 0; c + 1 < starts.size(); ++c) fullest = std::max<std::uint64_t>(fullest, starts[c + 1] - starts[c]);
-    // The largest radius in the lattice: the outsized spheres are in no cell (a lookup adds them).
-    const std::vector<std::uint32_t>& outsized = sun_light_->outsized_indices();
-    double largest = 0.0;
-    for (std::size_t k = 0, next = 0; k < scene.spheres.size(); ++k) {
-        if (next < outsized.size() && outsized[next] == k) {
-            ++next;
-            continue;
-        }
-        largest = std::max(largest, scene.spheres[k].radius);
-    }
-    const double chord_cells = 2.0 * largest * map.inverse_cell() + 2.0;
-    const double iterations = 2.0 * double(map.size_s()) + double(fullest) * (1.0 + chord_cells);
-    // lavapipe ends a shader's loops after 65,535 iterations in all, silently (the resolves detect it,
-    // this fill could not): keep well inside. On a GPU a column that long would keep one thread busy
-    // for the whole frame (a map stretched far along the sun's rays by two distant spheres): the host's
-    // build takes it, with its work spread over the cells.
-    const bool cpu_device = device_.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-    return iterations <= (cpu_device ? 60000.0 : 1.0e6);
-}
-
 bool FrameResources::record_sun_map_build(VkCommandBuffer cmd) const {
     if (!sun_map_pending_) return false;
-    const SunDepthMap& map = sun_depth_map_;
-    const std::uint64_t columns = std::uint64_t(map.size_u()) * std::uint64_t(map.size_v());
-    // An invocation a column, 64 a group; the shader strides over any beyond the groups' limit.
-    const std::uint32_t groups = std::uint32_t(std::min<std::uint64_t>(
-        (columns + 63) / 64, std::min<std::uint64_t>(device_.properties().limits.maxComputeWorkGroupCount[0], 65535)));
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, sun_map_pipeline_.get());
-    descriptors_.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE);
-    vkCmdDispatch(cmd, groups, 1, 1);
-    // The resolves read it: ppll's fragment shader, tiles' compute shader.
-    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    sun_map_pass_->record(cmd, descriptors_, sun_depth_map_);
     return true;
 }
 

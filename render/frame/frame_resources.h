@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "render/frame/sun_map_pass.h"
 #include "render/image.h"
 #include "render/sun_depth_map.h"
 #include "render/vk/descriptors.h"
@@ -16,6 +17,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 
 namespace brume {
@@ -37,9 +39,9 @@ public:
     // builds it only for the methods that read it: FrameContext::need_sun_depth_map).
     void ensure_sun_depth_map(const Scene& scene);
     // Where the depth map is filled: on a GPU by the device (the frame path's light pass records
-    // record_sun_map_build, shaders/sun_map_build.comp, after the CPU planned its lattice); on a CPU
+    // record_sun_map_build, render/frame/sun_map_pass.h, after the CPU planned its lattice); on a CPU
     // device by the host's build, which is faster there. BRUME_SUN_MAP=device|host overrides it.
-    bool sun_map_on_device() const { return sun_map_on_device_; }
+    bool sun_map_on_device() const { return sun_map_pass_.has_value(); }
     // Records the device's fill of this frame's map and the barrier before the resolves that read it;
     // false (nothing recorded) where the host built it or there is none.
     bool record_sun_map_build(VkCommandBuffer cmd) const;
@@ -102,12 +104,8 @@ private:
     const vk::Device& device_;
     vk::SharedDescriptors descriptors_;  // the opaque pass's own set: the frame bindings only
     vk::UniquePipeline opaque_pipeline_;
-    vk::UniquePipeline sun_map_pipeline_;  // shaders/sun_map_build.comp, where the device fills the map
-    bool sun_map_on_device_ = false;
+    std::optional<SunMapPass> sun_map_pass_;  // where the device fills the map (SunMapPass::wanted_on)
     bool sun_map_pending_ = false;  // this frame's map is planned, for the light pass to fill
-    // Whether the device's fill of this planned map keeps each invocation within its loop budget
-    // (lavapipe's, or a GPU's frame); else the host builds it.
-    bool device_fill_fits(const Scene& scene, const SunDepthMap& map) const;
     vk::Buffer uniform_buffer_;
     vk::Buffer sphere_buffer_;
     vk::Buffer box_buffer_;

@@ -2,12 +2,15 @@
 //   1. upload the scene (FrameResources);
 //   2. the method's prepare(), then the frame's bindings written into the method's set;
 //   3. the shared passes, recorded before any method pass: the opaque pass, then the light pass
-//      slot (record_shared_passes; a shadow map or sun-transmittance pass goes there);
+//      slot (record_shared_passes: on a GPU the accurate shadows' depth map is filled there,
+//      render/frame/sun_map_pass.h);
 //   4. the method's steps, each submitted and waited for, with the overflow loop (a method may ask
 //      for the whole frame again, as ppll does when its pool regrows);
 //   5. the pixels: read back into an Image (render, play, bench), or left in the sampled HDR target
 //      for a Presenter that draws it into a window;
-//   6. the same FrameStats for every method: GPU time per named pass, regrows, the method's figures.
+//   6. the same FrameStats for every method: GPU time per named pass, the CPU work those passes
+//      waited for as "(cpu)" passes (the light's preparation, a method's sort), regrows, the
+//      method's figures.
 // Submissions go through a ring of frame slots (render/vk/frame_ring.h), so a presented frame can
 // still be on its way to the screen while the next one is recorded.
 #pragma once

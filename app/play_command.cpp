@@ -155,13 +155,16 @@ int run_play(const PlayArgs& args) {
     const fs::path base = existing_ancestor(dir);
     if (!fs::is_directory(base, ec))
         throw std::runtime_error("cannot create output directory " + dir.string() + ": " + base.string() + " is not a directory");
-    check_writable_path(base / "probe");
+    check_writable_directory(base);
     if (!args.video.empty()) {
         check_video_name(args.video);
         // A video inside the frames folder is checked where that folder will be made.
         const fs::path video_dir = fs::path(args.video).parent_path();
         const bool in_frames_dir = video_dir.lexically_normal() == dir.lexically_normal() && !fs::exists(dir, ec);
-        check_writable_path(in_frames_dir ? base / "probe" : fs::path(args.video));
+        if (in_frames_dir)
+            check_writable_directory(base);
+        else
+            check_writable_path(args.video);
         check_outputs_distinct({{"--video", args.video}}, {{"the preset", args.preset}});
         if (ffmpeg_version().empty())
             throw std::runtime_error("--video needs the ffmpeg command, which is not installed "

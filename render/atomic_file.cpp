@@ -229,4 +229,13 @@ void check_writable_path(const fs::path& path) {
     if (::access(dir.c_str(), W_OK) != 0) fail_write(path, "directory " + dir.string() + ": " + os_reason(errno));
 }
 
+void check_writable_directory(const fs::path& dir) {
+    std::error_code ec;
+    if (!fs::exists(dir, ec)) throw FileWriteError("cannot write into " + dir.string() + ": it does not exist");
+    if (!fs::is_directory(dir, ec)) throw FileWriteError("cannot write into " + dir.string() + ": not a directory");
+    // Creating a file needs both: write to add the name, search to reach it.
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+        throw FileWriteError("cannot write into directory " + dir.string() + ": " + os_reason(errno));
+}
+
 }  // namespace brume

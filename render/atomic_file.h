@@ -66,6 +66,12 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view b
 // refuse before it writes its first output. Throws FileWriteError naming the path.
 void check_writable_path(const std::filesystem::path& path);
 
+// Checks that files could be created in `dir`, an existing directory (it is one, and this process
+// may write into it), without touching anything: for a command whose outputs' names come later
+// (`play`'s frames). Not check_writable_path(dir / "some-name"), which refuses where that name
+// happens to be a directory. Throws FileWriteError naming the directory.
+void check_writable_directory(const std::filesystem::path& dir);
+
 // Removes the temporary files that killed runs left beside `path` (".NAME.tmp-*" whose writer no
 // longer holds its lock). Called by every StagedFile; exposed for the video encoder's temporary.
 void remove_stale_temporaries(const std::filesystem::path& path);

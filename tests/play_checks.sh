@@ -121,6 +121,24 @@ if [ "$rc" -ne 0 ] && grep -q "frames" bad.log && [ ! -e bad/crossing.0005.png ]
 rc=$?
 if [ "$rc" -ne 0 ] && grep -q "plume" bad2.log; then ok bad.unknown_preset_lists_names; else fail bad.unknown_preset_lists_names "rc $rc: $(tail -1 bad2.log)"; fi
 
+# An output folder, or the folder it is made in, may hold anything, a directory named "probe" included:
+# the check before the first frame once asked whether a made-up file of that name could be written.
+mkdir -p holder/probe parent/probe
+"$brume" play crossing -o holder --frames 0 --size 16x12 >holder.log 2>&1
+rc1=$?
+"$brume" play crossing -o parent/new --frames 0 --size 16x12 >parent.log 2>&1
+rc2=$?
+if [ "$rc1" -ne 0 ] || [ ! -s holder/crossing.0000.png ] || [ ! -d holder/probe ]; then
+    fail folder_holding_probe "rc $rc1: $(tail -1 holder.log)"
+elif [ "$rc2" -ne 0 ] || [ ! -s parent/new/crossing.0000.png ]; then
+    fail folder_holding_probe "a new folder beside it, rc $rc2: $(tail -1 parent.log)"
+else ok folder_holding_probe; fi
+# A folder that cannot be made (its would-be parent is a file) is refused before any work.
+: >afile
+"$brume" play crossing -o afile/out --frames 0 --size 16x12 >afile.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && grep -q "afile is not a directory" afile.log; then ok bad.output_under_a_file; else fail bad.output_under_a_file "rc $rc: $(tail -1 afile.log)"; fi
+
 # SIGHUP (a closed terminal) ends a run as SIGINT does: the frame in progress is finished, exit 130
 # (issue 14 item 13; it used to kill at once).
 "$brume" play plume -o hup --size 64x48 --format png,exr >hup.log 2>&1 &

@@ -112,6 +112,35 @@ TEST_F(AtomicFile, RefusesToReplaceADirectoryOrASocket) {
     EXPECT_TRUE(fs::is_directory(dir_ / "d"));
 }
 
+// `play` checks its output folder before the first frame. The check once asked whether a made-up
+// file "probe" in it could be written, and so refused any folder that held a directory of that name.
+TEST_F(AtomicFile, ADirectoryIsWritableWhateverNamesItHolds) {
+    fs::create_directories(dir_ / "probe");
+    fs::create_directories(dir_ / "d");
+    put(dir_ / "plume.0000.png", "x");
+    EXPECT_NO_THROW(check_writable_directory(dir_));
+    put(dir_ / "f", "x");
+    try {
+        check_writable_directory(dir_ / "f");
+        ADD_FAILURE() << "a regular file passed as a directory";
+    } catch (const FileWriteError& e) {
+        EXPECT_NE(std::string(e.what()).find("not a directory"), std::string::npos) << e.what();
+    }
+    try {
+        check_writable_directory(dir_ / "missing");
+        ADD_FAILURE() << "a missing directory passed";
+    } catch (const FileWriteError& e) {
+        EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what();
+    }
+    // A folder this process may not write into (root may write anywhere, so only as another user).
+    if (::geteuid() != 0) {
+        fs::permissions(dir_ / "d", fs::perms::owner_read | fs::perms::owner_exec);
+        EXPECT_THROW(check_writable_directory(dir_ / "d"), FileWriteError);
+        fs::permissions(dir_ / "d", fs::perms::owner_all);
+    }
+    EXPECT_EQ(listing(), "d f plume.0000.png probe ");  // nothing created, nothing removed
+}
+
 TEST_F(AtomicFile, RemovesTemporariesOfKilledRunsButNotOfLiveOnes) {
     put(dir_ / "out.exr", "old");
     put(dir_ / ".out.exr.tmp-0badf00d", "left by a killed run");  // nobody holds its lock

@@ -156,6 +156,13 @@ int run_play(const PlayArgs& args) {
     if (!fs::is_directory(base, ec))
         throw std::runtime_error("cannot create output directory " + dir.string() + ": " + base.string() + " is not a directory");
     check_writable_directory(base);
+    // In a folder that exists already, each frame's own name too: one that is a directory (or a
+    // socket) is refused now, not after the frames before it.
+    if (base == dir)
+        for (int frame = range.first; frame <= range.last; ++frame) {
+            if (png) check_writable_path(frame_path(dir, preset.name, frame, "png"));
+            if (exr) check_writable_path(frame_path(dir, preset.name, frame, "exr"));
+        }
     if (!args.video.empty()) {
         check_video_name(args.video);
         // A video inside the frames folder is checked where that folder will be made.

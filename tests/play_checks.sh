@@ -139,6 +139,15 @@ else ok folder_holding_probe; fi
 rc=$?
 if [ "$rc" -ne 0 ] && grep -q "afile is not a directory" afile.log; then ok bad.output_under_a_file; else fail bad.output_under_a_file "rc $rc: $(tail -1 afile.log)"; fi
 
+# A frame's name that is taken by a directory is refused before the first frame, not after the frames
+# before it.
+mkdir -p taken/crossing.0001.png
+"$brume" play crossing -o taken --frames 0-2 --size 16x12 >taken.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && grep -q "taken/crossing.0001.png: it is a directory" taken.log && [ ! -e taken/crossing.0000.png ]; then
+    ok bad.frame_name_taken
+else fail bad.frame_name_taken "rc $rc, holds: $(ls -A taken | tr '\n' ' '): $(tail -1 taken.log)"; fi
+
 # SIGHUP (a closed terminal) ends a run as SIGINT does: the frame in progress is finished, exit 130
 # (issue 14 item 13; it used to kill at once).
 "$brume" play plume -o hup --size 64x48 --format png,exr >hup.log 2>&1 &

@@ -1,6 +1,7 @@
 #include "app/vdb_command.h"
 
 #include "app/cli_util.h"
+#include "app/output_paths.h"
 
 #include "render/atomic_file.h"
 #include "sim/builtin_presets.h"
@@ -102,6 +103,7 @@ int run_vdb_info(const VdbInfoArgs& args) {
 
 int run_vdb_import(const VdbImportArgs& args) {
     check_writable_path(args.output);  // refuse before the work, and write nothing on failure
+    check_outputs_distinct({{"-o", args.output}}, {{"the VDB file", args.file}});
     SphereCloudOptions options;
     options.tolerance = args.tolerance;
     options.max_spheres = args.max_spheres;
@@ -162,6 +164,7 @@ int run_vdb_import(const VdbImportArgs& args) {
 
 int run_vdb_export(const VdbExportArgs& args) {
     check_writable_path(args.output);  // refuse before the work, and write nothing on failure
+    check_outputs_distinct({{"-o", args.output}}, {{"the preset", args.input}});  // a built-in name is no file
     Preset preset = resolve_preset(args.input);
     // A document without emitters (a scene file, a static preset) is the same at every frame: its spheres.
     const bool animated = !preset.emitters.empty();

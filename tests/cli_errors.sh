@@ -796,6 +796,14 @@ run play "$od/preset.toml" --frames 0 --size 8x6 -o "$od/pv" --video "$od/preset
 expect_line output.video_over_preset_link 2 "--video $od/preset_link.mkv would overwrite the preset $od/preset.toml: name another output file" &&
     [ "$(cksum <"$od/preset.toml")" = "$preset_sum" ] && [ -L "$od/preset_link.mkv" ] && [ ! -e "$od/pv" ] &&
     ok output.video_over_preset_link
+# vdb-import's scene onto its own VDB file, and vdb-export's grid onto its preset file: refused, the
+# input untouched (both replaced their input before).
+run vdb-import "$od/fog.vdb" -o "$od/fog.vdb"
+expect_line output.import_over_vdb 2 "-o $od/fog.vdb would overwrite the VDB file $od/fog.vdb: name another output file" &&
+    [ "$(cksum <"$od/fog.vdb")" = "$vdb_sum" ] && ok output.import_over_vdb
+run vdb-export "$od/preset.toml" --frame 0 -o "$od/preset_hard.mp4"
+expect_line output.export_over_preset 2 "-o $od/preset_hard.mp4 would overwrite the preset $od/preset.toml: name another output file" &&
+    [ "$(cksum <"$od/preset.toml")" = "$preset_sum" ] && ok output.export_over_preset
 # An empty path is a command-line error, not "use the defaults" (which wrote brume.exr and brume.png here).
 (cd "$od/real" && "$brume" render "$data/small.toml" "${small[@]}" -o "" >"$out" 2>"$err"; echo $? >"$od/rc")
 rc=$(cat "$od/rc")

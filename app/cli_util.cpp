@@ -72,10 +72,14 @@ void check_output_format(const std::string& option, const std::string& path, con
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (ext.empty() || ext == extension) return;
-    const char* format = extension == ".exr" ? "linear OpenEXR" : "PNG";
-    throw UsageError(option + " " + path + ": " + option + " writes " + format + ", but the name ends in " +
-                                ext + "; name it " + extension +
-                                (extension == ".exr" ? " (--png writes PNG)" : " (-o writes OpenEXR)"));
+    // What each extension's writer writes, and the other option that writes what the name says.
+    const char* format = extension == ".exr"   ? "linear OpenEXR"
+                         : extension == ".png" ? "PNG"
+                         : extension == ".vdb" ? "an OpenVDB file"
+                                               : "a scene (TOML)";
+    const char* other = extension == ".exr" ? " (--png writes PNG)" : extension == ".png" ? " (-o writes OpenEXR)" : "";
+    throw UsageError(option + " " + path + ": " + option + " writes " + format + ", but the name ends in " + ext +
+                     "; name it " + extension + other);
 }
 
 void refuse_non_finite(const Image& image, const std::string& what) {

@@ -40,8 +40,8 @@ void parse_size(const std::string& text, int& width, int& height);
 // not one or does not fit in 64 bits: "4294967328" stays 4294967328, never wraps to 32.
 std::optional<long long> parse_whole_number(std::string_view text);
 // Refuses an output path whose extension names another format than the one `option` writes
-// (`-o out.png` would otherwise be OpenEXR bytes in a .png file). `extension` is ".exr" or ".png";
-// a path without an extension is taken as it is.
+// (`-o out.png` would otherwise be OpenEXR bytes in a .png file). `extension` is ".exr", ".png",
+// ".vdb" or ".toml"; a path without an extension (/dev/null, a pipe) is taken as it is.
 void check_output_format(const std::string& option, const std::string& path, const std::string& extension);
 // A result that may be wrong is never written: throws std::runtime_error naming how many pixels of
 // `what` are NaN or infinite and where the first is.

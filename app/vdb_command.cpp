@@ -102,6 +102,7 @@ int run_vdb_info(const VdbInfoArgs& args) {
 }
 
 int run_vdb_import(const VdbImportArgs& args) {
+    check_output_format("-o", args.output, ".toml");
     check_writable_path(args.output);  // refuse before the work, and write nothing on failure
     check_outputs_distinct({{"-o", args.output}}, {{"the VDB file", args.file}});
     SphereCloudOptions options;
@@ -163,6 +164,7 @@ int run_vdb_import(const VdbImportArgs& args) {
 }
 
 int run_vdb_export(const VdbExportArgs& args) {
+    check_output_format("-o", args.output, ".vdb");
     check_writable_path(args.output);  // refuse before the work, and write nothing on failure
     check_outputs_distinct({{"-o", args.output}}, {{"the preset", args.input}});  // a built-in name is no file
     Preset preset = resolve_preset(args.input);
@@ -221,6 +223,7 @@ int run_vdb_sample(const VdbSampleArgs& args) {
     if (args.name.empty()) throw std::invalid_argument("vdb-sample needs a NAME: one of " + names + " (or --list)");
     if (!known) throw std::invalid_argument("no sample volume named \"" + args.name + "\" (there are: " + names + ")");
     if (args.output.empty()) throw std::invalid_argument("vdb-sample needs -o OUT.vdb");
+    check_output_format("-o", args.output, ".vdb");
     check_writable_path(args.output);
     const std::string bytes = encode_sample_volume_vdb(args.name, args.resolution);
     write_file_atomically(args.output, bytes);

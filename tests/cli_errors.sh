@@ -796,14 +796,27 @@ run play "$od/preset.toml" --frames 0 --size 8x6 -o "$od/pv" --video "$od/preset
 expect_line output.video_over_preset_link 2 "--video $od/preset_link.mkv would overwrite the preset $od/preset.toml: name another output file" &&
     [ "$(cksum <"$od/preset.toml")" = "$preset_sum" ] && [ -L "$od/preset_link.mkv" ] && [ ! -e "$od/pv" ] &&
     ok output.video_over_preset_link
-# vdb-import's scene onto its own VDB file, and vdb-export's grid onto its preset file: refused, the
-# input untouched (both replaced their input before).
-run vdb-import "$od/fog.vdb" -o "$od/fog.vdb"
-expect_line output.import_over_vdb 2 "-o $od/fog.vdb would overwrite the VDB file $od/fog.vdb: name another output file" &&
+# vdb-import's scene onto its own VDB file, and vdb-export's grid onto its preset file, through hard
+# links named as their outputs: refused, the input untouched (both replaced their input before).
+ln "$od/fog.vdb" "$od/fog_hard.toml"
+run vdb-import "$od/fog.vdb" -o "$od/fog_hard.toml"
+expect_line output.import_over_vdb 2 "-o $od/fog_hard.toml would overwrite the VDB file $od/fog.vdb: name another output file" &&
     [ "$(cksum <"$od/fog.vdb")" = "$vdb_sum" ] && ok output.import_over_vdb
-run vdb-export "$od/preset.toml" --frame 0 -o "$od/preset_hard.mp4"
-expect_line output.export_over_preset 2 "-o $od/preset_hard.mp4 would overwrite the preset $od/preset.toml: name another output file" &&
+ln "$od/preset.toml" "$od/preset_hard.vdb"
+run vdb-export "$od/preset.toml" --frame 0 -o "$od/preset_hard.vdb"
+expect_line output.export_over_preset 2 "-o $od/preset_hard.vdb would overwrite the preset $od/preset.toml: name another output file" &&
     [ "$(cksum <"$od/preset.toml")" = "$preset_sum" ] && ok output.export_over_preset
+# An output named as another format than its command writes is refused, as render's -o x.png is:
+# vdb-import f.vdb -o f.vdb would have written a scene over the grid.
+run vdb-import "$od/fog.vdb" -o "$od/fog.vdb"
+expect_line output.import_named_vdb 2 "-o $od/fog.vdb: -o writes a scene (TOML), but the name ends in .vdb; name it .toml" &&
+    [ "$(cksum <"$od/fog.vdb")" = "$vdb_sum" ] && ok output.import_named_vdb
+run vdb-export "$od/preset.toml" --frame 0 -o "$od/grid.toml"
+expect_line output.export_named_toml 2 "-o $od/grid.toml: -o writes an OpenVDB file, but the name ends in .toml; name it .vdb" &&
+    [ ! -e "$od/grid.toml" ] && ok output.export_named_toml
+run vdb-sample cloud -o "$od/cloud.exr"
+expect_line output.sample_named_exr 2 "-o $od/cloud.exr: -o writes an OpenVDB file, but the name ends in .exr; name it .vdb" &&
+    [ ! -e "$od/cloud.exr" ] && ok output.sample_named_exr
 # An empty path is a command-line error, not "use the defaults" (which wrote brume.exr and brume.png here).
 (cd "$od/real" && "$brume" render "$data/small.toml" "${small[@]}" -o "" >"$out" 2>"$err"; echo $? >"$od/rc")
 rc=$(cat "$od/rc")

@@ -172,19 +172,21 @@ void add_bench_methods_options(CLI::App& cmd, BenchArgs& args) {
 int run_bench_methods(const BenchArgs& args) {
     int w = 160, h = 120;
     if (!args.size.empty()) parse_size(args.size, w, h);
+    // A bad spec is refused before the output folder is made or the device opened.
+    const std::vector<std::string> specs = args.methods.empty() ? bench_method_specs() : split_commas(args.methods);
+    for (const std::string& spec : specs) check_method_usage(spec, 0);
     const fs::path dir = args.output_dir.empty() ? fs::path("bench") : fs::path(args.output_dir);
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
     check_writable_path(dir / "results.csv");
 
-    const std::vector<std::string> specs = args.methods.empty() ? bench_method_specs() : split_commas(args.methods);
     const std::vector<BenchScene> scenes = make_scenes(split_commas(args.scenes), args.anim_frames, w, h);
     vk::DeviceOptions device_options;
     device_options.device_name = args.device;
     device_options.validate = args.validate;
     vk::Device device(device_options);
-    // Build every method first so a bad spec fails before any work.
+    // Build every method first, so that a method the device refuses fails before any work.
     std::vector<std::unique_ptr<Method>> methods;
     for (const std::string& spec : specs) methods.push_back(make_method(&device, spec));
 

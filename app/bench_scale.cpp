@@ -115,7 +115,7 @@ int run_bench_scale(const BenchArgs& args) {
         counts.push_back(std::size_t(n));
     }
     const std::vector<std::string> specs = args.methods.empty() ? default_scale_methods() : split_list(args.methods);
-    for (const std::string& spec : specs) find_method(spec);  // names an unknown method before any work
+    for (const std::string& spec : specs) check_method_usage(spec, 0);  // a bad spec is refused before any work
 
     vk::DeviceOptions device_options;
     device_options.device_name = args.device;

@@ -95,6 +95,7 @@ void refuse_non_finite(const Image& image, const std::string& what) {
 
 void check_method_usage(const std::string& method, unsigned given_options) {
     try {
+        check_method_spec(method);
         check_method_options(method, given_options);
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());

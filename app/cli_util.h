@@ -29,7 +29,8 @@ public:
     using std::invalid_argument::invalid_argument;
 };
 
-// The method checks of the registry (an unknown name, an option the method ignores) as UsageError.
+// The method checks of the registry (an unknown name, a bad setting, an option the method ignores) as
+// UsageError.
 void check_method_usage(const std::string& method, unsigned given_options);
 
 // "512M", "2G", "1.5GiB", "1000000" -> bytes. Throws std::invalid_argument naming the text.

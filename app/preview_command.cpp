@@ -137,6 +137,7 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
         options.max_pool_bytes = parse_bytes(args.max_memory);
         given |= kHonoursMaxMemory;
     }
+    check_method_spec(method);
     check_method_options(method, given);
     if (!find_method(method).needs_device)
         throw std::invalid_argument("--method " + method + " runs on the CPU; the preview shows GPU methods "

@@ -896,6 +896,16 @@ run render "$data/small.toml" --size abc -o never.exr
 expect_error usage.status_size "abc" && [ "$rc" -eq 2 ] && ok usage.status_size || echo "  (status $rc)"
 run render "$data/small.toml" --method magic -o never.exr
 expect_error usage.status_method "magic" && [ "$rc" -eq 2 ] && ok usage.status_method || echo "  (status $rc)"
+# A setting its method refuses is a command-line error too, found before the device is opened (the device
+# named here does not exist, and it is not what the error names); bench refuses it before making its folder.
+for spec in kbuf:0 peel:dual:x stochastic:3 screendoor:9 ppll:4; do
+    run render "$data/small.toml" --method "$spec" --device no-such-device -o never.exr
+    expect_error "usage.status_setting_$spec" "${spec%%:*}" && [ "$rc" -eq 2 ] && ! grep -q "no-such-device" "$err" &&
+        ok "usage.status_setting_$spec" || echo "  (status $rc: $(first_err))"
+done
+run bench methods --methods sorted,kbuf:99 -o "$work/bench_bad_spec"
+expect_error usage.bench_bad_setting "kbuf" && [ "$rc" -eq 2 ] && [ ! -e "$work/bench_bad_spec" ] &&
+    ok usage.bench_bad_setting || echo "  (status $rc)"
 # A name whose extension contradicts its option is a command-line error too (status 2), refused before any work.
 run render "$data/small.toml" --size 8x6 -o status_fmt.png
 expect_line usage.status_exr_as_png 2 "-o status_fmt.png: -o writes linear OpenEXR, but the name ends in .png; name it .exr (--png writes PNG)" &&

@@ -70,6 +70,29 @@ TEST(MethodRegistry, SettingsAreCheckedBeforeAnyDeviceIsNeeded) {
     EXPECT_EQ(reference->gpu(), nullptr);  // runs on the CPU, not through the frame path
 }
 
+// check_method_spec refuses what the factories would, without a device: every method with a setting
+// has its check, every setting brume bench sweeps passes it, and bad ones name their method.
+TEST(MethodRegistry, ASpecsSettingIsCheckedWithoutADevice) {
+    for (const MethodEntry& m : method_catalogue()) {
+        EXPECT_EQ(m.setting.empty(), m.check_setting == nullptr) << m.name;
+        EXPECT_NO_THROW(check_method_spec(m.name)) << m.name;
+        for (const std::string& s : m.bench_settings) EXPECT_NO_THROW(check_method_spec(m.name + ":" + s)) << s;
+        if (!m.setting.empty()) {
+            EXPECT_NO_THROW(check_method_spec(m.name + ":" + m.default_setting)) << m.name;
+        }
+    }
+    for (const char* bad : {"kbuf:0", "kbuf:33", "kbuf:x", "peel:0", "peel:65", "peel:dual:x", "stochastic:3",
+                            "stochastic:128", "stochastic:8,foo", "screendoor:0", "screendoor:9", "ppll:4", "magic"}) {
+        try {
+            check_method_spec(bad);
+            ADD_FAILURE() << bad << " was accepted";
+        } catch (const std::invalid_argument& e) {
+            const std::string name = std::string(bad).substr(0, std::string(bad).find(':'));
+            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(MethodRegistry, BenchSweepsEveryMethodButTheReference) {
     const std::vector<std::string> specs = bench_method_specs();
     std::size_t expected = 0;

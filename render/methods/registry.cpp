@@ -65,6 +65,12 @@ std::unique_ptr<Method> make_reference(vk::Device*, const std::string&, const Me
     return std::make_unique<ReferenceMethod>(options.threads);
 }
 
+// The setting checks (MethodEntry::check_setting): each method's own parser, its result dropped.
+void check_kbuf(const std::string& setting) { (void)parse_kbuf_setting(setting); }
+void check_peel(const std::string& setting) { (void)parse_peel_setting(setting); }
+void check_stochastic(const std::string& setting) { (void)parse_stochastic_setting(setting); }
+void check_screendoor(const std::string& setting) { (void)parse_screendoor_setting(setting); }
+
 std::string option_names(unsigned bits) {
     std::string out;
     if (bits & kHonoursMaxMemory) out += "--max-memory/--pool-nodes";
@@ -111,17 +117,17 @@ const std::vector<MethodEntry>& method_catalogue() {
         {"wboit", "", "", "weighted blended OIT (McGuire & Bavoil 2013, eq. 9 depth weight)", true, false, false, 0,
          {}, &gpu_method<make_wboit_method>},
         {"kbuf", "k", "8", "k nearest spheres per pixel (FreePipe / k-buffer, k = 1..32), tail as one averaged layer",
-         true, false, false, 0, {"4", "16"}, &gpu_method<make_kbuf_method>},
+         true, false, false, 0, {"4", "16"}, &gpu_method<make_kbuf_method>, &check_kbuf},
         {"peel", "N|dual:N", "8",
          "depth peeling: N geometry passes front to back (1..64), or dual:N peeling a front and a back layer per "
          "pass; layers beyond as one slab",
-         true, false, false, 0, {"4", "16", "dual:8"}, &gpu_method<make_peel_method>},
+         true, false, false, 0, {"4", "16", "dual:8"}, &gpu_method<make_peel_method>, &check_peel},
         {"stochastic", "S[,plain|,depth]", "8",
          "stochastic transparency with S samples per pixel (power of two, 1..64), alpha-corrected unless ',plain'; "
          "',depth': depth-based visibility (Enderton et al.)",
-         true, false, false, 0, {"4", "16", "8,depth"}, &gpu_method<make_stochastic_method>},
+         true, false, false, 0, {"4", "16", "8,depth"}, &gpu_method<make_stochastic_method>, &check_stochastic},
         {"screendoor", "S", "4", "object-space screen-door transparency with S x S supersampling (S = 1..8)", true,
-         false, false, 0, {"2"}, &gpu_method<make_screendoor_method>},
+         false, false, 0, {"2"}, &gpu_method<make_screendoor_method>, &check_screendoor},
     };
     return catalogue;
 }
@@ -135,14 +141,28 @@ const MethodEntry& find_method(const std::string& spec) {
     throw std::invalid_argument("unknown method '" + name + "'; known: " + known);
 }
 
-std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec, const MethodOptions& options) {
-    const MethodEntry& entry = find_method(spec);
+namespace {
+
+std::string setting_of(const std::string& spec) {
     const std::size_t colon = spec.find(':');
-    const std::string setting = colon == std::string::npos ? "" : spec.substr(colon + 1);
+    return colon == std::string::npos ? "" : spec.substr(colon + 1);
+}
+
+}  // namespace
+
+void check_method_spec(const std::string& spec) {
+    const MethodEntry& entry = find_method(spec);
+    const std::string setting = setting_of(spec);
     if (!setting.empty() && entry.setting.empty())
         throw std::invalid_argument("method '" + entry.name + "' takes no setting (got ':" + setting + "')");
+    if (entry.check_setting) entry.check_setting(setting);
+}
+
+std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec, const MethodOptions& options) {
+    check_method_spec(spec);
+    const MethodEntry& entry = find_method(spec);
     if (entry.needs_device && !device) throw std::invalid_argument("method '" + entry.name + "' needs a Vulkan device");
-    return entry.make(device, setting, options);
+    return entry.make(device, setting_of(spec), options);
 }
 
 void check_method_options(const std::string& spec, unsigned given) {

@@ -42,6 +42,11 @@ struct MethodEntry {
     // Settings `brume bench` renders besides the default, to show a trade-off.
     std::vector<std::string> bench_settings;
     Factory make = nullptr;
+    // Parses a setting as the factory will, without a device, throwing std::invalid_argument where it
+    // would; null for a method that takes none. So a bad `kbuf:0` is refused as a command-line error
+    // before the (slow) device is made, not by the factory after it.
+    using SettingCheck = void (*)(const std::string& setting);
+    SettingCheck check_setting = nullptr;
 };
 
 // Every method, in charting order.
@@ -51,6 +56,9 @@ const MethodEntry& find_method(const std::string& spec);
 // "ppll", "reference", "kbuf:8", ... Throws std::invalid_argument naming the method or setting and
 // listing the known ones. `device` may be null only for methods that need no GPU.
 std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec, const MethodOptions& options = {});
+// Throws std::invalid_argument when `spec` names no method, gives a setting to a method that takes
+// none, or a setting its method refuses: everything make_method would refuse but the device.
+void check_method_spec(const std::string& spec);
 // Throws std::invalid_argument when an option was given (`given`, MethodOptionBits) that the method
 // of `spec` does not honour, naming the option and the methods that do.
 void check_method_options(const std::string& spec, unsigned given);

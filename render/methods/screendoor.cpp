@@ -127,18 +127,20 @@ void ScreendoorMethod::report(FrameStats& stats, const FrameContext&) {
     stats.memory_bytes = target_bytes(samples_, extent_.width, extent_.height);
 }
 
+int parse_screendoor_setting(const std::string& setting) {
+    if (setting.empty()) return ScreendoorMethod::kDefaultSamples;
+    const bool digits = setting.size() <= 2 && std::all_of(setting.begin(), setting.end(), [](char c) {
+                            return c >= '0' && c <= '9';
+                        });
+    const int samples = digits ? std::stoi(setting) : 0;
+    if (samples < 1 || samples > ScreendoorMethod::kMaxSamples)
+        throw std::invalid_argument("method 'screendoor' takes S, sub-samples per pixel along each axis, 1.." +
+                                    std::to_string(ScreendoorMethod::kMaxSamples) + " (got ':" + setting + "')");
+    return samples;
+}
+
 std::unique_ptr<Method> make_screendoor_method(Device& device, const std::string& setting) {
-    int samples = ScreendoorMethod::kDefaultSamples;
-    if (!setting.empty()) {
-        const bool digits = setting.size() <= 2 && std::all_of(setting.begin(), setting.end(), [](char c) {
-                                return c >= '0' && c <= '9';
-                            });
-        samples = digits ? std::stoi(setting) : 0;
-        if (samples < 1 || samples > ScreendoorMethod::kMaxSamples)
-            throw std::invalid_argument("method 'screendoor' takes S, sub-samples per pixel along each axis, 1.." +
-                                        std::to_string(ScreendoorMethod::kMaxSamples) + " (got ':" + setting + "')");
-    }
-    return std::make_unique<ScreendoorMethod>(device, samples);
+    return std::make_unique<ScreendoorMethod>(device, parse_screendoor_setting(setting));
 }
 
 }  // namespace brume

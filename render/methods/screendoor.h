@@ -57,6 +57,8 @@ private:
 };
 
 // `--method screendoor[:S]`, S in 1..8, default 4. Throws std::invalid_argument on a bad setting.
+// "" (the default), or S as digits, 1 .. kMaxSamples; else std::invalid_argument.
+int parse_screendoor_setting(const std::string& setting);
 std::unique_ptr<Method> make_screendoor_method(vk::Device& device, const std::string& setting);
 
 }  // namespace brume

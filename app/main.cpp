@@ -175,11 +175,7 @@ int main(int argc, char** argv) {
         return fail(e.what());
     } catch (const brume::vk::VulkanError& e) {
         // The raw call and source line mean nothing to a user who asked for a large frame.
-        if (e.out_of_memory())
-            return fail(e.result() == VK_ERROR_OUT_OF_HOST_MEMORY
-                            ? "the Vulkan driver ran out of host memory: try a smaller --size or a smaller scene"
-                            : "the Vulkan device has too little memory for this frame's images and lists: try a "
-                              "smaller --size or a smaller scene");
+        if (const char* advice = brume::vk::out_of_memory_advice(e.result())) return fail(advice);
         return fail(e.what());
     } catch (const std::bad_alloc&) {
         return fail("out of host memory");

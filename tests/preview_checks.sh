@@ -330,6 +330,19 @@ elif cmp -s good.png fixed.png; then fail hot_reload.recovers "the fixed file wa
 elif ! cmp -s fixed.png edited.png; then fail hot_reload.recovers "the reloaded frame differs from brume render of the file"
 else ok hot_reload; fi
 
+# A viewport too large for the device's memory: the line render gives, at most followed by the call's
+# name, never a source path (the preview's render thread passes its failures on as text, which once
+# showed the raw vkBindImageMemory call and its source line), and no screenshot. lavapipe refuses the
+# 4 GiB target at once, without touching that memory.
+timeout 120 "$brume" preview --size 16384x16384 --frame 3 --screenshot huge.png >huge.log 2>&1
+rc=$?
+advice="brume: error: the Vulkan device has too little memory for this frame's images and lists: try a smaller --size or a smaller scene"
+if [ "$rc" -ne 1 ]; then fail memory.viewport_too_large "rc $rc: $(tail -1 huge.log)"
+elif ! tail -1 huge.log | grep -qx -- "$advice\( (vk[A-Za-z]* returned VK_ERROR_OUT_OF_DEVICE_MEMORY)\)\?"; then
+    fail memory.viewport_too_large "$(tail -1 huge.log)"
+elif [ -e huge.png ]; then fail memory.viewport_too_large "a screenshot was written"
+else ok memory.viewport_too_large; fi
+
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1
 if [ "$failed" -ne 0 ]; then echo "outputs kept in $work"; exit 1; fi

@@ -1,6 +1,7 @@
 #include "render/vk/vk_check.h"
 
 #include <cstdio>
+#include <cstring>
 
 namespace brume::vk {
 
@@ -31,10 +32,26 @@ const char* result_name(VkResult result) {
     }
 }
 
+const char* out_of_memory_advice(VkResult result) {
+    if (result == VK_ERROR_OUT_OF_HOST_MEMORY)
+        return "the Vulkan driver ran out of host memory: try a smaller --size or a smaller scene";
+    if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY)
+        return "the Vulkan device has too little memory for this frame's images and lists: try a smaller --size or "
+               "a smaller scene";
+    return nullptr;
+}
+
 void throw_vulkan_error(VkResult result, const char* call, const char* file, int line) {
     char message[512];
-    std::snprintf(message, sizeof message, "Vulkan call failed: %s returned %s (%s:%d)", call,
-                  result_name(result), file, line);
+    if (const char* advice = out_of_memory_advice(result)) {
+        // The advice first, for every path that shows only what() (the preview's render thread passes
+        // its failures on as text); the call's name after it, without its arguments or source line.
+        const std::size_t name = std::strcspn(call, "(");
+        std::snprintf(message, sizeof message, "%s (%.*s returned %s)", advice, int(name), call, result_name(result));
+    } else {
+        std::snprintf(message, sizeof message, "Vulkan call failed: %s returned %s (%s:%d)", call, result_name(result),
+                      file, line);
+    }
     throw VulkanError(result, message);
 }
 

@@ -22,6 +22,10 @@ private:
 };
 
 const char* result_name(VkResult result);
+// What a user who ran out of memory should be told, for VK_ERROR_OUT_OF_DEVICE_MEMORY and
+// VK_ERROR_OUT_OF_HOST_MEMORY (the raw call and source line mean nothing to someone who asked for a
+// large frame); null for any other result.
+const char* out_of_memory_advice(VkResult result);
 [[noreturn]] void throw_vulkan_error(VkResult result, const char* call, const char* file, int line);
 
 }  // namespace brume::vk

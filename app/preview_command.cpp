@@ -130,27 +130,26 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
     preset.scene.camera.height = height;
     const std::string method = args.method.empty() ? preset.render.method : args.method;
     const double exposure = args.exposure_set ? args.exposure : preset.render.exposure;
-    if (!std::isfinite(exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");
+    if (!std::isfinite(exposure)) throw UsageError("--exposure must be a finite number of stops");
     MethodOptions options;
     unsigned given = 0;
     if (!args.max_memory.empty()) {
         options.max_pool_bytes = parse_bytes(args.max_memory);
         given |= kHonoursMaxMemory;
     }
-    check_method_spec(method);
-    check_method_options(method, given);
+    check_method_usage(method, given);
     if (!find_method(method).needs_device)
-        throw std::invalid_argument("--method " + method + " runs on the CPU; the preview shows GPU methods "
+        throw UsageError("--method " + method + " runs on the CPU; the preview shows GPU methods "
                                     "(render it with brume play --method " + method + ")");
     if (args.frame >= preset.timeline.frame_count())
-        throw std::invalid_argument("--frame " + std::to_string(args.frame) + " is outside the preset's frames 0-" +
+        throw UsageError("--frame " + std::to_string(args.frame) + " is outside the preset's frames 0-" +
                                     std::to_string(preset.timeline.frame_count() - 1));
-    if (args.frame < -1) throw std::invalid_argument("--frame must be 0 or more");
+    if (args.frame < -1) throw UsageError("--frame must be 0 or more");
     if (!args.screenshot.empty()) {
-        if (args.frame < 0) throw std::invalid_argument("--screenshot needs --frame N (the frame to save)");
+        if (args.frame < 0) throw UsageError("--screenshot needs --frame N (the frame to save)");
         if (!args.screenshot.ends_with(".png") && !args.screenshot.ends_with(".exr"))
-            throw std::invalid_argument("--screenshot " + args.screenshot + ": the name must end in .png or .exr");
-        if (!args.script.empty()) throw std::invalid_argument("--screenshot and --script: put the screenshot in the script");
+            throw UsageError("--screenshot " + args.screenshot + ": the name must end in .png or .exr");
+        if (!args.script.empty()) throw UsageError("--screenshot and --script: put the screenshot in the script");
         check_writable_path(args.screenshot);
     }
     std::vector<ScriptCommand> commands;

@@ -330,6 +330,20 @@ elif cmp -s good.png fixed.png; then fail hot_reload.recovers "the fixed file wa
 elif ! cmp -s fixed.png edited.png; then fail hot_reload.recovers "the reloaded frame differs from brume render of the file"
 else ok hot_reload; fi
 
+# A bad command line exits 2, as it does for render and play (these exited 1): a screenshot's name, a
+# method setting, a CPU method, a frame outside the preset. No window opens for them.
+bad_usage=0
+for args in "--frame 1 --screenshot shot.gif" "--method kbuf:0" "--method reference" "--frame 99999" "--screenshot s.png"; do
+    # shellcheck disable=SC2086
+    timeout 60 "$brume" preview plume $args >usage.log 2>&1
+    rc=$?
+    if [ "$rc" -ne 2 ] || [ "$(grep -c '^brume: error: ' usage.log)" -ne 1 ]; then
+        fail "usage.status_2" "preview $args: rc $rc: $(tail -1 usage.log)"
+        bad_usage=1
+    fi
+done
+[ "$bad_usage" -eq 0 ] && ok usage.status_2
+
 # A viewport too large for the device's memory: the line render gives, at most followed by the call's
 # name, never a source path (the preview's render thread passes its failures on as text, which once
 # showed the raw vkBindImageMemory call and its source line), and no screenshot. lavapipe refuses the

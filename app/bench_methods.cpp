@@ -175,13 +175,14 @@ int run_bench_methods(const BenchArgs& args) {
     // A bad spec is refused before the output folder is made or the device opened.
     const std::vector<std::string> specs = args.methods.empty() ? bench_method_specs() : split_commas(args.methods);
     for (const std::string& spec : specs) check_method_usage(spec, 0);
+    // So is a scene name (the scenes are made first: a bad one leaves no empty folder behind).
+    const std::vector<BenchScene> scenes = make_scenes(split_commas(args.scenes), args.anim_frames, w, h);
     const fs::path dir = args.output_dir.empty() ? fs::path("bench") : fs::path(args.output_dir);
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
     check_writable_path(dir / "results.csv");
 
-    const std::vector<BenchScene> scenes = make_scenes(split_commas(args.scenes), args.anim_frames, w, h);
     vk::DeviceOptions device_options;
     device_options.device_name = args.device;
     device_options.validate = args.validate;

@@ -906,6 +906,12 @@ done
 run bench methods --methods sorted,kbuf:99 -o "$work/bench_bad_spec"
 expect_error usage.bench_bad_setting "kbuf" && [ "$rc" -eq 2 ] && [ ! -e "$work/bench_bad_spec" ] &&
     ok usage.bench_bad_setting || echo "  (status $rc)"
+# A bad scene or sample name is refused before bench makes its output folder (both left an empty one).
+run bench methods --scenes no-such-scene -o "$work/bench_bad_scene"
+expect_error bench.bad_scene_no_folder "no-such-scene" && [ ! -e "$work/bench_bad_scene" ] && ok bench.bad_scene_no_folder
+run bench vdb --vdb-sample nebula -o "$work/bench_bad_sample"
+expect_line bench.bad_sample_no_folder 2 "--vdb-sample: no built-in volume 'nebula' (there are: ball, cloud, fog-sphere, sheet)" &&
+    [ ! -e "$work/bench_bad_sample" ] && ok bench.bad_sample_no_folder
 # A name whose extension contradicts its option is a command-line error too (status 2), refused before any work.
 run render "$data/small.toml" --size 8x6 -o status_fmt.png
 expect_line usage.status_exr_as_png 2 "-o status_fmt.png: -o writes linear OpenEXR, but the name ends in .png; name it .exr (--png writes PNG)" &&

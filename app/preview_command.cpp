@@ -140,10 +140,10 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
     check_method_usage(method, given);
     if (!find_method(method).needs_device)
         throw UsageError("--method " + method + " runs on the CPU; the preview shows GPU methods "
-                                    "(render it with brume play --method " + method + ")");
+                         "(render it with brume play --method " + method + ")");
     if (args.frame >= preset.timeline.frame_count())
         throw UsageError("--frame " + std::to_string(args.frame) + " is outside the preset's frames 0-" +
-                                    std::to_string(preset.timeline.frame_count() - 1));
+                         std::to_string(preset.timeline.frame_count() - 1));
     if (args.frame < -1) throw UsageError("--frame must be 0 or more");
     if (!args.screenshot.empty()) {
         if (args.frame < 0) throw UsageError("--screenshot needs --frame N (the frame to save)");

@@ -131,7 +131,8 @@ void FrameResources::write_sun_buffer(std::span<const float> map, std::size_t ma
     }
     auto* bytes = sun_grid_buffer_.as<std::uint8_t>();
     auto* out = reinterpret_cast<std::uint32_t*>(bytes + sizeof(gpu::SunGridHeader));
-    std::memcpy(out, sun_grid_words_.data(), sun_grid_words_.size() * sizeof(std::uint32_t));
+    // memcpy from an empty vector's data() (null) is undefined even for 0 bytes (UBSan).
+    if (!sun_grid_words_.empty()) std::memcpy(out, sun_grid_words_.data(), sun_grid_words_.size() * sizeof(std::uint32_t));
     if (!map.empty()) std::memcpy(out + sun_grid_words_.size(), map.data(), map.size() * sizeof(float));
     std::memcpy(bytes, &sun_header_, sizeof sun_header_);
 }

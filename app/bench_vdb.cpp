@@ -77,15 +77,10 @@ int run_bench_vdb(const BenchArgs& args) {
     const std::vector<std::string> samples = split_commas(args.vdb_sample);
     if (samples.empty()) throw std::invalid_argument("--vdb-sample: none given");
     // Every name is checked before the output folder is made or any grid is read.
-    for (const std::string& sample : samples) {
-        std::string names = "ball";
-        bool known = sample == "ball";
-        for (const SampleVolumeInfo& v : sample_volumes()) {
-            names += std::string(", ") + v.name;
-            known = known || sample == v.name;
-        }
-        if (!known) throw UsageError("--vdb-sample: no built-in volume '" + sample + "' (there are: " + names + ")");
-    }
+    for (const std::string& sample : samples)
+        if (sample != "ball" && !is_sample_volume(sample))
+            throw UsageError("--vdb-sample: no built-in volume '" + sample + "' (there are: ball, " +
+                             sample_volume_names() + ")");
     const std::vector<double> tolerances = parse_tolerances(args.tolerances);
     if (!args.output_dir.empty()) {
         fs::create_directories(args.output_dir);

@@ -214,14 +214,10 @@ int run_vdb_sample(const VdbSampleArgs& args) {
         for (const SampleVolumeInfo& s : sample_volumes()) std::printf("%-12s %s\n", s.name, s.description);
         return 0;
     }
-    std::string names;
-    bool known = false;
-    for (const SampleVolumeInfo& s : sample_volumes()) {
-        names += (names.empty() ? "" : ", ") + std::string(s.name);
-        known = known || args.name == s.name;
-    }
+    const std::string names = sample_volume_names();
     if (args.name.empty()) throw std::invalid_argument("vdb-sample needs a NAME: one of " + names + " (or --list)");
-    if (!known) throw std::invalid_argument("no sample volume named \"" + args.name + "\" (there are: " + names + ")");
+    if (!is_sample_volume(args.name))
+        throw std::invalid_argument("no sample volume named \"" + args.name + "\" (there are: " + names + ")");
     if (args.output.empty()) throw std::invalid_argument("vdb-sample needs -o OUT.vdb");
     check_output_format("-o", args.output, ".vdb");
     check_writable_path(args.output);

@@ -91,6 +91,24 @@ TEST_F(VdbFile, ListsGrids) {
     EXPECT_EQ(infos[0].voxel_size, glm::dvec3(0.125));
 }
 
+// The one list of built-in names that vdb-sample, bench vdb and scenes' "builtin:NAME" all check against.
+TEST(SampleVolumes, EveryListedNameIsKnownAndMakesAVolume) {
+    const std::string names = sample_volume_names();
+    for (const SampleVolumeInfo& s : sample_volumes()) {
+        EXPECT_TRUE(is_sample_volume(s.name)) << s.name;
+        EXPECT_NE(names.find(s.name), std::string::npos) << names;
+        EXPECT_FALSE(encode_sample_volume_vdb(s.name, kMinSampleResolution).empty()) << s.name;
+    }
+    EXPECT_EQ(names, "cloud, fog-sphere, sheet");
+    for (const char* unknown : {"", "nebula", "Cloud", "cloud "}) EXPECT_FALSE(is_sample_volume(unknown)) << unknown;
+    try {
+        encode_sample_volume_vdb("nebula", 16);
+        ADD_FAILURE() << "no VdbError for builtin:nebula";
+    } catch (const VdbError& e) {
+        EXPECT_NE(std::string(e.what()).find("(there are: " + names + ")"), std::string::npos) << e.what();
+    }
+}
+
 TEST_F(VdbFile, MissingFileIsRefused) {
     const std::string msg = read_error(dir_ / "nowhere.vdb");
     EXPECT_NE(msg.find("cannot open: No such file or directory"), std::string::npos) << msg;

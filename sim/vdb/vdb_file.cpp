@@ -444,6 +444,18 @@ std::span<const SampleVolumeInfo> sample_volumes() {
     return kSamples;
 }
 
+bool is_sample_volume(const std::string& name) {
+    for (const SampleVolumeInfo& s : sample_volumes())
+        if (name == s.name) return true;
+    return false;
+}
+
+std::string sample_volume_names() {
+    std::string names;
+    for (const SampleVolumeInfo& s : sample_volumes()) names += (names.empty() ? "" : ", ") + std::string(s.name);
+    return names;
+}
+
 std::string encode_sample_volume_vdb(const std::string& name, int resolution) {
     if (resolution < kMinSampleResolution || resolution > kMaxSampleResolution)
         throw VdbError("builtin:" + name + ": resolution must be in [" + std::to_string(kMinSampleResolution) + ", " +
@@ -456,11 +468,7 @@ std::string encode_sample_volume_vdb(const std::string& name, int resolution) {
         grid = level_set_sphere(0.9, glm::dvec3(0.0), voxel);
         vdb::tools::sdfToFogVolume(*grid);
     } else if (name == "sheet") grid = make_sheet(voxel);
-    else {
-        std::string names;
-        for (const SampleVolumeInfo& s : sample_volumes()) names += (names.empty() ? "" : ", ") + std::string(s.name);
-        throw VdbError("builtin:" + name + ": no such built-in volume (there are: " + names + ")");
-    }
+    else throw VdbError("builtin:" + name + ": no such built-in volume (there are: " + sample_volume_names() + ")");
     grid->setName("density");
     grid->setGridClass(vdb::GRID_FOG_VOLUME);
     return encode({grid});

@@ -80,6 +80,9 @@ inline constexpr int kMinSampleResolution = 8;
 inline constexpr double kMinVoxelSize = 1e-6;
 inline constexpr int kMaxSampleResolution = 512;  // 512^3 dense floats: 0.5 GiB
 std::span<const SampleVolumeInfo> sample_volumes();
+bool is_sample_volume(const std::string& name);
+// The built-in names joined by ", ", for the messages that list them.
+std::string sample_volume_names();
 // Throws VdbError for an unknown name (listing the known ones) or a resolution out of range.
 std::string encode_sample_volume_vdb(const std::string& name, int resolution);
 

@@ -6,6 +6,7 @@
 #include "app/bench_shadows.h"
 #include "app/bench_vdb.h"
 #include "app/cli_util.h"
+#include "app/standard_output.h"
 #include "app/host_cpu.h"
 #include "render/image_compare.h"
 #include "render/methods/fill_ceiling.h"
@@ -127,6 +128,7 @@ int run_bench_sim(const BenchArgs& args) {
 }  // namespace
 
 int run_bench(const BenchArgs& args) {
+    refuse_standard_output("-o", args.output_dir, "a benchmark's folder of results");
     if (args.which == "sim") return run_bench_sim(args);
     if (args.which == "methods") return run_bench_methods(args);
     if (args.which == "vdb") return run_bench_vdb(args);

@@ -55,8 +55,16 @@ void check_outputs_distinct(const std::vector<NamedPath>& outputs, const std::ve
             if (id.exists) seen.emplace_back(&in, id);  // a missing input is reported by its reader
         }
     const std::size_t input_count = seen.size();
+    const NamedPath* to_standard_output = nullptr;
     for (const NamedPath& out : outputs) {
         if (out.path.empty()) continue;
+        if (names_standard_output(out.path)) {  // "-": no file, and one stream for one output's bytes
+            if (to_standard_output)
+                throw UsageError(to_standard_output->option + " - and " + out.option +
+                                 " - both name standard output: at most one output can go there");
+            to_standard_output = &out;
+            continue;
+        }
         const Identity id = identify(out.path, true);
         for (std::size_t k = 0; k < seen.size(); ++k) {
             if (!(seen[k].second == id)) continue;

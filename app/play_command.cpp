@@ -1,6 +1,7 @@
 #include "app/play_command.h"
 
 #include "app/cli_util.h"
+#include "app/standard_output.h"
 #include "app/frame_progress.h"
 #include "app/output_paths.h"
 #include "app/progress.h"
@@ -150,6 +151,7 @@ int run_play(const PlayArgs& args) {
     if (!args.video.empty() && !png) throw UsageError("--video encodes the PNG frames: add png to --format");
 
     // Everything that can be refused is refused before the first frame, and nothing is created yet.
+    refuse_standard_output("-o", args.output_dir, "play's folder of frames");
     const fs::path dir = args.output_dir.empty() ? fs::path(preset.name) : fs::path(args.output_dir);
     std::error_code ec;
     const fs::path base = existing_ancestor(dir);

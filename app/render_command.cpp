@@ -3,6 +3,7 @@
 #include "app/cli_util.h"
 #include "app/frame_progress.h"
 #include "app/output_paths.h"
+#include "app/standard_output.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
 #include "render/output_set.h"
@@ -36,13 +37,13 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
         ->check(refuse_empty_path);
     cmd->add_option("--frame", args.frame, "With a preset: the frame to render (0-based, as in play --frames; default 0)")
         ->check(refuse_non_frame_number);
-    cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output")->check(refuse_empty_path);
-    cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB)")->check(refuse_empty_path);
+    cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output (- for standard output)")->check(refuse_empty_path);
+    cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB; - for standard output)")->check(refuse_empty_path);
     cmd->add_option("--method", args.method,
                     "NAME[:SETTING]: auto (default: the fastest exact path on this device), ppll (GPU, exact), "
                     "trace (CPU, exact), reference (CPU, double precision) or a comparison method (brume methods "
                     "lists them)");
-    cmd->add_option("--stats", args.stats, "Write frame statistics as JSON")->check(refuse_empty_path);
+    cmd->add_option("--stats", args.stats, "Write frame statistics as JSON (- for standard output)")->check(refuse_empty_path);
     cmd->add_option("--repeat", args.repeat, "Render N frames; statistics report medians")->check(CLI::Range(1, 100000));
     cmd->add_option("--size", args.size, "Override the scene's resolution, WxH");
     cmd->add_option("--exposure", args.exposure, "PNG exposure in stops (default 0, or a preset's)")
@@ -167,6 +168,8 @@ int run_render(const RenderArgs& args) {
         if (!out.empty()) check_writable_path(out);
     const std::vector<NamedPath> output_names = {{"-o", exr}, {"--png", png}, {"--stats", args.stats}};
     check_outputs_distinct(output_names, {{"the scene", args.scene}});
+    for (const NamedPath& out : output_names)
+        if (names_standard_output(out.path)) claim_standard_output(out.option, out.option != "--stats");
 
     double exposure = args.exposure;
     const bool preset = names_a_preset(args);
@@ -272,7 +275,8 @@ int run_render(const RenderArgs& args) {
         std::printf(", %llu fragments, longest list %u", (unsigned long long)last.fragments, last.max_list_length);
     std::printf("\n");
     for (const std::string& out : {exr, png})
-        if (!out.empty()) std::printf("wrote %s\n", out.c_str());
+        if (names_standard_output(out)) std::printf("wrote the %s to standard output\n", out == exr ? "EXR" : "PNG");
+        else if (!out.empty()) std::printf("wrote %s\n", out.c_str());
     return 0;
 }
 

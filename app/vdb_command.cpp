@@ -2,6 +2,7 @@
 
 #include "app/cli_util.h"
 #include "app/output_paths.h"
+#include "app/standard_output.h"
 
 #include "render/atomic_file.h"
 #include "sim/builtin_presets.h"
@@ -27,7 +28,7 @@ void add_vdb_commands(CLI::App& app, VdbInfoArgs& info, VdbImportArgs& import) {
 
     CLI::App* cmd = app.add_subcommand("vdb-import", "Convert an OpenVDB density grid into a scene of spheres");
     cmd->add_option("file", import.file, "OpenVDB file (.vdb), or builtin:NAME[:RES] (brume vdb-sample --list)")->required();
-    cmd->add_option("-o,--output", import.output, "Scene file to write (TOML)")->required();
+    cmd->add_option("-o,--output", import.output, "Scene file to write (TOML; - for standard output)")->required();
     cmd->add_option("--grid", import.grid, "Float grid to read")->capture_default_str();
     cmd->add_option("--tolerance", import.tolerance,
                     "Relative RMS optical-depth error the spheres must meet against the grid, in (0, 1]")
@@ -59,7 +60,7 @@ void add_vdb_export_commands(CLI::App& app, VdbExportArgs& export_args, VdbSampl
     CLI::App* cmd = app.add_subcommand("vdb-export", "Write a simulated frame's spheres as an OpenVDB density grid");
     cmd->add_option("input", export_args.input, "Preset file or built-in name (see brume play --list), or a scene file")
         ->required();
-    cmd->add_option("-o,--output", export_args.output, "OpenVDB file to write (.vdb)")->required();
+    cmd->add_option("-o,--output", export_args.output, "OpenVDB file to write (.vdb; - for standard output)")->required();
     cmd->add_option("--frame", export_args.frame, "Frame to export, 0-based (default: the last)")
         ->each([&export_args](const std::string&) { export_args.frame_set = true; });
     CLI::Option* voxel = cmd->add_option("--voxel-size", export_args.voxel_size, "Voxel side in scene units")
@@ -80,7 +81,7 @@ void add_vdb_export_commands(CLI::App& app, VdbExportArgs& export_args, VdbSampl
     sample.resolution = kDefaultSampleResolution;
     CLI::App* s = app.add_subcommand("vdb-sample", "Write a built-in sample volume as an OpenVDB file");
     s->add_option("name", sample.name, "Sample volume (see --list)");
-    s->add_option("-o,--output", sample.output, "OpenVDB file to write (.vdb)");
+    s->add_option("-o,--output", sample.output, "OpenVDB file to write (.vdb; - for standard output)");
     s->add_option("--resolution", sample.resolution, "Voxels across the volume's [-1, 1] box")
         ->check(CLI::Range(kMinSampleResolution, kMaxSampleResolution))
         ->capture_default_str();
@@ -105,6 +106,7 @@ int run_vdb_import(const VdbImportArgs& args) {
     check_output_format("-o", args.output, ".toml");
     check_writable_path(args.output);  // refuse before the work, and write nothing on failure
     check_outputs_distinct({{"-o", args.output}}, {{"the VDB file", args.file}});
+    if (names_standard_output(args.output)) claim_standard_output("-o", false);
     SphereCloudOptions options;
     options.tolerance = args.tolerance;
     options.max_spheres = args.max_spheres;
@@ -150,7 +152,7 @@ int run_vdb_import(const VdbImportArgs& args) {
     else std::snprintf(goal, sizeof goal, "tolerance %g", args.tolerance);
     const std::string tint = im.albedo_grid.empty() ? "" : ", albedo from grid \"" + im.albedo_grid + "\"";
     std::printf("%s: %zu spheres from %llu active voxels of grid \"%s\"%s (%s: %s; %d clouds measured, %.2f s)\n",
-                args.output.c_str(), im.scene.spheres.size(), static_cast<unsigned long long>(im.active_voxels),
+                shown_output_name(args.output).c_str(), im.scene.spheres.size(), static_cast<unsigned long long>(im.active_voxels),
                 args.grid.c_str(), tint.c_str(), goal, cells, im.clouds_tried, im.seconds);
     std::printf("optical depth against the trilinear grid over the %s and the %dx%d camera (%lld rays meet "
                 "the cloud): RMS %.2f%%, max %.2f%% (of the largest %.4g), bias %+.2f%%; extinction mass %.6g (grid "
@@ -167,6 +169,7 @@ int run_vdb_export(const VdbExportArgs& args) {
     check_output_format("-o", args.output, ".vdb");
     check_writable_path(args.output);  // refuse before the work, and write nothing on failure
     check_outputs_distinct({{"-o", args.output}}, {{"the preset", args.input}});  // a built-in name is no file
+    if (names_standard_output(args.output)) claim_standard_output("-o", true);
     Preset preset = resolve_preset(args.input);
     // A document without emitters (a scene file, a static preset) is the same at every frame: its spheres.
     const bool animated = !preset.emitters.empty();
@@ -201,7 +204,7 @@ int run_vdb_export(const VdbExportArgs& args) {
     const DensityGrid& g = grids.density;
     const double grid_mass = g.mass() * args.extinction_scale;
     std::printf("%s: %s, %zu spheres -> grid \"%s\"%s of %d x %d x %d = %zu voxels of %.6g (%llu active)\n",
-                args.output.c_str(), what.c_str(), grids.spheres, g.name.c_str(), args.albedo_grid ? " and \"albedo\"" : "",
+                shown_output_name(args.output).c_str(), what.c_str(), grids.spheres, g.name.c_str(), args.albedo_grid ? " and \"albedo\"" : "",
                 g.size.x, g.size.y, g.size.z, g.voxel_count(), g.voxel_size,
                 static_cast<unsigned long long>(g.active_voxels));
     std::printf("extinction mass: grid %.9g (density x %g), spheres %.9g, relative difference %.2g\n", grid_mass,
@@ -221,11 +224,12 @@ int run_vdb_sample(const VdbSampleArgs& args) {
     if (args.output.empty()) throw std::invalid_argument("vdb-sample needs -o OUT.vdb");
     check_output_format("-o", args.output, ".vdb");
     check_writable_path(args.output);
+    if (names_standard_output(args.output)) claim_standard_output("-o", true);
     const std::string bytes = encode_sample_volume_vdb(args.name, args.resolution);
     write_file_atomically(args.output, bytes);
     const double voxel = 2.0 / args.resolution;
     std::printf("%s: sample volume %s, grid \"density\" at %d voxels across [-1, 1]^3 (voxel %g), %zu bytes\n",
-                args.output.c_str(), args.name.c_str(), args.resolution, voxel, bytes.size());
+                shown_output_name(args.output).c_str(), args.name.c_str(), args.resolution, voxel, bytes.size());
     return 0;
 }
 

@@ -51,10 +51,17 @@ int write_all(int fd, std::string_view bytes) {
     return 0;
 }
 
+int standard_output_descriptor = STDOUT_FILENO;
+
 }  // namespace
+
+bool names_standard_output(const fs::path& path) { return path.native() == kStandardOutputName; }
+
+void set_standard_output_descriptor(int fd) { standard_output_descriptor = fd; }
 
 OutputTarget resolve_output(const fs::path& path) {
     if (path.empty()) fail_write(path, "an empty file name");
+    if (names_standard_output(path)) return {path, true, standard_output_descriptor};
     // stat follows every link, /proc's fd links included, to what a write would reach.
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0) {
@@ -188,6 +195,11 @@ StagedFile::~StagedFile() {
 }
 
 void StagedFile::commit() {
+    if (target_.descriptor >= 0) {
+        if (const int err = write_all(target_.descriptor, held_))
+            throw FileWriteError("cannot write to standard output: " + os_reason(err));
+        return;
+    }
     if (target_.in_place) {
         const int fd = ::open(target_.path.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
         if (fd < 0) {
@@ -218,6 +230,12 @@ void write_file_atomically(const fs::path& path, std::string_view bytes) {
 void check_writable_path(const fs::path& path) {
     if (!path.has_filename()) fail_write(path, "not a file name");
     const OutputTarget target = resolve_output(path);
+    if (target.descriptor >= 0) {
+        const int flags = ::fcntl(target.descriptor, F_GETFL);
+        if (flags < 0) throw FileWriteError("cannot write to standard output: it is closed");
+        if ((flags & O_ACCMODE) == O_RDONLY) throw FileWriteError("cannot write to standard output: it is open for reading only");
+        return;
+    }
     if (target.in_place) {
         if (::access(target.path.c_str(), W_OK) != 0) fail_write(path, os_reason(errno));
         return;

@@ -5,7 +5,9 @@
 // - nothing, or a regular file: a temporary file beside it, flushed, then renamed over it;
 // - a symbolic link: followed to the file it names, which is then replaced as above (the link stays);
 // - a character device or a FIFO (/dev/null, /dev/stdout, a pipe): written straight into;
-// - anything else (a directory, a block device, a socket): refused, never replaced.
+// - anything else (a directory, a block device, a socket): refused, never replaced;
+// - "-", exactly: standard output, as in most command-line tools (a file called "-" is ./-). Its bytes
+//   wait for commit() and then go into the descriptor set_standard_output_descriptor gave (1 until then).
 #pragma once
 
 #include <filesystem>
@@ -24,7 +26,15 @@ public:
 struct OutputTarget {
     std::filesystem::path path;  // the path given, or the regular file its symlinks lead to
     bool in_place = false;       // a character device or FIFO: written into, never replaced
+    int descriptor = -1;         // standard output ("-"): written into this open descriptor
 };
+
+// The name that stands for standard output.
+inline constexpr const char* kStandardOutputName = "-";
+bool names_standard_output(const std::filesystem::path& path);
+// Where the bytes of an output named "-" go: a command that sends its own lines elsewhere to keep
+// standard output for one output's bytes (app/standard_output.h) gives the descriptor it kept.
+void set_standard_output_descriptor(int fd);
 
 // Follows symbolic links at `path` to what they name (at most 40, as the kernel allows). Throws
 // FileWriteError naming `path` when it is, or leads to, something that must not be replaced.

@@ -880,6 +880,100 @@ if expect_error play.failed_run_removes_folder "cannot write $od/play_fail/made/
     fi
 fi
 
+# Outputs named "-" are standard output (docs/decisions.md, "Outputs"): the stream holds that output's bytes
+# alone (brume's own lines go to stderr), no file called "-" is made, one output at most takes it, images
+# never go onto a terminal and folders never to a stream. Each runs in an empty folder, so a stray "-" shows.
+so=$work/standard_output
+mkdir -p "$so/a" "$so/b" "$so/c" "$so/d"
+(cd "$so/a" && "$brume" render "$data/small.toml" --size 32x24 -o s.exr --stats - >"$so/a.json" 2>"$err"); rc=$?
+if expect_success stdout.stats; then
+    if [ "$(head -c 1 "$so/a.json")" != "{" ] || [ "$(tail -c 2 "$so/a.json")" != "}" ] ||
+        ! grep -q '"width": 32' "$so/a.json"; then
+        fail stdout.stats "standard output is not the statistics alone: $(head -c 200 "$so/a.json" | tr '\n' '|')"
+    elif ! grep -q '^wrote s.exr$' "$err" || ! grep -q "^$data/small.toml: 32x24" "$err"; then
+        fail stdout.stats "brume's own lines are not on stderr: $(head -c 300 "$err" | tr '\n' '|')"
+    elif ! dir_holds "$so/a" s.exr; then
+        fail stdout.stats "the folder holds: $(listing "$so/a")"
+    else
+        ok stdout.stats
+    fi
+fi
+(cd "$so/b" && "$brume" render "$data/small.toml" --size 32x24 -o - --png s.png >"$so/b.exr" 2>"$err"); rc=$?
+if expect_success stdout.exr; then
+    if ! has_magic "$so/b.exr" $EXR_MAGIC || ! has_magic "$so/b/s.png" $PNG_MAGIC; then
+        fail stdout.exr "standard output is not an OpenEXR file, or s.png is missing"
+    elif ! grep -q '^wrote the EXR to standard output$' "$err" || ! dir_holds "$so/b" s.png; then
+        fail stdout.exr "stderr: $(head -c 300 "$err" | tr '\n' '|'); the folder holds: $(listing "$so/b")"
+    else
+        ok stdout.exr
+    fi
+fi
+# Into a pipe, whose reader sees the PNG's bytes; the same bytes as the PNG written to a file.
+(cd "$so/c" && "$brume" render "$data/small.toml" --size 32x24 --png - 2>"$err" | cat >"$so/c.png"
+ exit "${PIPESTATUS[0]}"); rc=$?
+if expect_success stdout.png_pipe; then
+    if ! cmp -s "$so/c.png" "$so/b/s.png"; then
+        fail stdout.png_pipe "the piped PNG differs from the same render's PNG file"
+    elif ! dir_holds "$so/c"; then
+        fail stdout.png_pipe "the folder holds: $(listing "$so/c")"
+    else
+        ok stdout.png_pipe
+    fi
+fi
+(cd "$so/d" && "$brume" render "$data/small.toml" -o - --png - >"$out" 2>"$err"); rc=$?
+if expect_line stdout.only_one 2 "-o - and --png - both name standard output: at most one output can go there"; then
+    if [ -s "$out" ] || ! dir_holds "$so/d"; then
+        fail stdout.only_one "wrote: $(listing "$so/d"), $(wc -c <"$out") bytes on stdout"
+    else
+        ok stdout.only_one
+    fi
+fi
+(cd "$so/d" && "$brume" render "$data/small.toml" --stats - >&- 2>"$err"); rc=$?
+expect_line stdout.closed 1 "cannot write to standard output: it is closed" && { dir_holds "$so/d" && ok stdout.closed || fail stdout.closed "the folder holds: $(listing "$so/d")"; }
+if command -v script >/dev/null; then
+    # script gives the command a terminal as its standard output.
+    (cd "$so/d" && script -qec "'$brume' render '$data/small.toml' --png -" /dev/null >"$out" 2>&1); rc=$?
+    if [ "$rc" -ne 2 ] || ! grep -q 'brume: error: --png -: standard output is a terminal; redirect it' "$out"; then
+        fail stdout.image_not_on_terminal "status $rc: $(head -c 300 "$out" | tr '\r\n' '||')"
+    elif ! dir_holds "$so/d"; then
+        fail stdout.image_not_on_terminal "the folder holds: $(listing "$so/d")"
+    else
+        ok stdout.image_not_on_terminal
+    fi
+fi
+(cd "$so/d" && "$brume" play crossing --frames 0-1 -o - >"$out" 2>"$err"); rc=$?
+expect_line stdout.play_folder 2 "-o -: play's folder of frames cannot go to standard output; name one (./- for one called '-')" &&
+    { dir_holds "$so/d" && ok stdout.play_folder || fail stdout.play_folder "the folder holds: $(listing "$so/d")"; }
+(cd "$so/d" && "$brume" bench methods -o - >"$out" 2>"$err"); rc=$?
+expect_line stdout.bench_folder 2 "-o -: a benchmark's folder of results cannot go to standard output; name one (./- for one called '-')" &&
+    { dir_holds "$so/d" && ok stdout.bench_folder || fail stdout.bench_folder "the folder holds: $(listing "$so/d")"; }
+# The vdb commands' files: a grid written to standard output reads back as the same grid, and a scene
+# imported to standard output renders.
+(cd "$so/d" && "$brume" vdb-sample fog-sphere --resolution 16 -o - >"$so/fog.vdb" 2>"$err"); rc=$?
+if expect_success stdout.vdb_sample; then
+    # (Byte for byte they differ: an OpenVDB file holds a fresh UUID.)
+    "$brume" vdb-sample fog-sphere --resolution 16 -o "$so/fog_file.vdb" >/dev/null 2>&1
+    if [ "$(wc -c <"$so/fog.vdb")" -ne "$(wc -c <"$so/fog_file.vdb")" ] ||
+        [ "$("$brume" vdb-info "$so/fog.vdb" 2>&1)" != "$("$brume" vdb-info "$so/fog_file.vdb" 2>&1)" ]; then
+        fail stdout.vdb_sample "the grid on standard output differs from the one written to a file"
+    elif ! grep -q '^standard output: sample volume fog-sphere' "$err" || ! dir_holds "$so/d"; then
+        fail stdout.vdb_sample "stderr: $(head -c 300 "$err" | tr '\n' '|'); the folder holds: $(listing "$so/d")"
+    else
+        ok stdout.vdb_sample
+    fi
+fi
+(cd "$so/d" && "$brume" vdb-import "$so/fog.vdb" -o - >"$so/fog.toml" 2>"$err"); rc=$?
+if expect_success stdout.vdb_import; then
+    run render "$so/fog.toml" --size 16x12 -o "$so/fog.exr"
+    if [ "$rc" -ne 0 ] || ! has_magic "$so/fog.exr" $EXR_MAGIC; then
+        fail stdout.vdb_import "the scene from standard output does not render: $(first_err)"
+    elif ! dir_holds "$so/d"; then
+        fail stdout.vdb_import "the folder holds: $(listing "$so/d")"
+    else
+        ok stdout.vdb_import
+    fi
+fi
+
 # --- 15. The command line as a new user meets it (issue 14, "The command line"). ---------------------------
 nu=$work/newuser
 mkdir -p "$nu"

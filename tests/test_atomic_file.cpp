@@ -192,6 +192,48 @@ TEST_F(AtomicFile, ACommittedOutputSetReplacesEverything) {
     EXPECT_EQ(listing(), "a.exr b.png ");
 }
 
+// "-" is standard output: its bytes go into the descriptor given, at commit and after the set's
+// files are in place, and no file called "-" is made; "./-" is a file of that name.
+TEST_F(AtomicFile, DashIsStandardOutputAndDotSlashDashAFile) {
+    int pipe_fds[2];
+    ASSERT_EQ(::pipe(pipe_fds), 0);
+    set_standard_output_descriptor(pipe_fds[1]);
+    const fs::path previous = fs::current_path();
+    fs::current_path(dir_);
+    EXPECT_TRUE(names_standard_output("-"));
+    EXPECT_FALSE(names_standard_output("./-"));
+    EXPECT_FALSE(names_standard_output("--"));
+    check_writable_path("-");
+    {
+        OutputSet set;
+        set.stage("-", "on the stream");
+        set.stage(dir_ / "file.txt", "in the file");
+        char byte = 0;
+        EXPECT_EQ(::fcntl(pipe_fds[0], F_SETFL, O_NONBLOCK), 0);
+        EXPECT_EQ(::read(pipe_fds[0], &byte, 1), -1) << "staged bytes reached the stream before the commit";
+        set.commit();
+    }
+    char got[64] = {};
+    EXPECT_EQ(::read(pipe_fds[0], got, sizeof got), ssize_t(std::strlen("on the stream")));
+    EXPECT_STREQ(got, "on the stream");
+    EXPECT_EQ(read(dir_ / "file.txt"), "in the file");
+    write_file_atomically("./-", "a file called -");
+    EXPECT_EQ(read(dir_ / "-"), "a file called -");
+    EXPECT_EQ(listing(), "- file.txt ");
+    // A closed standard output is refused by the check, and by the write with a message that names it.
+    ::close(pipe_fds[1]);
+    ::close(pipe_fds[0]);
+    EXPECT_THROW(check_writable_path("-"), FileWriteError);
+    try {
+        write_file_atomically("-", "lost");
+        ADD_FAILURE() << "no FileWriteError for a closed standard output";
+    } catch (const FileWriteError& e) {
+        EXPECT_NE(std::string(e.what()).find("standard output"), std::string::npos) << e.what();
+    }
+    set_standard_output_descriptor(STDOUT_FILENO);
+    fs::current_path(previous);
+}
+
 TEST_F(AtomicFile, AFailedRenamePutsBackWhatTheSetReplaced) {
     put(dir_ / "a.exr", "old a");
     OutputSet set;

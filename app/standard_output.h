@@ -1,0 +1,25 @@
+// Outputs named "-" go to standard output (render/atomic_file.h; docs/decisions.md, "Outputs"), so that
+// `brume render scene.toml --stats - | jq .frame` and `brume vdb-export p.toml -o - | ssh host ...` work
+// as they do with other tools. Standard output then carries that output's bytes and nothing else: the
+// command's own lines (the timing, "wrote ...", notes) go to standard error instead.
+#pragma once
+
+#include <string>
+
+namespace brume::app {
+
+// Called once a command has checked its outputs (check_outputs_distinct allows one "-" a run) and
+// before it prints anything, for the output named "-": `option` as the user gave it, `binary` for
+// image and grid bytes. Keeps the process's standard output for that output alone and points
+// everything else printed there at standard error. Throws UsageError when a binary output would go
+// to a terminal, and FileWriteError when standard output is closed.
+void claim_standard_output(const std::string& option, bool binary);
+
+// How messages name an output: "standard output" for "-", else the path.
+std::string shown_output_name(const std::string& path);
+
+// For an output that cannot be a stream (play's folder of frames, a video, a screenshot, a
+// benchmark's folder): throws UsageError when `path` is "-", naming `option` and saying what it needs.
+void refuse_standard_output(const std::string& option, const std::string& path, const std::string& what);
+
+}  // namespace brume::app

@@ -55,7 +55,7 @@ double pass_ms(const FrameStats& stats, const std::string& name) {
 
 void add_bench_command(CLI::App& app, BenchArgs& args) {
     CLI::App* cmd = app.add_subcommand("bench", "Benchmarks that print figures side by side");
-    cmd->add_option("which", args.which,
+    cmd->add_option("benchmark", args.which,
                     "methods (default: every method on every scene, charted), layers (Barta & Kovács, Tables 1-2), "
                     "scale (exact methods against list length), sim (simulation step), vdb (OpenVDB import: spheres against error), "
                     "preview (the preview window's frame, part by part; needs a display) or shadows (shadow techniques: speed "

@@ -70,7 +70,11 @@ bool names_a_preset(const RenderArgs& args) {
     if (args.scene.empty()) return false;
     if (args.frame >= 0) return true;
     std::error_code ec;
-    return !fs::exists(args.scene, ec) && builtin_preset(args.scene).has_value();
+    if (fs::exists(args.scene, ec)) return false;
+    // A missing name without a folder or an extension reads as a preset's: taken as one, a typo
+    // (`render plumee`) is answered with the presets and the closest of them, not "cannot open".
+    const fs::path path(args.scene);
+    return builtin_preset(args.scene).has_value() || (!path.has_parent_path() && !path.has_extension());
 }
 
 // What the simulation of a preset still did, for the summary and the statistics.
@@ -172,6 +176,8 @@ int run_render(const RenderArgs& args) {
         if (names_standard_output(out.path)) claim_standard_output(out.option, out.option != "--stats");
 
     double exposure = args.exposure;
+    if (args.scene.empty() && args.frame >= 0)
+        throw UsageError("--frame picks a frame of a preset (brume play --list); the built-in default scene is a still");
     const bool preset = names_a_preset(args);
     StillReport still;
     Scene scene = preset ? preset_still(args, exposure, still) : args.scene.empty() ? default_scene() : load_scene_file(args.scene);

@@ -1056,6 +1056,23 @@ run render "$nu/nine_atmospheres.toml" --size 8x6 --shadows per-sphere -o "$nu/n
 expect_success render.outsized_per_sphere && ! grep -q "times the median radius" "$out" && ok render.outsized_per_sphere
 run render crossing --frame 144 --size 16x12 --png "$nu/never.png"
 expect_error render.preset_frame_range "--frame 144" "0-143" && [ ! -e "$nu/never.png" ] && ok render.preset_frame_range
+# A preset's name mistyped is answered with the presets and the closest one, as play answers it; a path
+# stays a path ("cannot open"). --frame without a preset is refused, not ignored.
+(cd "$nu" && "$brume" render plumee --size 16x12 --png never.png >"$out" 2>"$err"); rc=$?
+if expect_line render.preset_typo 1 'plumee: no such file, and not a built-in preset (did you mean "plume"?); built-in presets: campfire, crossing, explosion, fog-bank, ground-fog, layers, low-sun, plume, pop, vdb-cloud'; then
+    [ ! -e "$nu/never.png" ] && ok render.preset_typo || fail render.preset_typo "never.png was written"
+fi
+run render "$nu/nowhere.toml" --size 16x12 --png "$nu/never.png"
+if expect_error render.missing_scene_path "$nu/nowhere.toml: cannot open: No such file or directory"; then
+    [ ! -e "$nu/never.png" ] && ok render.missing_scene_path || fail render.missing_scene_path "never.png was written"
+fi
+(cd "$nu" && "$brume" render --frame 3 --size 16x12 --png never.png >"$out" 2>"$err"); rc=$?
+if expect_line render.frame_without_preset 2 "--frame picks a frame of a preset (brume play --list); the built-in default scene is a still"; then
+    [ ! -e "$nu/never.png" ] && ok render.frame_without_preset || fail render.frame_without_preset "never.png was written"
+fi
+run bench nosuch
+expect_line bench.unknown_name 2 "benchmark: nosuch not in {methods,layers,scale,sim,vdb,preview,shadows} (see brume bench --help)" &&
+    ok bench.unknown_name
 
 # A lone camera key with a typo names the typo, not "needs at least 2 keys".
 printf '[timeline]\nduration = 0.5\n[camera_path]\ntype = "keyframes"\nkeys = [{ time = 0.0, positon = [0.0, 1.0, 5.0], look_at = [0.0, 1.0, 0.0] }]\n' >"$nu/cam1.toml"

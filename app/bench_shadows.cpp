@@ -141,7 +141,7 @@ int run_bench_shadows(const BenchArgs& args) {
     const double warm_ms = warm_up_ms(device.properties().deviceType);  // for the GPU's rows
     const char* threads = std::getenv("LP_NUM_THREADS");
     std::printf("# brume bench shadows: the shadow techniques of ppll and tiles (GPU ms on %s, LP_NUM_THREADS=%s) and of trace "
-                "(CPU wall-clock ms, every core, %s code) at %dx%d; the mean over a scene's frames of the median of %d "
+                "(CPU wall-clock ms, every usable core, %s code) at %dx%d; the mean over a scene's frames of the median of %d "
                 "rounds, each round rendering every technique in turn (twice, the second timed), after a warm-up of 1 render "
                 "(and %.0f ms on the GPU)\n",
                 device.name().c_str(), threads ? threads : "default", fast_trace_instructions(), w, h, args.frames,

@@ -4,6 +4,7 @@
 #include "app/cli_util.h"
 #include "app/host_cpu.h"
 #include "render/atomic_file.h"
+#include "sim/parallel_for.h"
 #include "sim/vdb/density_source.h"
 #include "sim/vdb/optical_depth_error.h"
 #include "sim/vdb/sphere_cloud.h"
@@ -92,9 +93,9 @@ int run_bench_vdb(const BenchArgs& args) {
                 "# conversion measures (jittered rays); 'abs_err' = RMS difference / the largest grid depth; 'T_err' = mean |transmittance\n"
                 "# difference| (the image error of an ambient-lit render); 'fit' rows are fitted (vdb-import --fit; 'tried' = rounds, '!' = the\n"
                 "# default cap, %zu or one per 8 active voxels, stopped it above tolerance); sample 'ball' is a uniform ball of radius 1, 2/N voxels;\n"
-                "# times on %u hardware threads\n",
+                "# times on %u usable hardware threads\n",
                 args.vdb_sample.c_str(), SphereCloudOptions{}.axis_view_resolution,
-                SphereCloudOptions{}.axis_view_resolution, kDefaultFitSphereCap, std::max(1u, std::thread::hardware_concurrency()));
+                SphereCloudOptions{}.axis_view_resolution, kDefaultFitSphereCap, usable_cpus());
     std::printf("# host: %s\n", host_cpu_description().c_str());
     std::printf("%-16s %9s %7s %9s %9s %8s %-15s %6s %8s %8s %8s %8s %8s %8s %8s\n", "grid", "voxels", "read_s",
                 "tolerance", "spheres", "vox/sph", "cells", "tried", "conv_s", "rms_err", "max_err", "bias", "unseen",

@@ -1,6 +1,7 @@
 #include "app/host_cpu.h"
 
 #include "render/simd8.h"
+#include "sim/parallel_for.h"
 
 #include <charconv>
 #include <fstream>
@@ -45,11 +46,14 @@ CpuInfo parse_cpuinfo(std::string_view text) {
     return cpu;
 }
 
-std::string describe_cpu(const CpuInfo& cpu, unsigned hardware_threads, bool avx2_fma, bool avx512vl) {
+std::string describe_cpu(const CpuInfo& cpu, unsigned hardware_threads, bool avx2_fma, bool avx512vl,
+                         unsigned usable) {
     std::ostringstream out;
     out << (cpu.model_name.empty() ? "unknown CPU" : cpu.model_name);
     if (cpu.family >= 0 && cpu.model >= 0) out << " (family " << cpu.family << ", model " << cpu.model << ")";
-    if (hardware_threads > 0)
+    if (hardware_threads > 0 && usable > 0 && usable < hardware_threads)
+        out << ", " << usable << " of " << hardware_threads << " hardware threads usable";
+    else if (hardware_threads > 0)
         out << ", " << hardware_threads << (hardware_threads == 1 ? " hardware thread" : " hardware threads");
     out << ", " << (avx2_fma ? "AVX2+FMA" : "no AVX2+FMA") << ", " << (avx512vl ? "AVX-512" : "no AVX-512");
     return out.str();
@@ -60,7 +64,7 @@ std::string host_cpu_description() {
     std::ostringstream text;
     if (file) text << file.rdbuf();
     return describe_cpu(parse_cpuinfo(text.str()), std::thread::hardware_concurrency(), simd::cpu_has_avx2_fma(),
-                        simd::cpu_has_avx512vl());
+                        simd::cpu_has_avx512vl(), usable_cpus());
 }
 
 }  // namespace brume::app

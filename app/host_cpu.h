@@ -20,11 +20,16 @@ struct CpuInfo {
 CpuInfo parse_cpuinfo(std::string_view text);
 
 // One line for a header: "AMD EPYC (family 25, model 1), 2 hardware threads, AVX2+FMA, no AVX-512".
-// The instruction sets are the ones trace and the sun map pick their code by (render/simd8.h).
-std::string describe_cpu(const CpuInfo& cpu, unsigned hardware_threads, bool avx2_fma, bool avx512vl);
+// Where the process may use fewer (`usable`, its affinity mask: taskset, a farm job's CPUs) the
+// threads read "2 of 64 hardware threads usable", since every thread count a benchmark prints is the
+// usable one. The instruction sets are the ones trace and the sun map pick their code by
+// (render/simd8.h).
+std::string describe_cpu(const CpuInfo& cpu, unsigned hardware_threads, bool avx2_fma, bool avx512vl,
+                         unsigned usable = 0);
 
 // describe_cpu of this machine: /proc/cpuinfo where it can be read ("unknown CPU" where not),
-// std::thread's hardware concurrency and the CPU's own answer on its instruction sets.
+// std::thread's hardware concurrency, the usable CPUs (usable_cpus, sim/parallel_for.h) and the
+// CPU's own answer on its instruction sets.
 std::string host_cpu_description();
 
 }  // namespace brume::app

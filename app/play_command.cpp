@@ -118,6 +118,10 @@ void add_play_command(CLI::App& app, PlayArgs& args) {
     cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
     cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers; any message fails the run");
     cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M");
+    cmd->add_option("--threads", args.threads,
+                    "CPU threads for the CPU tracers (reference, trace, auto; 0 or unset: every CPU this process may "
+                    "use, as nproc counts them): with several jobs on one machine, its CPUs divided among them")
+        ->check(CLI::Range(0, 1024));
 }
 
 int run_play(const PlayArgs& args) {
@@ -186,6 +190,10 @@ int run_play(const PlayArgs& args) {
     if (!args.max_memory.empty()) {
         options.max_pool_bytes = parse_bytes(args.max_memory);
         given |= kHonoursMaxMemory;
+    }
+    if (args.threads) {
+        options.threads = args.threads;
+        given |= kHonoursThreads;
     }
     check_method_usage(method, given);
     std::unique_ptr<vk::Device> device;

@@ -17,6 +17,7 @@ struct PlayArgs {
     std::string method;  // empty: the preset's
     std::string device;
     std::string max_memory;
+    int threads = 0;  // CPU threads for the CPU tracers (0: every usable CPU)
     double exposure = 0.0;
     bool exposure_set = false;
     bool list = false;

@@ -2,6 +2,7 @@
 
 #include "render/image_compare.h"
 #include "render/reference.h"
+#include "sim/parallel_for.h"
 
 #include <algorithm>
 #include <cmath>
@@ -30,7 +31,7 @@ bool ReferenceCheck::start(const Scene& scene, Image method_image, int frame, co
         const auto t0 = std::chrono::steady_clock::now();
         ReferenceOptions options;
         // One core stays with the window (and lavapipe) so that it keeps drawing.
-        options.threads = int(std::max(1u, std::thread::hardware_concurrency() - 1));
+        options.threads = int(std::max(2u, usable_cpus()) - 1);
         options.pixels_done = done;
         // A scene shaded by the per-sphere shadow technique (the shipped presets) is compared with the
         // reference's per-sphere mode, the model the methods compute (docs/accuracy.md).

@@ -13,7 +13,7 @@ namespace brume {
 // bound[k] = |c_k - eye| - r_k - margin. The shaders find the events in float, from float copies
 // of c, e and r, and compare them with float(bound): the margin covers that rounding (about 1e-6 of
 // these magnitudes) ten times over, so a float event is never before its float bound.
-// Over `threads` as parallel_for's (0: every hardware thread).
+// Over `threads` as parallel_for's (0: every usable CPU).
 void nearest_event_bounds(const Scene& scene, std::vector<double>& bound, int threads = 0);
 
 }  // namespace brume

@@ -55,13 +55,13 @@ bool hull_pixel_rect(const glm::dvec3* points, int count, const Camera& camera, 
 // into out; false, out unwritten, where a point is not in front of the eye (its projection unbounded).
 bool project_to_pixels(const glm::dvec3* points, int count, const Camera& camera, int width, int height,
                        glm::dvec2* out);
-// Every sphere's rectangle, in scene order, over `threads` (0: every hardware thread); an empty one
+// Every sphere's rectangle, in scene order, over `threads` (0: every usable CPU); an empty one
 // ({0, 0, 0, 0}) where the sphere has no extinction or covers no pixel.
 std::vector<PixelRect> sphere_pixel_rects(const Scene& scene, int width, int height, int threads);
 
 // Bins the spheres `order` names (spheres without extinction are left out) into tiles of
 // tile_size pixels over a width x height image; bound[k] is sphere k's nearest bound
-// (render/nearest_bounds.h); over `threads` (0: every hardware thread), with the same bins on any
+// (render/nearest_bounds.h); over `threads` (0: every usable CPU), with the same bins on any
 // number.
 void bin_spheres(const Scene& scene, int width, int height, std::uint32_t tile_size,
                  const std::vector<std::uint32_t>& order, const std::vector<double>& bound, TileBins& bins,

@@ -43,6 +43,24 @@ done
 if [ -z "$diffs" ]; then ok farm.split_equals_full; else fail farm.split_equals_full "differ:$diffs"; fi
 # The frames really change over time (a frozen simulation would pass the check above trivially).
 if cmp -s full/crossing.0000.exr full/crossing.0005.exr; then fail farm.frames_move "frame 0 == frame 5"; else ok farm.frames_move; fi
+# A farm job held to one CPU (--threads 1, or an affinity of one CPU as Slurm and taskset give) renders
+# the same frames, byte for byte: the tracers' images do not depend on their thread count.
+"$brume" play crossing -o one_thread --frames 4-5 --threads 1 "${small[@]}" >one_thread.log 2>&1 ||
+    fail farm.one_thread "exit $?: $(tail -1 one_thread.log)"
+diffs=""
+for f in 0004 0005; do
+    for ext in png exr; do cmp -s "full/crossing.$f.$ext" "one_thread/crossing.$f.$ext" || diffs="$diffs crossing.$f.$ext"; done
+done
+if [ -z "$diffs" ]; then ok farm.one_thread; else fail farm.one_thread "differ:$diffs"; fi
+if command -v taskset >/dev/null 2>&1; then
+    taskset -c 0 "$brume" play crossing -o one_cpu --frames 5 "${small[@]}" >one_cpu.log 2>&1 ||
+        fail farm.one_cpu "exit $?: $(tail -1 one_cpu.log)"
+    if cmp -s full/crossing.0005.exr one_cpu/crossing.0005.exr && cmp -s full/crossing.0005.png one_cpu/crossing.0005.png; then
+        ok farm.one_cpu
+    else
+        fail farm.one_cpu "frame 5 on one CPU differs from the full run's"
+    fi
+fi
 
 # Video: an MP4 (ISO base media: 'ftyp' at byte 4) of the frames.
 if command -v ffmpeg >/dev/null 2>&1; then

@@ -1,7 +1,13 @@
 // The CPU line of the benchmarks' headers (app/host_cpu.h): what /proc/cpuinfo says, read right.
 #include "app/host_cpu.h"
+#include "sim/parallel_for.h"
 
 #include <gtest/gtest.h>
+
+#include <sched.h>
+
+#include <string>
+#include <thread>
 
 #include <fstream>
 #include <sstream>
@@ -69,6 +75,36 @@ TEST(HostCpu, DescribesTheCpuInOneLine) {
               "Intel(R) Xeon(R) Platinum 8375C CPU @ 2.90GHz (family 6, model 106), 1 hardware thread, AVX2+FMA, "
               "AVX-512");
     EXPECT_EQ(describe_cpu(CpuInfo{}, 0, false, false), "unknown CPU, no AVX2+FMA, no AVX-512");
+    // A process held to fewer CPUs than the machine has (taskset, a farm job) says so.
+    EXPECT_EQ(describe_cpu(parse_cpuinfo(kAmd), 64, true, false, 2),
+              "AMD EPYC (family 25, model 1), 2 of 64 hardware threads usable, AVX2+FMA, no AVX-512");
+    EXPECT_EQ(describe_cpu(parse_cpuinfo(kAmd), 2, true, false, 2),
+              "AMD EPYC (family 25, model 1), 2 hardware threads, AVX2+FMA, no AVX-512");
+}
+
+// The CPUs a process may use are its affinity mask's (taskset, a Slurm job's --cpus-per-task), not the
+// machine's: held to one CPU, the tracers run one worker, and describe_cpu says so.
+TEST(HostCpu, UsableCpusFollowTheAffinityMask) {
+    cpu_set_t saved;
+    ASSERT_EQ(::sched_getaffinity(0, sizeof saved, &saved), 0);
+    EXPECT_EQ(brume::usable_cpus(), unsigned(CPU_COUNT(&saved)));
+    int first = 0;
+    while (!CPU_ISSET(first, &saved)) ++first;
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(first, &one);
+    ASSERT_EQ(::sched_setaffinity(0, sizeof one, &one), 0);
+    EXPECT_EQ(brume::usable_cpus(), 1u);
+    EXPECT_EQ(brume::worker_count(0, 1000), 1);
+    EXPECT_EQ(brume::worker_count(3, 1000), 3);  // a count asked for is kept
+    const std::string line = brume::app::host_cpu_description();
+    ASSERT_EQ(::sched_setaffinity(0, sizeof saved, &saved), 0);
+    if (std::thread::hardware_concurrency() > 1) {
+        EXPECT_NE(line.find("1 of " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads usable"),
+                  std::string::npos)
+            << line;
+    }
+    EXPECT_EQ(brume::usable_cpus(), unsigned(CPU_COUNT(&saved)));
 }
 
 TEST(HostCpu, ThisMachinesLineNamesItsOwnCpu) {

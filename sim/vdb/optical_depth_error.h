@@ -69,7 +69,7 @@ std::vector<Camera> grid_unseen_views(const DensityGrid& grid, int resolution);
 // against which any number of sphere clouds are then measured: a conversion tries several.
 class OpticalDepthViews {
 public:
-    // `threads` 0: every hardware thread.
+    // `threads` 0: every usable CPU.
     OpticalDepthViews(const DensityGrid& grid, double extinction_scale, std::vector<Camera> views, int threads = 0,
                       PixelRays sampling = PixelRays::Centres);
 

@@ -53,7 +53,7 @@ struct SphereCloudOptions {
     // Views, in the grid's space, that the error is measured over besides the three axis views.
     std::vector<Camera> views;
     int axis_view_resolution = 96;  // pixels across each axis view
-    int threads = 0;                // for measuring; 0: every hardware thread
+    int threads = 0;                // for measuring; 0: every usable CPU
     // import_density_grid (sim/vdb/vdb_import.h): fit the spheres (sim/vdb/sphere_fit.h) instead of tiling;
     // then max_spheres caps the fit rather than replacing the tolerance.
     bool fit = false;

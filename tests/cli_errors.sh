@@ -31,13 +31,19 @@ export VK_DRIVER_FILES=$lavapipe VK_ICD_FILENAMES=$lavapipe
 
 passed=0
 failed=0
+# Every check that an expect_* helper starts must end in ok or fail. Most read
+# `expect_success NAME && CONDITION && ok NAME`: where CONDITION is false, neither runs, and without this
+# ledger the check would vanish from the counts instead of failing (the end of the script fails them).
+declare -A started=() reported=()
 ok() {
     echo "ok $1"
     passed=$((passed + 1))
+    reported[$1]=1
 }
 fail() {
     echo "FAIL $1: $2"
     failed=$((failed + 1))
+    reported[$1]=1
 }
 
 # brume ARGS...: runs the binary in the current directory; sets rc and leaves its output in $out and $err.
@@ -54,6 +60,7 @@ first_err() { head -n 1 "$err"; }
 # its stderr contains every PATTERN (fixed strings).
 expect_error() {
     local name=$1
+    started[$name]=1
     shift
     if [ "$rc" -eq 0 ]; then
         fail "$name" "exit status 0, expected a failure"
@@ -80,6 +87,7 @@ expect_error() {
 # "brume: error: TEXT".
 expect_line() {
     local name=$1 status=$2 text=$3
+    started[$name]=1
     if [ "$rc" -ne "$status" ]; then
         fail "$name" "exit status $rc, expected $status: $(first_err)"
         return 1
@@ -102,6 +110,7 @@ run_bounded() {
 
 # expect_success NAME: the last run exited 0.
 expect_success() {
+    started[$1]=1
     if [ "$rc" -ne 0 ]; then
         fail "$1" "exit status $rc: $(first_err)"
         return 1
@@ -662,7 +671,7 @@ fi
 vs=$work/vdb_scene
 mkdir -p "$vs/sub"
 run vdb-sample cloud --resolution 24 -o "$vs/sub/cloud.vdb"
-expect_success vdb_scene.sample || true
+expect_success vdb_scene.sample && ok vdb_scene.sample
 # The file is found beside the scene, whatever the working directory; the camera frames the cloud.
 printf '[[vdb]]\nfile = "cloud.vdb"\nextinction_scale = 4.0\ntolerance = 0.05\n' >"$vs/sub/four.toml"
 run render "$vs/sub/four.toml" --png "$vs/four.png"
@@ -834,7 +843,7 @@ for _ in 1 2 3 4 5 6 7 8; do long=$long/$(printf 'd%.0s' $(seq 200)); done
 mkdir -p "$long"
 cp "$data/small.toml" "$long/scene.toml"
 run render "$data/small.toml" --size 1x1 -o "$mix/out.exr" --png "$mix/out.png" --stats "$mix/out.json"
-expect_success output.mixed_setup || true
+expect_success output.mixed_setup && ok output.mixed_setup
 mix_before=$(cd "$mix" && cksum out.exr out.png out.json)
 mix_inodes=$(cd "$mix" && stat -c '%n %i' out.exr out.png out.json)
 # The failing run renders another size, so every one of its outputs differs from the old one (checked
@@ -1197,7 +1206,7 @@ cites=$(grep -nE '\.\./shared/|GUIDE( section| §|\.md)' "$data/../../README.md"
 fz=$work/fuzz
 mkdir -p "$fz/out"
 run render "$data/small.toml" --size 4x4 -o "$fz/out/out.exr"
-expect_success fuzz.setup || true
+expect_success fuzz.setup && ok fuzz.setup
 RANDOM=14
 fuzz_bad=""
 for k in $(seq 1 16); do
@@ -1226,6 +1235,9 @@ for k in $(seq 1 16); do
 done
 [ -z "$fuzz_bad" ] && ok fuzz.cli_sample || fail fuzz.cli_sample "$fuzz_bad (inputs kept in $fz)"
 
+for name in "${!started[@]}"; do
+    [ -n "${reported[$name]:-}" ] || fail "$name" "neither passed nor failed: a condition after its expect_* step was false"
+done
 echo "$passed passed, $failed failed"
 cd "$scratch" || exit 1
 if [ "$failed" -ne 0 ]; then

@@ -1153,6 +1153,11 @@ expect_line memory.frame_too_large 1 "the Vulkan device has too little memory fo
     [ ! -e "$nu/huge.exr" ] && ok memory.frame_too_large
 ( ulimit -v 3000000; "$brume" render --size 64x48 -o "$nu/fits.exr" >"$out" 2>"$err" ); rc=$?
 expect_success memory.frame_that_fits && [ -s "$nu/fits.exr" ] && ok memory.frame_that_fits
+# The CPU reference's frame of the same size fails in the host's memory, not the device's: that said, with
+# what to try.
+( ulimit -v 2000000; "$brume" render --method reference --size 16384x16384 -o "$nu/huge.exr" >"$out" 2>"$err" ); rc=$?
+expect_line memory.host_frame_too_large 1 "out of host memory: this run needs more than the machine, or its limit on this process, gives; try a smaller --size, scene or grid" &&
+    [ ! -e "$nu/huge.exr" ] && ok memory.host_frame_too_large
 
 # --- 16. Huge strings: what is echoed is bounded, names are checked where they are read (issue 14 item 8). ---
 hs=$work/huge_strings

@@ -110,6 +110,14 @@ Scene preset_still(const RenderArgs& args, double& exposure, StillReport& report
     return scene;
 }
 
+// The path auto took for the last frame (its "decide (cpu): NAME" pass), or "" for any other method.
+std::string path_taken(const FrameStats& last) {
+    constexpr std::string_view kDecided = "decide (cpu): ";
+    for (const PassTime& p : last.passes)
+        if (p.name.starts_with(kDecided)) return p.name.substr(kDecided.size());
+    return "";
+}
+
 struct Timing {
     std::vector<std::vector<double>> pass_ms;  // per pass, per frame
     std::vector<std::string> pass_names;
@@ -123,6 +131,7 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
     j << "{\n";
     j << "  \"scene\": " << json_string(scene.source) << ",\n";
     j << "  \"method\": " << json_string(args.method) << ",\n";
+    if (const std::string taken = path_taken(last); !taken.empty()) j << "  \"taken\": " << json_string(taken) << ",\n";
     j << "  \"device\": " << json_string(device) << ",\n";
     j << "  \"width\": " << scene.camera.width << ",\n  \"height\": " << scene.camera.height << ",\n";
     j << "  \"spheres\": " << scene.spheres.size() << ",\n  \"boxes\": " << scene.boxes.size() << ",\n";
@@ -275,7 +284,8 @@ int run_render(const RenderArgs& args) {
 
     std::printf("%s: %dx%d, %s, %s, method %s on %s: %.2f ms (median of %d)", scene.source.c_str(), scene.camera.width,
                 scene.camera.height, count_of(scene.spheres.size(), "sphere", "spheres").c_str(),
-                count_of(scene.boxes.size(), "box", "boxes").c_str(), args.method.c_str(),
+                count_of(scene.boxes.size(), "box", "boxes").c_str(),
+                (path_taken(last).empty() ? args.method : args.method + " (took " + path_taken(last) + ")").c_str(),
                 device_name.c_str(), median(timing.total_ms), args.repeat);
     if (last.list_stats)
         std::printf(", %llu fragments, longest list %u", (unsigned long long)last.fragments, last.max_list_length);

@@ -441,6 +441,20 @@ if [ -n "$missing_keys" ]; then
 else
     ok render.stats_keys
 fi
+# auto names the path it took, in its line and its statistics (on lavapipe, a CPU device: trace); a method
+# asked for by name has no "taken".
+run render "$data/small.toml" --size 32x24 -o "$ok_dir/auto.exr" --stats "$ok_dir/auto.json"
+if expect_success render.auto_names_its_path; then
+    if ! grep -q '"taken": "trace"' "$ok_dir/auto.json"; then
+        fail render.auto_names_its_path "no \"taken\": \"trace\" in the statistics"
+    elif ! grep -q ', method auto (took trace) on ' "$out"; then
+        fail render.auto_names_its_path "the line does not name the path: $(head -n 1 "$out")"
+    elif grep -q '"taken"' "$ok_dir/s.json"; then
+        fail render.auto_names_its_path "ppll's statistics name a path taken"
+    else
+        ok render.auto_names_its_path
+    fi
+fi
 
 # A pool that must grow says so in the statistics, although the untimed first frame does the growing.
 run render "$data/many_spheres.toml" --method ppll --pool-nodes 1 -o "$ok_dir/grow.exr" --stats "$ok_dir/grow.json"

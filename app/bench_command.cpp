@@ -6,7 +6,7 @@
 #include "app/bench_shadows.h"
 #include "app/bench_vdb.h"
 #include "app/cli_util.h"
-#include "app/standard_output.h"
+#include "app/standard_streams.h"
 #include "app/host_cpu.h"
 #include "render/image_compare.h"
 #include "render/methods/fill_ceiling.h"

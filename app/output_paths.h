@@ -15,7 +15,7 @@ struct NamedPath {
 // Throws std::invalid_argument when two outputs reach the same file (through links too), or an
 // output reaches an input. Two outputs into the same character device (/dev/null) are allowed:
 // nothing is replaced there. Empty paths are skipped (not given). At most one output may be "-",
-// standard output (app/standard_output.h).
+// standard output (app/standard_streams.h).
 void check_outputs_distinct(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
 
 }  // namespace brume::app

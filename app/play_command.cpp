@@ -1,7 +1,7 @@
 #include "app/play_command.h"
 
 #include "app/cli_util.h"
-#include "app/standard_output.h"
+#include "app/standard_streams.h"
 #include "app/frame_progress.h"
 #include "app/output_paths.h"
 #include "app/progress.h"
@@ -99,7 +99,7 @@ std::string frame_path(const fs::path& dir, const std::string& name, int frame, 
 
 void add_play_command(CLI::App& app, PlayArgs& args) {
     CLI::App* cmd = app.add_subcommand("play", "Simulate a preset and render its frames (and a video)");
-    cmd->add_option("preset", args.preset, "Preset file or built-in name (see --list); none plays the default")
+    cmd->add_option("preset", args.preset, "Preset file (- reads it from standard input) or built-in name (see --list); none plays the default")
         ->check(refuse_empty_path);
     cmd->add_option("-o,--output", args.output_dir, "Directory for NAME.####.png / .exr (created if missing)")
         ->check(refuse_empty_path);
@@ -134,7 +134,8 @@ int run_play(const PlayArgs& args) {
         }
         return 0;
     }
-    Preset preset = resolve_preset(args.preset.empty() ? default_preset_name() : args.preset);
+    // "-": the preset on standard input (named by its [preset] name, else "stdin").
+    Preset preset = resolve_preset(args.preset.empty() ? default_preset_name() : input_path(args.preset));
     if (!args.size.empty()) parse_size(args.size, preset.scene.camera.width, preset.scene.camera.height);
     for (const VolumeReport& v : prepare_preset(preset)) print_volume_report(v);
     const std::string method = args.method.empty() ? preset.render.method : args.method;

@@ -3,7 +3,7 @@
 #include "app/cli_util.h"
 #include "app/frame_progress.h"
 #include "app/output_paths.h"
-#include "app/standard_output.h"
+#include "app/standard_streams.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
 #include "render/output_set.h"
@@ -32,7 +32,7 @@ namespace brume::app {
 void add_render_command(CLI::App& app, RenderArgs& args) {
     CLI::App* cmd = app.add_subcommand("render", "Render one scene to linear EXR and/or PNG");
     cmd->add_option("scene", args.scene,
-                    "Scene file (TOML); none renders the built-in default scene. A built-in preset's name, or a "
+                    "Scene file (TOML; - reads it from standard input); none renders the built-in default scene. A built-in preset's name, or a "
                     "preset file with --frame, renders one still of that preset")
         ->check(refuse_empty_path);
     cmd->add_option("--frame", args.frame, "With a preset: the frame to render (0-based, as in play --frames; default 0)")
@@ -168,7 +168,9 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
 
 }  // namespace
 
-int run_render(const RenderArgs& args) {
+int run_render(const RenderArgs& command_line) {
+    RenderArgs args = command_line;
+    args.scene = input_path(args.scene);  // "-": the scene on standard input
     std::string exr = args.exr, png = args.png;
     if (exr.empty() && png.empty()) {
         exr = "brume.exr";

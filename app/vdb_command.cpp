@@ -2,7 +2,7 @@
 
 #include "app/cli_util.h"
 #include "app/output_paths.h"
-#include "app/standard_output.h"
+#include "app/standard_streams.h"
 
 #include "render/atomic_file.h"
 #include "sim/builtin_presets.h"

@@ -33,7 +33,7 @@ struct OutputTarget {
 inline constexpr const char* kStandardOutputName = "-";
 bool names_standard_output(const std::filesystem::path& path);
 // Where the bytes of an output named "-" go: a command that sends its own lines elsewhere to keep
-// standard output for one output's bytes (app/standard_output.h) gives the descriptor it kept.
+// standard output for one output's bytes (app/standard_streams.h) gives the descriptor it kept.
 void set_standard_output_descriptor(int fd);
 
 // Follows symbolic links at `path` to what they name (at most 40, as the kernel allows). Throws

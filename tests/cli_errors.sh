@@ -970,6 +970,18 @@ expect_line stdout.play_folder 2 "-o -: play's folder of frames cannot go to sta
 (cd "$so/d" && "$brume" bench methods -o - >"$out" 2>"$err"); rc=$?
 expect_line stdout.bench_folder 2 "-o -: a benchmark's folder of results cannot go to standard output; name one (./- for one called '-')" &&
     { dir_holds "$so/d" && ok stdout.bench_folder || fail stdout.bench_folder "the folder holds: $(listing "$so/d")"; }
+# "-" as the scene reads it from standard input: the image is the file's, byte for byte.
+(cd "$so/d" && "$brume" render - --size 32x24 --png "$so/stdin.png" <"$data/small.toml" >"$out" 2>"$err"); rc=$?
+if expect_success stdin.scene; then
+    "$brume" render "$data/small.toml" --size 32x24 --png "$so/file.png" >/dev/null 2>&1
+    if ! has_magic "$so/stdin.png" $PNG_MAGIC || ! cmp -s "$so/stdin.png" "$so/file.png"; then
+        fail stdin.scene "the PNG of the scene read from standard input differs from the file's"
+    elif ! dir_holds "$so/d"; then
+        fail stdin.scene "the folder holds: $(listing "$so/d")"
+    else
+        ok stdin.scene
+    fi
+fi
 # The vdb commands' files: a grid written to standard output reads back as the same grid, and a scene
 # imported to standard output renders.
 (cd "$so/d" && "$brume" vdb-sample fog-sphere --resolution 16 -o - >"$so/fog.vdb" 2>"$err"); rc=$?

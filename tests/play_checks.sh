@@ -6,6 +6,7 @@ set -u
 brume=$1
 scratch=$2
 case $brume in /*) ;; *) brume=$PWD/$brume ;; esac  # the checks run in their own directory
+presets=$(cd "$(dirname "${BASH_SOURCE[0]}")/../presets" && pwd) || exit 2
 lavapipe=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 export VK_DRIVER_FILES=$lavapipe VK_ICD_FILENAMES=$lavapipe
 mkdir -p "$scratch"
@@ -43,6 +44,14 @@ done
 if [ -z "$diffs" ]; then ok farm.split_equals_full; else fail farm.split_equals_full "differ:$diffs"; fi
 # The frames really change over time (a frozen simulation would pass the check above trivially).
 if cmp -s full/crossing.0000.exr full/crossing.0005.exr; then fail farm.frames_move "frame 0 == frame 5"; else ok farm.frames_move; fi
+# "-" reads the preset from standard input (a generator's pipe): the same frames as the built-in's.
+"$brume" play - -o from_stdin --frames 0-1 "${small[@]}" <"$presets/crossing.toml" >from_stdin.log 2>&1 ||
+    fail preset_from_stdin "exit $?: $(tail -1 from_stdin.log)"
+if cmp -s full/crossing.0001.exr from_stdin/crossing.0001.exr && cmp -s full/crossing.0001.png from_stdin/crossing.0001.png; then
+    ok preset_from_stdin
+else
+    fail preset_from_stdin "frame 1 from standard input differs: $(ls from_stdin 2>&1 | tr '\n' ' ')"
+fi
 # A farm job held to one CPU (--threads 1, or an affinity of one CPU as Slurm and taskset give) renders
 # the same frames, byte for byte: the tracers' images do not depend on their thread count.
 "$brume" play crossing -o one_thread --frames 4-5 --threads 1 "${small[@]}" >one_thread.log 2>&1 ||

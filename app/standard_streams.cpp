@@ -1,4 +1,4 @@
-#include "app/standard_output.h"
+#include "app/standard_streams.h"
 
 #include "app/cli_util.h"
 #include "render/atomic_file.h"
@@ -27,6 +27,8 @@ void claim_standard_output(const std::string& option, bool binary) {
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
     set_standard_output_descriptor(kept);
 }
+
+std::string input_path(const std::string& given) { return given == kStandardOutputName ? "/dev/stdin" : given; }
 
 std::string shown_output_name(const std::string& path) {
     return names_standard_output(path) ? "standard output" : path;

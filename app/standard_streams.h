@@ -1,4 +1,6 @@
-// Outputs named "-" go to standard output (render/atomic_file.h; docs/decisions.md, "Outputs"), so that
+// "-" for a file names a standard stream, as in most command-line tools (docs/decisions.md, "Outputs").
+//
+// Outputs named "-" go to standard output (render/atomic_file.h), so that
 // `brume render scene.toml --stats - | jq .frame` and `brume vdb-export p.toml -o - | ssh host ...` work
 // as they do with other tools. Standard output then carries that output's bytes and nothing else: the
 // command's own lines (the timing, "wrote ...", notes) go to standard error instead.
@@ -14,6 +16,11 @@ namespace brume::app {
 // everything else printed there at standard error. Throws UsageError when a binary output would go
 // to a terminal, and FileWriteError when standard output is closed.
 void claim_standard_output(const std::string& option, bool binary);
+
+// The path to read for an input that may be "-", standard input: `render -` and `play -` read the
+// scene or preset a program writes into the pipe (`gen_scene.py | brume render - --png out.png`); its
+// relative paths ([[vdb]] files) are taken from the working directory.
+std::string input_path(const std::string& given);
 
 // How messages name an output: "standard output" for "-", else the path.
 std::string shown_output_name(const std::string& path);

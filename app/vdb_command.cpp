@@ -58,7 +58,7 @@ void add_vdb_commands(CLI::App& app, VdbInfoArgs& info, VdbImportArgs& import) {
 
 void add_vdb_export_commands(CLI::App& app, VdbExportArgs& export_args, VdbSampleArgs& sample) {
     CLI::App* cmd = app.add_subcommand("vdb-export", "Write a simulated frame's spheres as an OpenVDB density grid");
-    cmd->add_option("input", export_args.input, "Preset file or built-in name (see brume play --list), or a scene file")
+    cmd->add_option("input", export_args.input, "Preset file or built-in name (see brume play --list), or a scene file; - reads it from standard input")
         ->required();
     cmd->add_option("-o,--output", export_args.output, "OpenVDB file to write (.vdb; - for standard output)")->required();
     cmd->add_option("--frame", export_args.frame, "Frame to export, 0-based (default: the last)")
@@ -170,7 +170,7 @@ int run_vdb_export(const VdbExportArgs& args) {
     check_writable_path(args.output);  // refuse before the work, and write nothing on failure
     check_outputs_distinct({{"-o", args.output}}, {{"the preset", args.input}});  // a built-in name is no file
     if (names_standard_output(args.output)) claim_standard_output("-o", true);
-    Preset preset = resolve_preset(args.input);
+    Preset preset = resolve_preset(input_path(args.input));  // "-": standard input
     // A document without emitters (a scene file, a static preset) is the same at every frame: its spheres.
     const bool animated = !preset.emitters.empty();
     const int frames = preset.timeline.frame_count();

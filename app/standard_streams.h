@@ -1,7 +1,7 @@
 // "-" for a file names a standard stream, as in most command-line tools (docs/decisions.md, "Outputs").
 //
 // Outputs named "-" go to standard output (render/atomic_file.h), so that
-// `brume render scene.toml --stats - | jq .frame` and `brume vdb-export p.toml -o - | ssh host ...` work
+// `brume render scene.toml --stats - | jq .gpu_ms` and `brume vdb-export p.toml -o - | ssh host ...` work
 // as they do with other tools. Standard output then carries that output's bytes and nothing else: the
 // command's own lines (the timing, "wrote ...", notes) go to standard error instead.
 #pragma once

@@ -24,8 +24,9 @@ Preset parse_preset_toml(std::string_view text, const std::string& source_name) 
 
 Preset load_preset_file(const std::filesystem::path& path) {
     Preset p = parse_preset_toml(toml_text::read_file(path), path.string());
-    // Relative grid files are found beside the preset, wherever it is run from.
-    const std::string dir = path.parent_path().string();
+    // Relative grid files are found beside the preset, wherever it is run from (a stream's: from the
+    // working directory).
+    const std::string dir = toml_text::relative_base(path);
     for (VdbVolume& v : p.scene.volumes) v.source.base_dir = dir;
     for (EmitterDesc& e : p.emitters)
         if (e.shape == EmitterShape::Density) e.density_source.base_dir = dir;

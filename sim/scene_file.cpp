@@ -135,6 +135,14 @@ std::string quoted(std::string_view s) {
     return q + '"';
 }
 
+std::string relative_base(const std::filesystem::path& path) {
+    // /dev/stdin and its kin name a descriptor, not a folder, even where the shell gave them a file.
+    const std::string text = path.string();
+    if (text.starts_with("/dev/") || text.starts_with("/proc/")) return "";
+    std::error_code ec;
+    return std::filesystem::is_regular_file(path, ec) ? path.parent_path().string() : std::string();
+}
+
 std::string read_file(const std::filesystem::path& path) {
     const std::string name = path.string();
     std::error_code ec;
@@ -246,7 +254,7 @@ Scene parse_scene_toml(std::string_view text, const std::string& source_name) {
 
 Scene load_scene_file(const std::filesystem::path& path) {
     Scene scene = parse_scene_toml(toml_text::read_file(path), path.string());
-    const std::string dir = path.parent_path().string();
+    const std::string dir = toml_text::relative_base(path);
     for (VdbVolume& v : scene.volumes) v.source.base_dir = dir;
     return scene;
 }

@@ -84,6 +84,10 @@ std::string quoted(std::string_view s);
 std::string excerpt(std::string_view s, std::size_t limit = 64);
 // The whole file; a missing or unreadable file is a SceneFileError naming it and the OS reason.
 std::string read_file(const std::filesystem::path& path);
+// The folder a file's relative paths ([[vdb]] files, density emitters' grids) are found from: the
+// file's own, or for a stream (standard input, a pipe, anything under /dev or /proc), which has none,
+// the working directory ("").
+std::string relative_base(const std::filesystem::path& path);
 // A density grid's `file` and `grid` keys (base_dir is not written: it is where the file is read from),
 // and its placement's translate, scale and rotate: shared by [[vdb]] and density emitters.
 void append_density_source(std::string& out, const DensitySource& source);

@@ -1008,6 +1008,19 @@ if expect_success stdout.vdb_import; then
         ok stdout.vdb_import
     fi
 fi
+# A scene on standard input finds its relative [[vdb]] files from the working directory (a stream has no
+# folder; /dev/stdin's, /dev, would not hold them), piped or redirected from a file.
+printf '[[vdb]]\nfile = "fog.vdb"\n' >"$so/grid_scene.toml"
+(cd "$so" && "$brume" render grid_scene.toml --size 16x12 -o from_file.exr >/dev/null 2>&1 &&
+    "$brume" render - --size 16x12 -o redirected.exr <grid_scene.toml >"$out" 2>"$err" &&
+    cat grid_scene.toml | "$brume" render - --size 16x12 -o piped.exr >>"$out" 2>>"$err"); rc=$?
+if expect_success stdin.relative_paths; then
+    if ! cmp -s "$so/from_file.exr" "$so/redirected.exr" || ! cmp -s "$so/from_file.exr" "$so/piped.exr"; then
+        fail stdin.relative_paths "the scene from standard input rendered another image than the file"
+    else
+        ok stdin.relative_paths
+    fi
+fi
 
 # --- 15. The command line as a new user meets it (issue 14, "The command line"). ---------------------------
 nu=$work/newuser

@@ -120,6 +120,9 @@ void add_preview_command(CLI::App& app, PreviewArgs& args) {
 
 int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
     // Everything that can be refused is refused before a window opens.
+    if (args.preset == "-")  // render and play read "-" from standard input; the preview edits and reloads a file
+        throw UsageError("preview - : the preview watches, reloads and saves its preset, so it needs a file, not "
+                         "standard input (save it to a file and open that)");
     Preset preset = resolve_preset(args.preset.empty() ? default_preset_name() : args.preset);
     int width = 0, height = 0;
     if (!args.size.empty())

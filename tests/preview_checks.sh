@@ -343,6 +343,14 @@ for args in "--frame 1 --screenshot shot.gif" "--method kbuf:0" "--method refere
     fi
 done
 [ "$bad_usage" -eq 0 ] && ok usage.status_2
+# "-" (standard input for render and play) is refused by name: the preview watches and saves a file.
+timeout 60 "$brume" preview - </dev/null >usage.log 2>&1
+rc=$?
+if [ "$rc" -eq 2 ] && [ "$(cat usage.log)" = "brume: error: preview - : the preview watches, reloads and saves its preset, so it needs a file, not standard input (save it to a file and open that)" ]; then
+    ok usage.stdin_refused
+else
+    fail usage.stdin_refused "rc $rc: $(head -c 300 usage.log)"
+fi
 
 # A viewport too large for the device's memory: the line render gives, at most followed by the call's
 # name, never a source path (the preview's render thread passes its failures on as text, which once

@@ -4,7 +4,7 @@
 #include "app/cli_util.h"
 #include "app/host_cpu.h"
 #include "render/atomic_file.h"
-#include "sim/parallel_for.h"
+#include "sim/usable_cpus.h"
 #include "sim/vdb/density_source.h"
 #include "sim/vdb/optical_depth_error.h"
 #include "sim/vdb/sphere_cloud.h"

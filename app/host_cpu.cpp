@@ -1,7 +1,7 @@
 #include "app/host_cpu.h"
 
 #include "render/simd8.h"
-#include "sim/parallel_for.h"
+#include "sim/usable_cpus.h"
 
 #include <charconv>
 #include <fstream>

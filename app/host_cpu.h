@@ -28,7 +28,7 @@ std::string describe_cpu(const CpuInfo& cpu, unsigned hardware_threads, bool avx
                          unsigned usable = 0);
 
 // describe_cpu of this machine: /proc/cpuinfo where it can be read ("unknown CPU" where not),
-// std::thread's hardware concurrency, the usable CPUs (usable_cpus, sim/parallel_for.h) and the
+// std::thread's hardware concurrency, the usable CPUs (usable_cpus, sim/usable_cpus.h) and the
 // CPU's own answer on its instruction sets.
 std::string host_cpu_description();
 

@@ -120,7 +120,7 @@ void add_play_command(CLI::App& app, PlayArgs& args) {
     cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M");
     cmd->add_option("--threads", args.threads,
                     "CPU threads for the CPU tracers (reference, trace, auto; 0 or unset: every CPU this process may "
-                    "use, as nproc counts them): with several jobs on one machine, its CPUs divided among them")
+                    "use: its affinity and CPU quota): with several jobs on one machine, its CPUs divided among them")
         ->check(CLI::Range(0, 1024));
 }
 

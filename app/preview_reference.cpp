@@ -2,7 +2,7 @@
 
 #include "render/image_compare.h"
 #include "render/reference.h"
-#include "sim/parallel_for.h"
+#include "sim/usable_cpus.h"
 
 #include <algorithm>
 #include <cmath>

@@ -57,7 +57,7 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
                     "Shadow technique of the GPU methods when the scene has shadows: accurate (default) or per-sphere; "
                     "off renders the scene without shadows")
         ->check(CLI::IsMember({"accurate", "per-sphere", "off"}));
-    cmd->add_option("--threads", args.threads, "CPU threads for the CPU tracers (reference, trace, auto; 0 or unset: every CPU this process may use, as nproc counts them)")->check(CLI::Range(0, 1024));
+    cmd->add_option("--threads", args.threads, "CPU threads for the CPU tracers (reference, trace, auto; 0 or unset: every CPU this process may use: its affinity and CPU quota)")->check(CLI::Range(0, 1024));
 }
 
 namespace {

@@ -66,7 +66,7 @@ struct FastTraceCounts {
 };
 
 struct FastTraceOptions {
-    int threads = 0;  // 0: every usable CPU (usable_cpus, sim/parallel_for.h)
+    int threads = 0;  // 0: every usable CPU (usable_cpus, sim/usable_cpus.h)
     TraceInstructions instructions = TraceInstructions::Best;
     FastTraceScratch* scratch = nullptr;  // null: the frame allocates its own
     // Tiles of few spheres take eight rays at once (render/packet_walk.h), and so do tiles of a few

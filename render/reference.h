@@ -20,7 +20,7 @@ enum class ReferenceShadows {
 };
 
 struct ReferenceOptions {
-    int threads = 0;           // 0: every usable CPU (usable_cpus, sim/parallel_for.h)
+    int threads = 0;           // 0: every usable CPU (usable_cpus, sim/usable_cpus.h)
     bool brute_force = false;  // test every sphere against every pixel (checks the screen-tile binning)
     ReferenceShadows shadows = ReferenceShadows::Exact;
     // Where given, render_reference adds each finished screen tile's pixels to it (relaxed), for a

@@ -3,7 +3,7 @@
 // may use it.
 #pragma once
 
-#include <sched.h>
+#include "sim/usable_cpus.h"
 
 #include <algorithm>
 #include <atomic>
@@ -13,17 +13,6 @@
 #include <vector>
 
 namespace brume {
-
-// The CPUs this process may run on: its affinity mask, which taskset, a Slurm job's
-// --cpus-per-task and docker --cpuset-cpus narrow, not std::thread::hardware_concurrency(), which
-// counts every CPU of the machine (a two-CPU farm job on a 64-core node took 64 threads, 32 to a
-// CPU). A CPU quota without a mask (docker --cpus) is not seen, as `nproc` does not see it.
-inline unsigned usable_cpus() {
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (::sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return unsigned(CPU_COUNT(&set));
-    return std::max(1u, std::thread::hardware_concurrency());  // more CPUs than a cpu_set_t holds
-}
 
 // How many workers parallel_for runs: `requested` (0: every usable CPU), at most one per item.
 inline int worker_count(int requested, std::size_t items) {

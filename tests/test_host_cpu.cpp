@@ -1,14 +1,18 @@
 // The CPU line of the benchmarks' headers (app/host_cpu.h): what /proc/cpuinfo says, read right.
 #include "app/host_cpu.h"
 #include "sim/parallel_for.h"
+#include "sim/usable_cpus.h"
 
 #include <gtest/gtest.h>
 
 #include <sched.h>
+#include <unistd.h>
 
 #include <string>
 #include <thread>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -87,7 +91,13 @@ TEST(HostCpu, DescribesTheCpuInOneLine) {
 TEST(HostCpu, UsableCpusFollowTheAffinityMask) {
     cpu_set_t saved;
     ASSERT_EQ(::sched_getaffinity(0, sizeof saved, &saved), 0);
-    EXPECT_EQ(brume::usable_cpus(), unsigned(CPU_COUNT(&saved)));
+    // The mask's CPUs, or fewer where this machine's control group sets a CPU quota.
+    std::ifstream self("/proc/self/cgroup");
+    std::stringstream self_text;
+    self_text << self.rdbuf();
+    const unsigned quota = brume::cgroup_cpu_limit("/sys/fs/cgroup", self_text.str());
+    const unsigned all = unsigned(CPU_COUNT(&saved)), expected = quota > 0 ? std::min(all, quota) : all;
+    EXPECT_EQ(brume::usable_cpus(), expected);
     int first = 0;
     while (!CPU_ISSET(first, &saved)) ++first;
     cpu_set_t one;
@@ -104,7 +114,45 @@ TEST(HostCpu, UsableCpusFollowTheAffinityMask) {
                   std::string::npos)
             << line;
     }
-    EXPECT_EQ(brume::usable_cpus(), unsigned(CPU_COUNT(&saved)));
+    EXPECT_EQ(brume::usable_cpus(), expected);
+}
+
+// A CPU quota (docker --cpus, a Kubernetes CPU limit) is read from the control group's files, v2 and
+// v1, the tightest of the group and those above it, rounded up; none, "max" or -1 is no limit.
+TEST(HostCpu, ACgroupCpuQuotaLimitsTheUsableCpus) {
+    namespace fs = std::filesystem;
+    const fs::path root = fs::temp_directory_path() / ("brume_cgroup_" + std::to_string(::getpid()));
+    fs::remove_all(root);
+    const auto put = [](const fs::path& file, const std::string& text) {
+        fs::create_directories(file.parent_path());
+        std::ofstream(file) << text;
+    };
+    // cgroup v2
+    put(root / "v2" / "cpu.max", "max 100000\n");
+    EXPECT_EQ(brume::cgroup_cpu_limit(root / "v2", "0::/\n"), 0u);
+    put(root / "v2" / "kubepods" / "pod" / "cpu.max", "150000 100000\n");
+    EXPECT_EQ(brume::cgroup_cpu_limit(root / "v2", "0::/kubepods/pod\n"), 2u);  // 1.5 CPUs: 2 threads
+    put(root / "v2" / "kubepods" / "cpu.max", "100000 100000\n");
+    EXPECT_EQ(brume::cgroup_cpu_limit(root / "v2", "0::/kubepods/pod\n"), 1u);  // the parent's is tighter
+    put(root / "v2" / "small" / "cpu.max", "20000 100000\n");
+    EXPECT_EQ(brume::cgroup_cpu_limit(root / "v2", "0::/small"), 1u);  // a fifth of a CPU still runs one
+    // cgroup v1, the cpu controller mounted with cpuacct, beside the unified hierarchy's line
+    put(root / "v1" / "cpu,cpuacct" / "job" / "cpu.cfs_quota_us", "400000\n");
+    put(root / "v1" / "cpu,cpuacct" / "job" / "cpu.cfs_period_us", "100000\n");
+    put(root / "v1" / "cpu,cpuacct" / "cpu.cfs_quota_us", "-1\n");
+    put(root / "v1" / "cpu,cpuacct" / "cpu.cfs_period_us", "100000\n");
+    EXPECT_EQ(brume::cgroup_cpu_limit(root / "v1", "5:memory:/job\n4:cpu,cpuacct:/job\n0::/job\n"), 4u);
+    EXPECT_EQ(brume::cgroup_cpu_limit(root / "v1", "4:cpu,cpuacct:/\n0::/\n"), 0u);
+    EXPECT_EQ(brume::cgroup_cpu_limit(root / "v1", "4:cpuacct,cpu:/job\n"), 0u);  // no such mount: no limit read
+    // Text that is not a cgroup listing, and groups without the files, set no limit.
+    EXPECT_EQ(brume::cgroup_cpu_limit(root / "v2", "garbage"), 0u);
+    EXPECT_EQ(brume::cgroup_cpu_limit(root / "nowhere", "0::/a/b\n"), 0u);
+    fs::remove_all(root);
+    // Whatever this machine's groups say, the process keeps at least one CPU and no more than its mask.
+    cpu_set_t mask;
+    ASSERT_EQ(::sched_getaffinity(0, sizeof mask, &mask), 0);
+    EXPECT_GE(brume::usable_cpus(), 1u);
+    EXPECT_LE(brume::usable_cpus(), unsigned(CPU_COUNT(&mask)));
 }
 
 TEST(HostCpu, ThisMachinesLineNamesItsOwnCpu) {

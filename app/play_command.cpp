@@ -1,10 +1,10 @@
 #include "app/play_command.h"
 
 #include "app/cli_util.h"
-#include "app/standard_streams.h"
 #include "app/frame_progress.h"
 #include "app/output_paths.h"
 #include "app/progress.h"
+#include "app/standard_streams.h"
 #include "app/video.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"

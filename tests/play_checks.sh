@@ -62,7 +62,9 @@ for f in 0004 0005; do
 done
 if [ -z "$diffs" ]; then ok farm.one_thread; else fail farm.one_thread "differ:$diffs"; fi
 if command -v taskset >/dev/null 2>&1; then
-    taskset -c 0 "$brume" play crossing -o one_cpu --frames 5 "${small[@]}" >one_cpu.log 2>&1 ||
+    # The first CPU this shell may use (a container's cpuset need not hold CPU 0).
+    first_cpu=$(taskset -cp $$ | sed 's/.*: *//; s/[,-].*//')
+    taskset -c "$first_cpu" "$brume" play crossing -o one_cpu --frames 5 "${small[@]}" >one_cpu.log 2>&1 ||
         fail farm.one_cpu "exit $?: $(tail -1 one_cpu.log)"
     if cmp -s full/crossing.0005.exr one_cpu/crossing.0005.exr && cmp -s full/crossing.0005.png one_cpu/crossing.0005.png; then
         ok farm.one_cpu

@@ -178,7 +178,8 @@ int main(int argc, char** argv) {
         if (const char* advice = brume::vk::out_of_memory_advice(e.result())) return fail(advice);
         return fail(e.what());
     } catch (const std::bad_alloc&) {
-        return fail("out of host memory: this run needs more than the machine, or its limit on this process, gives; try a smaller --size, scene or grid");
+        return fail("out of host memory: this run needs more than the machine, or its limit on this process, "
+                    "gives; try a smaller --size, scene or grid");
     } catch (const std::exception& e) {
         return fail(e.what());
     }

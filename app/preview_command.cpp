@@ -16,6 +16,7 @@
 #include "app/preview_sequence.h"
 #include "app/preview_session.h"
 #include "app/preview_window.h"
+#include "app/standard_streams.h"
 #include "render/atomic_file.h"
 #include "render/frame/swapchain_presenter.h"
 #include "render/methods/registry.h"
@@ -120,7 +121,7 @@ void add_preview_command(CLI::App& app, PreviewArgs& args) {
 
 int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
     // Everything that can be refused is refused before a window opens.
-    if (args.preset == "-")  // render and play read "-" from standard input; the preview edits and reloads a file
+    if (args.preset == kStandardInputName)  // render and play read it; the preview edits and reloads a file
         throw UsageError("preview - : the preview watches, reloads and saves its preset, so it needs a file, not "
                          "standard input (save it to a file and open that)");
     Preset preset = resolve_preset(args.preset.empty() ? default_preset_name() : args.preset);

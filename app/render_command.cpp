@@ -284,10 +284,11 @@ int run_render(const RenderArgs& command_line) {
     if (!args.stats.empty()) outputs.stage(args.stats, stats_json(args, scene, device_name, timing, last, on_gpu, still));
     outputs.commit();
 
+    const std::string taken = path_taken(last);
+    const std::string method_shown = taken.empty() ? args.method : args.method + " (took " + taken + ")";
     std::printf("%s: %dx%d, %s, %s, method %s on %s: %.2f ms (median of %d)", scene.source.c_str(), scene.camera.width,
                 scene.camera.height, count_of(scene.spheres.size(), "sphere", "spheres").c_str(),
-                count_of(scene.boxes.size(), "box", "boxes").c_str(),
-                (path_taken(last).empty() ? args.method : args.method + " (took " + path_taken(last) + ")").c_str(),
+                count_of(scene.boxes.size(), "box", "boxes").c_str(), method_shown.c_str(),
                 device_name.c_str(), median(timing.total_ms), args.repeat);
     if (last.list_stats)
         std::printf(", %llu fragments, longest list %u", (unsigned long long)last.fragments, last.max_list_length);

@@ -28,7 +28,7 @@ void claim_standard_output(const std::string& option, bool binary) {
     set_standard_output_descriptor(kept);
 }
 
-std::string input_path(const std::string& given) { return given == kStandardOutputName ? "/dev/stdin" : given; }
+std::string input_path(const std::string& given) { return given == kStandardInputName ? "/dev/stdin" : given; }
 
 std::string shown_output_name(const std::string& path) {
     return names_standard_output(path) ? "standard output" : path;

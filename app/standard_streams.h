@@ -17,6 +17,9 @@ namespace brume::app {
 // to a terminal, and FileWriteError when standard output is closed.
 void claim_standard_output(const std::string& option, bool binary);
 
+// The name that stands for standard input, as "-" stands for standard output among the outputs.
+inline constexpr const char* kStandardInputName = "-";
+
 // The path to read for an input that may be "-", standard input: `render -` and `play -` read the
 // scene or preset a program writes into the pipe (`gen_scene.py | brume render - --png out.png`); its
 // relative paths ([[vdb]] files) are taken from the working directory.

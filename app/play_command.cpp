@@ -231,6 +231,13 @@ int run_play(const PlayArgs& args) {
     std::optional<Simulator> simulator;
     try {
         simulator.emplace(preset, &g_stop_requested);
+        // Every frame's camera before the first frame is rendered: a path through an undefined view
+        // is refused whole, not after the frames before it were written.
+        for (int frame = range.first; frame <= range.last; ++frame) try {
+                camera_at(preset, simulator->time_of_frame(frame));
+            } catch (const CameraPathError& e) {
+                throw std::runtime_error("frame " + std::to_string(frame) + ": " + e.what());
+            }
         simulator->advance_to_frame(range.first);
     } catch (const SimulationStopped&) {
         std::fprintf(stderr, "brume: interrupted during the simulation (%.1f s in), before the first frame; nothing was written\n",

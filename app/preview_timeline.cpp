@@ -76,7 +76,7 @@ std::optional<int> PreviewTimeline::replace_emitter_keeping_past(const Preset& p
 Scene PreviewTimeline::scene() const {
     Scene scene = preset_.scene;
     sim_.append_spheres(scene.spheres);
-    scene.camera = camera_at(preset_, sim_.time());
+    scene.camera = camera_on_path(preset_, sim_.time());  // an undefined view: the frame's error, shown
     scene.camera.width = preset_.scene.camera.width;
     scene.camera.height = preset_.scene.camera.height;
     return scene;

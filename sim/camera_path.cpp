@@ -1,7 +1,10 @@
 #include "sim/camera_path.h"
 
+#include "sim/camera_rays.h"
+
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace brume {
 namespace {
@@ -24,7 +27,7 @@ glm::dvec3 hermite(const std::vector<CameraKey>& k, std::size_t i, double t, glm
 
 }  // namespace
 
-Camera camera_at(const Preset& preset, double t) {
+Camera camera_on_path(const Preset& preset, double t) {
     Camera camera = preset.scene.camera;
     const CameraPath& path = preset.camera_path;
     switch (path.kind) {
@@ -57,6 +60,19 @@ Camera camera_at(const Preset& preset, double t) {
         camera.look_at = path.orbit_center;
         break;
     }
+    }
+    return camera;
+}
+
+Camera camera_at(const Preset& preset, double t) {
+    const Camera camera = camera_on_path(preset, t);
+    if (const std::string why = undefined_view(camera); !why.empty()) {
+        std::ostringstream m;
+        m.precision(6);
+        m << "camera_path: at " << t << " s the camera's view is undefined: " << why << " (position [" << camera.position.x
+          << ", " << camera.position.y << ", " << camera.position.z << "], look_at [" << camera.look_at.x << ", "
+          << camera.look_at.y << ", " << camera.look_at.z << "]); move a key, or set [camera] up to a direction the view never takes";
+        throw CameraPathError(m.str());
     }
     return camera;
 }

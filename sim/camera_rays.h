@@ -7,8 +7,25 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace brume {
+
+// Why a camera's view is undefined, or "" when it is defined: make_camera_rays normalises
+// look_at - position and cross(forward, up), so the eye must not sit on look_at nor look along up.
+// The scene and preset readers refuse such a camera in a file; a moving camera can still pass
+// through one between its keys (a fly-over straight above what it looks at), which its callers
+// (sim/camera_path.h camera_at) refuse by time.
+inline std::string undefined_view(const Camera& c) {
+    const glm::dvec3 view = c.look_at - c.position;
+    const double view_length = glm::length(view), up_length = glm::length(c.up);
+    if (!(view_length > 0.0) || !std::isfinite(view_length)) return "the eye is on look_at (no view direction)";
+    if (!(up_length > 0.0) || !std::isfinite(up_length)) return "camera.up is zero";
+    if (!(glm::length(glm::cross(view / view_length, c.up / up_length)) > 1e-9))
+        return "the view direction (look_at - position) is parallel to camera.up";
+    return "";
+}
 
 // An orthonormal camera basis with the image-plane half extents folded into right/up:
 // dir(i, j) = normalize(forward + ndc_x * right - ndc_y * up), ndc in [-1, 1], y down.
@@ -29,7 +46,10 @@ struct CameraRays {
     glm::dvec3 pixel_direction(int i, int j) const { return direction(i + 0.5, j + 0.5); }
 };
 
+// Throws std::invalid_argument where the view is undefined (undefined_view): its rays would be NaN,
+// which the tracers would draw as background, a wrong image with no error.
 inline CameraRays make_camera_rays(const Camera& c) {
+    if (const std::string why = undefined_view(c); !why.empty()) throw std::invalid_argument("the camera's view is undefined: " + why);
     CameraRays r;
     r.eye = c.position;
     r.forward = glm::normalize(c.look_at - c.position);

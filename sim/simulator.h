@@ -55,6 +55,7 @@ public:
 
     int frame() const;
     double time() const;  // seconds since the start of the simulation, preroll included
+    double time_of_frame(int frame) const { return time_at(preroll_steps_ + std::uint64_t(frame) * substeps_); }  // time() there
     const Particles& particles() const { return particles_; }
     std::size_t size() const { return particles_.size(); }
 

@@ -1,6 +1,8 @@
 // Camera paths: keyframes pass through their keys and hold at the ends; orbits keep their radius.
 #include "sim/camera_path.h"
 
+#include "sim/camera_rays.h"
+
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
@@ -72,6 +74,41 @@ TEST(CameraPath, OrbitKeepsRadiusAndHeightAndLooksAtTheCentre) {
     const glm::dvec3 a = camera_at(p, 0.0).position - p.camera_path.orbit_center;
     const glm::dvec3 b = camera_at(p, 1.0).position - p.camera_path.orbit_center;
     EXPECT_NEAR(a.x * b.x + a.z * b.z, 0.0, 1e-9);
+}
+
+// Keys that are each valid can join through a view along up: a fly-over straight above what it looks
+// at. camera_at refuses that time by name; camera_on_path gives the camera, and make_camera_rays
+// refuses it (its rays would be NaN, drawn as background with no error).
+TEST(CameraPath, AViewAlongUpBetweenKeysIsRefusedByTime) {
+    Preset p;
+    p.camera_path.kind = CameraPath::Kind::Keyframes;
+    p.camera_path.keys = {{0.0, {-5, 5, 0}, {0, 0, 0}}, {2.0, {5, 5, 0}, {0, 0, 0}}};
+    EXPECT_NO_THROW(camera_at(p, 0.9));
+    try {
+        camera_at(p, 1.0);
+        FAIL() << "a view along up was not refused";
+    } catch (const CameraPathError& e) {
+        EXPECT_NE(std::string(e.what()).find("at 1 s"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("parallel to camera.up"), std::string::npos) << e.what();
+    }
+    const Camera overhead = camera_on_path(p, 1.0);
+    expect_near(overhead.position, {0, 5, 0}, 1e-12);
+    EXPECT_THROW(make_camera_rays(overhead), std::invalid_argument);
+}
+
+// An orbit about a tilted up faces along it twice a turn; the eye on look_at is refused too.
+TEST(CameraPath, AnOrbitFacingAlongATiltedUpIsRefused) {
+    Preset p;
+    p.scene.camera.up = {0, 0, 1};
+    p.camera_path.kind = CameraPath::Kind::Orbit;
+    p.camera_path.orbit_radius = 3.0;
+    p.camera_path.orbit_height = 0.0;
+    p.camera_path.orbit_deg_per_second = 90.0;
+    EXPECT_THROW(camera_at(p, 0.0), CameraPathError);  // the eye at +z, looking along -z
+    EXPECT_NO_THROW(camera_at(p, 1.0));                // at +x
+    Camera c;
+    c.look_at = c.position;
+    EXPECT_NE(undefined_view(c).find("the eye is on look_at"), std::string::npos);
 }
 
 }  // namespace

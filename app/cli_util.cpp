@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -113,6 +114,30 @@ std::string refuse_non_positive(const std::string& text) {
     if (ec != std::errc() || ptr != end || text.empty() || !std::isfinite(value) || value <= 0.0)
         return "not a positive number (got \"" + text.substr(0, 40) + (text.size() > 40 ? "...\")" : "\")");
     return "";
+}
+
+namespace {
+
+// `text` read whole as a number (from_chars: no leading space or '+'), or NaN.
+double whole_number_text(const std::string& text) {
+    double value = 0.0;
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+    return ec == std::errc() && ptr == end && !text.empty() ? value : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string got(const std::string& text) { return " (got \"" + text.substr(0, 40) + (text.size() > 40 ? "...\")" : "\")"); }
+
+}  // namespace
+
+std::string refuse_outside_unit_interval(const std::string& text) {
+    const double v = whole_number_text(text);
+    return v >= 0.0 && v <= 1.0 ? "" : "not a number in [0, 1]" + got(text);
+}
+
+std::string refuse_outside_half_open_unit(const std::string& text) {
+    const double v = whole_number_text(text);
+    return v > 0.0 && v <= 1.0 ? "" : "not a number in (0, 1]" + got(text);
 }
 
 std::string refuse_non_frame_number(const std::string& text) {

@@ -54,6 +54,8 @@ std::string refuse_empty_path(const std::string& text);
 // own PositiveNumber and NonNegativeNumber print their upper bound, the largest double, in full (309 digits).
 std::string refuse_non_positive(const std::string& text);    // a finite number > 0
 std::string refuse_non_frame_number(const std::string& text); // a whole number from 0 to 2^31 - 1
+std::string refuse_outside_unit_interval(const std::string& text);   // a number in [0, 1] (NaN is not: CLI::Range let it by)
+std::string refuse_outside_half_open_unit(const std::string& text);  // a number in (0, 1]
 // "2,4,8" or "2-16:2" -> numbers. Throws std::invalid_argument.
 std::vector<int> parse_int_list(const std::string& text);
 

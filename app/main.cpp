@@ -136,6 +136,8 @@ int main(int argc, char** argv) {
     for (const CLI::App* sub = &app;;) {
         for (const CLI::Option* opt : sub->get_options()) {
             if (opt->count() == 0 || opt->get_items_expected_min() == 0) continue;  // not given, or a flag
+            // vdb-import --albedo-grid "" is documented: "" names no grid, where leaving it out takes the file's.
+            if (opt->get_name(false, true) == "--albedo-grid") continue;
             for (const std::string& value : opt->results())
                 if (value.empty()) {
                     const std::string name = opt->get_positional() ? opt->get_name() : opt->get_name(false, true);

@@ -13,6 +13,7 @@
 #include "sim/builtin_presets.h"
 #include "sim/builtin_scenes.h"
 #include "sim/camera_path.h"
+#include "sim/preset_file.h"
 #include "sim/scene_file.h"
 #include "sim/simulator.h"
 #include "sim/vdb/volume_loader.h"
@@ -32,15 +33,15 @@ namespace brume::app {
 void add_render_command(CLI::App& app, RenderArgs& args) {
     CLI::App* cmd = app.add_subcommand("render", "Render one scene to linear EXR and/or PNG");
     cmd->add_option("scene", args.scene,
-                    "Scene file (TOML; - reads it from standard input); none renders the built-in default scene. A built-in preset's name, or a "
-                    "preset file with --frame, renders one still of that preset")
+                    "Scene file (TOML; - reads it from standard input); none renders the built-in default scene. A preset (a built-in's "
+                    "name, or a file with a preset's sections) renders one still of it: frame 0, or --frame")
         ->check(refuse_empty_path);
     cmd->add_option("--frame", args.frame, "With a preset: the frame to render (0-based, as in play --frames; default 0)")
         ->check(refuse_non_frame_number);
     cmd->add_option("-o,--output", args.exr, "Linear float RGB OpenEXR output (- for standard output)")->check(refuse_empty_path);
     cmd->add_option("--png", args.png, "PNG output for people (exposure, then sRGB; - for standard output)")->check(refuse_empty_path);
     cmd->add_option("--method", args.method,
-                    "NAME[:SETTING]: auto (default: the fastest exact path on this device), ppll (GPU, exact), "
+                    "NAME[:SETTING]: auto (the default, or a preset's [render_settings] method: the fastest exact path on this device), ppll (GPU, exact), "
                     "trace (CPU, exact), reference (CPU, double precision) or a comparison method (brume methods "
                     "lists them)");
     cmd->add_option("--stats", args.stats, "Write frame statistics as JSON (- for standard output)")->check(refuse_empty_path);
@@ -64,13 +65,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A preset is what `render` was given when --frame says so, or when the name is a built-in preset
-// and no file of that name exists: `brume render plume` is a still of plume's frame 0.
+// Whether `render` was given a preset by name, or a file to read as one: when --frame says so, or
+// when the name is a built-in preset's and nothing but a folder has that name (`brume play plume`
+// writes ./plume/, and `brume render plume` is still a still of plume's frame 0). Any other file is
+// read as a scene or a preset by its sections (load_scene_or_preset_file).
 bool names_a_preset(const RenderArgs& args) {
     if (args.scene.empty()) return false;
     if (args.frame >= 0) return true;
     std::error_code ec;
-    if (fs::exists(args.scene, ec)) return false;
+    const fs::file_status status = fs::status(args.scene, ec);
+    if (fs::is_directory(status)) return builtin_preset_toml(args.scene).has_value();
+    if (fs::exists(status)) return false;
     // A missing name without a folder or an extension reads as a preset's: taken as one, a typo
     // (`render plumee`) is answered with the presets and the closest of them, not "cannot open".
     const fs::path path(args.scene);
@@ -85,8 +90,7 @@ struct StillReport {
 };
 
 // The scene of one frame of a preset: simulated up to the frame, with the camera of its path there.
-Scene preset_still(const RenderArgs& args, double& exposure, StillReport& report) {
-    Preset preset = resolve_preset(args.scene);
+Scene preset_still(const RenderArgs& args, Preset preset, double& exposure, StillReport& report) {
     if (!args.size.empty()) parse_size(args.size, preset.scene.camera.width, preset.scene.camera.height);
     const int frame = std::max(args.frame, 0);
     const int count = preset.timeline.frame_count();
@@ -98,7 +102,11 @@ Scene preset_still(const RenderArgs& args, double& exposure, StillReport& report
     sim.advance_to_frame(frame);
     Scene scene = preset.scene;
     sim.append_spheres(scene.spheres);
-    scene.camera = camera_at(preset, sim.time());
+    try {
+        scene.camera = camera_at(preset, sim.time());
+    } catch (const CameraPathError& e) {
+        throw std::runtime_error("frame " + std::to_string(frame) + ": " + e.what());
+    }
     scene.camera.width = preset.scene.camera.width;
     scene.camera.height = preset.scene.camera.height;
     scene.source = preset.name + " frame " + std::to_string(frame);
@@ -172,7 +180,8 @@ int run_render(const RenderArgs& command_line) {
     RenderArgs args = command_line;
     args.scene = input_path(args.scene);  // "-": the scene on standard input
     std::string exr = args.exr, png = args.png;
-    if (exr.empty() && png.empty()) {
+    // The default images only when no output is named: `--stats -` alone writes no brume.exr.
+    if (exr.empty() && png.empty() && args.stats.empty()) {
         exr = "brume.exr";
         png = "brume.png";
     }
@@ -189,10 +198,21 @@ int run_render(const RenderArgs& command_line) {
     double exposure = args.exposure;
     if (args.scene.empty() && args.frame >= 0)
         throw UsageError("--frame picks a frame of a preset (brume play --list); the built-in default scene is a still");
-    const bool preset = names_a_preset(args);
+    std::optional<Preset> preset;
+    Scene scene;
+    if (args.scene.empty())
+        scene = default_scene();
+    else if (names_a_preset(args))
+        preset = resolve_preset(args.scene);
+    else if (SceneOrPreset file = load_scene_or_preset_file(args.scene); file.preset)
+        preset = std::move(file.preset);
+    else
+        scene = std::move(*file.scene);
+    // A preset's own method unless --method names one, as play and preview do.
+    if (args.method.empty()) args.method = preset ? preset->render.method : "auto";
     StillReport still;
-    Scene scene = preset ? preset_still(args, exposure, still) : args.scene.empty() ? default_scene() : load_scene_file(args.scene);
-    if (!preset && !args.size.empty()) parse_size(args.size, scene.camera.width, scene.camera.height);
+    if (preset) scene = preset_still(args, std::move(*preset), exposure, still);
+    else if (!args.size.empty()) parse_size(args.size, scene.camera.width, scene.camera.height);
     if (args.shadows == "off") scene.lighting.shadows = false;
     else if (!args.shadows.empty())
         scene.render.shadow_technique = args.shadows == "per-sphere" ? ShadowTechnique::PerSphere : ShadowTechnique::Accurate;

@@ -9,11 +9,11 @@
 namespace brume::app {
 
 struct RenderArgs {
-    std::string scene;  // empty: the built-in default scene; or a preset (name or file) with --frame
+    std::string scene;  // empty: the built-in default scene; or a preset (a built-in's name, or a file)
     int frame = -1;     // --frame: a still of this frame of a preset; -1: not given
     std::string exr;
     std::string png;
-    std::string method = "auto";
+    std::string method;  // empty: a preset's [render_settings] method, or auto
     std::string stats;
     std::string size;
     std::string device;

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 namespace brume::app {
@@ -32,10 +33,11 @@ void add_vdb_commands(CLI::App& app, VdbInfoArgs& info, VdbImportArgs& import) {
     cmd->add_option("--grid", import.grid, "Float grid to read")->capture_default_str();
     cmd->add_option("--tolerance", import.tolerance,
                     "Relative RMS optical-depth error the spheres must meet against the grid, in (0, 1]")
-        ->check(CLI::Range(0.0, 1.0))
+        ->check(refuse_outside_half_open_unit)
+        ->each([&import](const std::string&) { import.tolerance_set = true; })
         ->capture_default_str();
     cmd->add_option("--max-spheres", import.max_spheres,
-                    "Instead of --tolerance: the most accurate cloud of at most this many spheres")
+                    "Instead of --tolerance (with --fit, beside it): the most accurate cloud of at most this many spheres")
         ->check(CLI::Range(std::size_t(1), kMaxSpheres));
     cmd->add_option("--extinction-scale", import.extinction_scale, "Sphere extinction = density * this (per scene unit)")
         ->check(refuse_non_positive)
@@ -43,7 +45,7 @@ void add_vdb_commands(CLI::App& app, VdbInfoArgs& info, VdbImportArgs& import) {
     cmd->add_option("--albedo", import.albedo, "R,G,B single-scattering albedo, each in [0, 1]")
         ->delimiter(',')
         ->expected(3)
-        ->check(CLI::Range(0.0, 1.0));
+        ->check(refuse_outside_unit_interval);
     cmd->add_option("--albedo-grid", import.albedo_grid,
                     "Float grid of the same file multiplying the albedo per sphere (default: \"albedo\" if the "
                     "file has one; \"\" for none)");
@@ -67,8 +69,15 @@ void add_vdb_export_commands(CLI::App& app, VdbExportArgs& export_args, VdbSampl
                              ->check(refuse_non_positive);
     CLI::Option* resolution =
         cmd->add_option("--resolution", export_args.resolution,
-                        "Voxels across the longest side of the spheres' bounding box (when no --voxel-size)")
-            ->check(refuse_non_positive)
+                        "Voxels across the longest side of the spheres' bounding box (when no --voxel-size; at least " +
+                            std::to_string(kMinSplatResolution) + ")")
+            ->check([](const std::string& text) {
+                const std::optional<long long> v = parse_whole_number(text);
+                return v && *v >= kMinSplatResolution && *v <= std::numeric_limits<int>::max()
+                           ? std::string()
+                           : "not a whole number of voxels from " + std::to_string(kMinSplatResolution) + " up (got \"" +
+                                 text.substr(0, 40) + "\")";
+            })
             ->capture_default_str();
     voxel->excludes(resolution);
     cmd->add_option("--extinction-scale", export_args.extinction_scale,
@@ -103,6 +112,11 @@ int run_vdb_info(const VdbInfoArgs& args) {
 }
 
 int run_vdb_import(const VdbImportArgs& args) {
+    // As a [[vdb]] table: a tiling meets a tolerance or spends a number of spheres, not both; a fit stops
+    // at whichever comes first. Given both, --max-spheres used to win silently over the tolerance asked.
+    if (args.tolerance_set && args.max_spheres > 0 && !args.fit)
+        throw UsageError("give --tolerance or --max-spheres, not both (--tolerance: the accuracy to meet; --max-spheres: "
+                         "the most spheres to spend; with --fit, both: the fit stops at whichever comes first)");
     check_output_format("-o", args.output, ".toml");
     check_writable_path(args.output);  // refuse before the work, and write nothing on failure
     check_outputs_distinct({{"-o", args.output}}, {{"the VDB file", args.file}});
@@ -175,9 +189,12 @@ int run_vdb_export(const VdbExportArgs& args) {
     const bool animated = !preset.emitters.empty();
     const int frames = preset.timeline.frame_count();
     const int frame = args.frame_set ? args.frame : frames - 1;
+    if (args.frame_set && !animated)
+        throw UsageError("--frame picks a frame of a preset with emitters; " + preset.scene.source +
+                         " has none, so its spheres are the same at every frame: leave --frame out");
     if (animated && (frame < 0 || frame >= frames))
-        throw std::invalid_argument("--frame " + std::to_string(frame) + " is outside " + preset.name + "'s frames 0-" +
-                                    std::to_string(frames - 1));
+        throw UsageError("--frame " + std::to_string(frame) + " is outside " + preset.name + "'s frames 0-" +
+                         std::to_string(frames - 1));
     prepare_preset(preset);  // [[vdb]] volumes become spheres, density emitters get their grids
 
     // The spheres a renderer gets for this frame, in its order: the scene's own, then the particles
@@ -218,10 +235,10 @@ int run_vdb_sample(const VdbSampleArgs& args) {
         return 0;
     }
     const std::string names = sample_volume_names();
-    if (args.name.empty()) throw std::invalid_argument("vdb-sample needs a NAME: one of " + names + " (or --list)");
+    if (args.name.empty()) throw UsageError("vdb-sample needs a NAME: one of " + names + " (or --list)");
     if (!is_sample_volume(args.name))
-        throw std::invalid_argument("no sample volume named \"" + args.name + "\" (there are: " + names + ")");
-    if (args.output.empty()) throw std::invalid_argument("vdb-sample needs -o OUT.vdb");
+        throw UsageError("no sample volume named \"" + args.name + "\" (there are: " + names + ")");
+    if (args.output.empty()) throw UsageError("vdb-sample needs -o OUT.vdb");
     check_output_format("-o", args.output, ".vdb");
     check_writable_path(args.output);
     if (names_standard_output(args.output)) claim_standard_output("-o", true);

@@ -23,6 +23,7 @@ struct VdbImportArgs {
     std::string grid = "density";
     std::string output;
     double tolerance = 0.05;
+    bool tolerance_set = false;  // given on the command line (its default is not a request)
     std::size_t max_spheres = 0;
     double extinction_scale = 1.0;
     std::vector<double> albedo{1.0, 1.0, 1.0};

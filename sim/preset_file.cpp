@@ -7,10 +7,13 @@
 #include "sim/scene_sections.h"
 #include "sim/toml_reader.h"
 
+#include <algorithm>
+
 namespace brume {
 
-Preset parse_preset_toml(std::string_view text, const std::string& source_name) {
-    const toml_read::Reader in(text, source_name);
+namespace {
+
+Preset read_preset(const toml_read::Reader& in, const std::string& source_name) {
     check_preset_root_keys(in);
     Preset p;
     read_preset_header(in, p);
@@ -22,15 +25,40 @@ Preset parse_preset_toml(std::string_view text, const std::string& source_name) 
     return p;
 }
 
-Preset load_preset_file(const std::filesystem::path& path) {
-    Preset p = parse_preset_toml(toml_text::read_file(path), path.string());
-    // Relative grid files are found beside the preset, wherever it is run from (a stream's: from the
-    // working directory).
+// Relative grid files are found beside the document, wherever it is run from (a stream's: from the
+// working directory).
+void set_base_dirs(Preset& p, const std::filesystem::path& path) {
     const std::string dir = toml_text::relative_base(path);
     for (VdbVolume& v : p.scene.volumes) v.source.base_dir = dir;
     for (EmitterDesc& e : p.emitters)
         if (e.shape == EmitterShape::Density) e.density_source.base_dir = dir;
+}
+
+}  // namespace
+
+Preset parse_preset_toml(std::string_view text, const std::string& source_name) {
+    return read_preset(toml_read::Reader(text, source_name), source_name);
+}
+
+Preset load_preset_file(const std::filesystem::path& path) {
+    Preset p = parse_preset_toml(toml_text::read_file(path), path.string());
+    set_base_dirs(p, path);
     return p;
+}
+
+SceneOrPreset load_scene_or_preset_file(const std::filesystem::path& path) {
+    const std::string name = path.string();
+    const toml_read::Reader in(toml_text::read_file(path), name);
+    const bool preset = std::ranges::any_of(kPresetSections, [&](std::string_view s) { return in.root().contains(s); });
+    if (!preset) {
+        Scene scene = read_scene(in, name);
+        const std::string dir = toml_text::relative_base(path);
+        for (VdbVolume& v : scene.volumes) v.source.base_dir = dir;
+        return {std::move(scene), std::nullopt};
+    }
+    Preset p = read_preset(in, name);
+    set_base_dirs(p, path);
+    return {std::nullopt, std::move(p)};
 }
 
 }  // namespace brume

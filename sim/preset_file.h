@@ -13,21 +13,22 @@
 //                     "builtin:NAME[:RESOLUTION]"), grid (default "density"), albedo_grid (default:
 //                     the file's "albedo" grid if it has one; "" for none),
 //                     extinction_scale (> 0), albedo (a number or [r, g, b], in [0, 1]), tolerance (in
-//                     (0, 1]) or max_spheres (1 to kMaxSpheres) but not both, and the placement
+//                     (0, 1]) or max_spheres (1 to kMaxSpheres), both only with fit = true (bool), and the placement
 //                     translate = [x, y, z], scale, rotate = [x, y, z] (degrees about x, then y, then z)
 //   [[emitter]]       name, shape = "point"|"sphere"|"box"|"disc"|"density", center (all but density),
 //                     radius (sphere, disc), half_extent (box), normal (disc), file, grid, translate,
 //                     scale, rotate (density: births follow the grid's trilinear field, the keys as in
 //                     [[vdb]]), rate, start, stop, bursts = [{ time, count }],
 //                     direction, speed, cone_deg, jitter, lifetime, particle_radius, extinction,
-//                     albedo = [r, g, b] or { min = [r, g, b], max = [r, g, b] }
-//   [emitter.curves]  radius_growth, fade_in, fade_out, albedo_ramp = [{ age, multiplier = [r, g, b] }]
+//                     albedo = [r, g, b] or { min = [r, g, b], max = [r, g, b] }, emission = [r, g, b]
+//   [emitter.curves]  radius_growth, fade_in, fade_out, albedo_ramp = [{ age, multiplier = [r, g, b] }],
+//                     emission_ramp (as albedo_ramp, multiplying emission)
 //   [[force]]         type = "gravity" (vector) | "buoyancy" (strength) | "wind" (vector, strength)
 //                     | "drag" (strength) | "turbulence" (strength; scale, speed, octaves, lacunarity,
 //                     gain) | "vortex" (strength; center, axis, radius)
 //   [camera_path]     type = "static" | "keyframes" (keys = [{ time, position, look_at }], 2 or more)
 //                     | "orbit" (center, radius, height, start_deg, deg_per_second)
-//   [render_settings] method = "ppll"|"reference", exposure (stops)
+//   [render_settings] method = "auto"|"ppll"|"tiles"|"trace"|"reference", exposure (stops)
 // A key another shape or type uses is an error, as is an unknown one. Times (start, stop, bursts,
 // camera keys) are seconds on the simulation clock (sim/simulator.h), which starts at 0 and includes
 // the preroll. Errors are SceneFileErrors: "plume.toml:31: emitter[0].speed: min must not exceed max
@@ -40,6 +41,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -70,6 +72,16 @@ Preset parse_preset_toml(std::string_view text, const std::string& source_name);
 // Reads and parses a file; a missing or unreadable file is a SceneFileError naming it and the OS reason.
 // The base_dir of every [[vdb]] volume and density emitter is the file's directory, as in load_scene_file.
 Preset load_preset_file(const std::filesystem::path& path);
+
+// A document that may be either, told apart by its sections: one with any section only a preset reads
+// ([preset], [timeline], [[emitter]], [[force]], [camera_path], [render_settings]) is read as a preset,
+// any other as a scene (load_scene_file's rules, base_dir included). The file is read once, so it may be
+// a stream (standard input). Exactly one of the two is set.
+struct SceneOrPreset {
+    std::optional<Scene> scene;
+    std::optional<Preset> preset;
+};
+SceneOrPreset load_scene_or_preset_file(const std::filesystem::path& path);
 
 // Writes every field parse_preset_toml reads, numbers as their shortest exact text, so that
 // parse_preset_toml(preset_to_toml(p)) reproduces p (bar scene.source). The camera's width and height

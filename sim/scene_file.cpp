@@ -244,12 +244,7 @@ void append_scene_sections(std::string& out, const Scene& scene) {
 }  // namespace toml_text
 
 Scene parse_scene_toml(std::string_view text, const std::string& source_name) {
-    const toml_read::Reader in(text, source_name);
-    check_scene_root_keys(in);
-    Scene scene;
-    read_scene_sections(in, scene);
-    scene.source = source_name;
-    return scene;
+    return read_scene(toml_read::Reader(text, source_name), source_name);
 }
 
 Scene load_scene_file(const std::filesystem::path& path) {

@@ -63,7 +63,8 @@ void read_camera(const Reader& in, const toml::node& node, const KeyPath& path, 
     const double sin_angle = glm::length(glm::cross(view / view_length, c.up / up_length));
     if (!(sin_angle > 1e-9))
         in.fail(toml_read::where(t, {position, look_at, up}), path / "up",
-                "must not be parallel to the view direction (look_at - position)");
+                std::string("must not be parallel to the view direction (look_at - position)") +
+                    (up ? "" : "; up is [0, 1, 0] unless given: a camera looking straight down or up needs its own, e.g. up = [0, 0, -1]"));
 }
 
 void read_lighting(const Reader& in, const toml::node& node, const KeyPath& path, Lighting& l) {
@@ -183,6 +184,14 @@ const std::array<toml_read::SectionHint, 6> kSceneSectionHints{{
 void check_scene_root_keys(const Reader& in) {
     in.check_root_keys(kSceneSections, {kSceneSectionHints}, kPresetSections,
                        "a preset section: not allowed in a static scene file (read the file as a preset)");
+}
+
+Scene read_scene(const Reader& in, const std::string& source_name) {
+    check_scene_root_keys(in);
+    Scene scene;
+    read_scene_sections(in, scene);
+    scene.source = source_name;
+    return scene;
 }
 
 void read_scene_sections(const Reader& in, Scene& s) {

@@ -8,6 +8,7 @@
 #include "sim/toml_reader.h"
 
 #include <array>
+#include <string>
 #include <string_view>
 
 namespace brume {
@@ -28,6 +29,9 @@ void check_scene_root_keys(const toml_read::Reader& in);
 // Reads the scene sections the document holds into `scene` and sets scene.frame_volumes. The top-level
 // keys are the caller's to check: a scene and a preset allow different ones.
 void read_scene_sections(const toml_read::Reader& in, Scene& scene);
+
+// A scene file's document: its top-level keys checked, its sections read, `source_name` its source.
+Scene read_scene(const toml_read::Reader& in, const std::string& source_name);
 
 // `file` (required: `needs` says who needs it when it is missing) and `grid`: where a [[vdb]] volume or a
 // density emitter reads its grid. The file is not opened here: brume_sim does not link OpenVDB, and a

@@ -655,6 +655,35 @@ vdb_refused vdb_export.huge_voxel "voxel size 1e+30" "outside" -- \
 vdb_refused vdb_sample.unknown_name "nebula" "cloud" -- vdb-sample nebula -o "$vkeep/out.vdb"
 vdb_refused vdb_sample.bad_resolution "--resolution" -- vdb-sample cloud --resolution 4 -o "$vkeep/out.vdb"
 vdb_refused vdb_sample.no_output "-o" -- vdb-sample cloud
+# A resolution too coarse for the origin-anchored lattice (1 gave voxels of 3.6e8 units, a file
+# vdb-import refuses); --frame of a document without emitters, whose spheres never change; a tiling asked
+# for both a tolerance and a sphere count (the count won silently); NaN through CLI11's range check; an
+# extinction scale that makes spheres past a scene's limit (exit 0 with a NaN error report).
+vdb_refused vdb_export.coarse_resolution "--resolution" "from 8 up" -- \
+    vdb-export "$vdb/puff.toml" --frame 2 --resolution 2 -o "$vkeep/out.vdb"
+vdb_refused vdb_export.frame_of_a_still "has none" "leave --frame out" -- \
+    vdb-export "$data/small.toml" --frame 3 -o "$vkeep/out.vdb"
+vdb_refused vdb_import.tolerance_and_count "--tolerance or --max-spheres, not both" -- \
+    vdb-import "$vdb/fog.vdb" --max-spheres 10 --tolerance 0.1 -o "$vkeep/out.toml"
+vdb_refused vdb_import.zero_tolerance "--tolerance" "(0, 1]" -- vdb-import "$vdb/fog.vdb" --tolerance 0 -o "$vkeep/out.toml"
+vdb_refused vdb_import.nan_albedo "--albedo" "nan" -- vdb-import "$vdb/fog.vdb" --albedo nan,0,0 -o "$vkeep/out.toml"
+vdb_refused vdb_import.absurd_extinction_scale "extinction scale 1e+300" "limit" -- \
+    vdb-import "$vdb/fog.vdb" --extinction-scale 1e300 -o "$vkeep/out.toml"
+# The command-line mistakes among them exit 2, as every other command's do.
+status_ok=1
+for args in "vdb-sample" "vdb-sample cloud" "vdb-export $data/small.toml --frame 3 -o $vkeep/x.vdb" \
+    "vdb-export $vdb/puff.toml --frame 99 -o $vkeep/x.vdb" "vdb-import $vdb/fog.vdb --max-spheres 9 --tolerance 0.2 -o $vkeep/x.toml"; do
+    # shellcheck disable=SC2086 # the words of each command line
+    run $args
+    [ "$rc" -eq 2 ] || { fail vdb_cli.status_2 "brume $args: exit $rc, expected 2: $(first_err)"; status_ok=0; }
+done
+started[vdb_cli.status_2]=1
+[ "$status_ok" -eq 1 ] && ok vdb_cli.status_2
+# --albedo-grid "" names no grid, as its help says, where leaving it out takes the file's "albedo".
+run vdb-import "$vdb/albedo.vdb" --albedo-grid "" -o "$vdb/no_albedo.toml"
+expect_success vdb_import.albedo_grid_none && ! grep -q "albedo from grid" "$out" && ok vdb_import.albedo_grid_none
+run vdb-import "$vdb/albedo.vdb" -o "$vdb/file_albedo.toml"
+expect_success vdb_import.albedo_grid_default && grep -qF 'albedo from grid "albedo"' "$out" && ok vdb_import.albedo_grid_default
 # vdb-import --fit: fits, says so, and writes the scene; a fit that runs into its default sphere cap above
 # the tolerance is refused, naming what it reached, and writes nothing.
 run vdb-import builtin:fog-sphere:16 --fit --tolerance 0.1 -o "$vdb/fit.toml"
@@ -1118,6 +1147,38 @@ fi
 if expect_line render.frame_without_preset 2 "--frame picks a frame of a preset (brume play --list); the built-in default scene is a still"; then
     [ ! -e "$nu/never.png" ] && ok render.frame_without_preset || fail render.frame_without_preset "never.png was written"
 fi
+# A preset file without --frame is a still of its frame 0, as a built-in's name is, and it renders by
+# its own [render_settings] method unless --method names one (play does both).
+{ cat "$nu/capped.toml"; printf '[render_settings]\nmethod = "reference"\n'; } >"$nu/own_method.toml"
+run render "$nu/own_method.toml" --size 8x6 --png "$nu/own_method.png" --stats "$nu/own_method.json"
+expect_success render.preset_file_still && grep -qF '"scene": "own_method frame 0"' "$nu/own_method.json" &&
+    grep -qF '"method": "reference"' "$nu/own_method.json" && ok render.preset_file_still
+run render "$nu/own_method.toml" --frame 0 --method trace --size 8x6 --png "$nu/own_method0.png" --stats "$nu/own_method0.json"
+expect_success render.method_over_preset && grep -qF '"method": "trace"' "$nu/own_method0.json" && ok render.method_over_preset
+# The same from standard input: the stream is read once, as a preset.
+run render - --size 8x6 --stats "$nu/own_method_stdin.json" <"$nu/own_method.toml"
+expect_success render.preset_from_stdin && grep -qF '"method": "reference"' "$nu/own_method_stdin.json" &&
+    ok render.preset_from_stdin
+# Statistics alone name the one output: no default brume.exr and brume.png beside them.
+mkdir -p "$nu/stats_only"
+(cd "$nu/stats_only" && "$brume" render "$data/small.toml" --size 8x6 --stats - >"$out" 2>"$err"); rc=$?
+expect_success render.stats_only && grep -q '"frames": 1' "$out" && [ "$(listing "$nu/stats_only")" = "" ] &&
+    ok render.stats_only
+# A folder named as a built-in preset (play's default output folder) leaves the name to the preset.
+mkdir -p "$nu/beside/crossing"
+(cd "$nu/beside" && "$brume" render crossing --size 8x6 --png still.png >"$out" 2>"$err"); rc=$?
+expect_success render.preset_beside_its_folder && [ -s "$nu/beside/still.png" ] && ok render.preset_beside_its_folder
+# A camera path that passes through an undefined view (a fly-over straight above what it looks at, with
+# up vertical) is refused at that frame, never drawn as an empty image with exit 0; play refuses the
+# whole range before its first frame.
+printf '[timeline]\nfps = 10.0\nduration = 2.0\n[[sphere]]\ncenter = [0.0, 1.0, 0.0]\nradius = 1.0\nextinction = 1.0\nalbedo = [1.0, 1.0, 1.0]\n[camera_path]\ntype = "keyframes"\nkeys = [{ time = 0.0, position = [-5.0, 5.0, 0.0], look_at = [0.0, 0.0, 0.0] }, { time = 2.0, position = [5.0, 5.0, 0.0], look_at = [0.0, 0.0, 0.0] }]\n' >"$nu/flyover.toml"
+run render "$nu/flyover.toml" --frame 10 --size 8x6 --png "$nu/flyover.png"
+expect_line camera.undefined_view_still 1 "frame 10: camera_path: at 1 s the camera's view is undefined: the view direction (look_at - position) is parallel to camera.up (position [0, 5, 0], look_at [0, 0, 0]); move a key, or set [camera] up to a direction the view never takes" &&
+    [ ! -e "$nu/flyover.png" ] && ok camera.undefined_view_still
+run play "$nu/flyover.toml" --size 8x6 -o "$nu/flyover"
+expect_error camera.undefined_view_play "frame 10: camera_path: at 1 s" && [ ! -e "$nu/flyover" ] && ok camera.undefined_view_play
+run render "$nu/flyover.toml" --frame 9 --size 8x6 --png "$nu/flyover9.png"
+expect_success camera.defined_beside_it && [ -s "$nu/flyover9.png" ] && ok camera.defined_beside_it
 run bench nosuch
 expect_line bench.unknown_name 2 "benchmark: nosuch not in {methods,layers,scale,sim,vdb,preview,shadows} (see brume bench --help)" &&
     ok bench.unknown_name

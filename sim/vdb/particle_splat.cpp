@@ -35,8 +35,9 @@ bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.
 void validate(const std::vector<Sphere>& spheres, const SplatOptions& o) {
     if (!std::isfinite(o.voxel_size) || o.voxel_size < 0.0)
         throw std::invalid_argument("voxel size must be positive and finite (got " + number(o.voxel_size) + ")");
-    if (o.voxel_size == 0.0 && o.resolution < 1)
-        throw std::invalid_argument("resolution must be at least 1 voxel (got " + std::to_string(o.resolution) + ")");
+    if (o.voxel_size == 0.0 && o.resolution < kMinSplatResolution)
+        throw std::invalid_argument("resolution must be at least " + std::to_string(kMinSplatResolution) + " voxels (got " +
+                                    std::to_string(o.resolution) + ")");
     if (!std::isfinite(o.extinction_scale) || !(o.extinction_scale > 0.0))
         throw std::invalid_argument("extinction scale must be positive and finite (got " + number(o.extinction_scale) + ")");
     if (o.grid_name.empty()) throw std::invalid_argument("the grid needs a name");
@@ -197,11 +198,6 @@ SplatGrids splat_spheres(const std::vector<Sphere>& spheres, const SplatOptions&
                                                    : std::max({box.x, box.y, box.z}) / options.resolution;
     if (!(voxel > 0.0) || !std::isfinite(voxel))
         throw std::invalid_argument("voxel size " + number(voxel) + " is not usable for these spheres");
-    // The range vdb-import reads back (sim/vdb/vdb_file.h): a file Brume itself would refuse is no export.
-    if (voxel < kMinVoxelSize || voxel > kMaxCoordinate)
-        throw std::invalid_argument("voxel size " + number(voxel) + " is outside [" + number(kMinVoxelSize) + ", " +
-                                    number(kMaxCoordinate) + "] scene units");
-
     glm::dvec3 origin{0.0};
     Extent e;
     glm::dvec3 dims;
@@ -221,6 +217,11 @@ SplatGrids splat_spheres(const std::vector<Sphere>& spheres, const SplatOptions&
         if (options.voxel_size > 0.0 || longest <= options.resolution || attempt == 16) break;
         voxel *= std::max(longest / options.resolution, 1.0 + 1e-9);
     }
+    // The range vdb-import reads back (sim/vdb/vdb_file.h), on the voxel as widened: a file Brume itself
+    // would refuse is no export.
+    if (voxel < kMinVoxelSize || voxel > kMaxCoordinate)
+        throw std::invalid_argument("voxel size " + number(voxel) + " is outside [" + number(kMinVoxelSize) + ", " +
+                                    number(kMaxCoordinate) + "] scene units");
     if (dims.x * dims.y * dims.z > double(kMaxSplatVoxels)) throw std::invalid_argument(too_many_voxels(dims, voxel));
 
     DensityGrid& grid = out.density;

@@ -31,10 +31,15 @@ namespace brume {
 // the albedo grid).
 inline constexpr std::uint64_t kMaxSplatVoxels = std::uint64_t(1) << 30;
 
+// The coarsest resolution a splat takes: the lattice is anchored at the world origin, so a box that
+// straddles one of its lines keeps two cells and a filter margin however wide the voxel, and below this
+// the voxel cannot widen until the longest side holds `resolution` (1 or 2 gave voxels of 1e8 units).
+inline constexpr int kMinSplatResolution = 8;
+
 struct SplatOptions {
     // The voxel side in scene units; 0: the longest side of the spheres' bounding box / resolution.
     double voxel_size = 0.0;
-    int resolution = 128;
+    int resolution = 128;  // at least kMinSplatResolution
     double extinction_scale = 1.0;  // density = extinction / extinction_scale
     std::string grid_name = "density";
     // Also make "albedo": per voxel, the extinction-weighted mean of the spheres' grey albedo (mean of r,

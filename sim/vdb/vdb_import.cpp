@@ -1,5 +1,6 @@
 #include "sim/vdb/vdb_import.h"
 
+#include "sim/scene_file.h"
 #include "sim/vdb/density_source.h"
 #include "sim/vdb/vdb_file.h"
 
@@ -9,9 +10,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 namespace brume {
+namespace {
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+}  // namespace
 
 Camera frame_box(Camera camera, const glm::dvec3& lo, const glm::dvec3& hi) {
     const glm::dvec3 centre = 0.5 * (lo + hi);
@@ -40,6 +45,15 @@ VdbImport import_density_grid(const DensityGrid& grid, const SphereCloudOptions&
     out.met_tolerance = cloud.met_tolerance;
     if (cloud.spheres.empty())
         throw std::runtime_error("grid \"" + grid.name + "\" has no density (every active voxel is 0)");
+    // The scene the spheres go into must read back: its extinction is bounded (sim/scene_file.h). An
+    // extinction scale of 1e300 made infinite spheres and a NaN error report, with exit 0.
+    double densest = 0.0;
+    for (const Sphere& s : cloud.spheres) densest = std::max(densest, std::isfinite(s.extinction) ? s.extinction : kInfinity);
+    if (densest > kMaxExtinction)
+        throw std::invalid_argument("extinction scale " + toml_text::shortest(options.extinction_scale) + " makes grid \"" +
+                                    grid.name + "\"'s spheres " + toml_text::shortest(densest) +
+                                    " per unit, above a scene's limit of " + toml_text::shortest(kMaxExtinction) +
+                                    ": lower the extinction scale");
     out.split_threshold = cloud.split_threshold;
     out.max_cell_voxels = cloud.max_cell_voxels;
     out.lattice_spacing = cloud.lattice_spacing;

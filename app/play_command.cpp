@@ -173,8 +173,13 @@ int run_play(const PlayArgs& args) {
     if (!args.video.empty()) {
         check_video_name(args.video);
         // A video inside the frames folder is checked where that folder will be made.
+        // The same folder however it is written: "out", "out/", "./out" or its absolute path.
+        const auto folder = [](const fs::path& p) {
+            fs::path n = fs::absolute(p.empty() ? fs::path(".") : p).lexically_normal();
+            return n.has_filename() ? n : n.parent_path();
+        };
         const fs::path video_dir = fs::path(args.video).parent_path();
-        const bool in_frames_dir = video_dir.lexically_normal() == dir.lexically_normal() && !fs::exists(dir, ec);
+        const bool in_frames_dir = folder(video_dir) == folder(dir) && !fs::exists(dir, ec);
         if (in_frames_dir)
             check_writable_directory(base);
         else
@@ -336,13 +341,26 @@ int run_play(const PlayArgs& args) {
         std::printf("the particle budget (max_particles = %u) skipped %llu births\n", preset.timeline.max_particles,
                     static_cast<unsigned long long>(sim.skipped()));
     if (g_stop_requested) {
-        std::fprintf(stderr, "brume: interrupted after %d frame%s; every written frame is complete\n", written,
-                     written == 1 ? "" : "s");
+        std::fprintf(stderr, "brume: interrupted after %d frame%s; every written frame is complete%s\n", written,
+                     written == 1 ? "" : "s", args.video.empty() ? "" : ", and no video was encoded");
         return 130;
     }
     if (!args.video.empty()) {
-        encode_video((dir / (preset.name + ".%04d.png")).string(), range.first, written, preset.timeline.fps, args.video,
-                     dir / (preset.name + ".ffmpeg.log"));
+        // ffmpeg reads an image sequence through a printf-like pattern: a '%' of the folder or the
+        // preset's name is written "%%", or the frames are not found (after every frame was rendered).
+        std::string frames;
+        for (const char c : (dir / preset.name).string()) frames += c == '%' ? "%%" : std::string(1, c);
+        const fs::path log = dir / (preset.name + ".ffmpeg.log");
+        try {
+            encode_video(frames + ".%04d.png", range.first, written, preset.timeline.fps, args.video, log);
+        } catch (const std::exception&) {
+            if (!g_stop_requested) throw;
+            // Ctrl-C reached ffmpeg too: its exit is the interrupt's, not a failure to report with a log.
+            fs::remove(log, ec);
+            std::fprintf(stderr, "brume: interrupted while encoding %s; every frame is complete, and the video was not "
+                                 "written (any old one is kept)\n", args.video.c_str());
+            return 130;
+        }
         std::printf("wrote %s\n", args.video.c_str());
     }
     return 0;

@@ -3,10 +3,12 @@
 #include "app/process.h"
 #include "render/atomic_file.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -29,16 +31,20 @@ std::string last_line_of(const std::filesystem::path& file) {
 }  // namespace
 
 std::string ffmpeg_version() {
-    const std::string log = std::filesystem::temp_directory_path() / ("brume-ffmpeg-probe-" + std::to_string(::getpid()));
+    // A TMPDIR that names no folder is no reason to say ffmpeg is missing, nor to fail.
+    std::error_code ec;
+    std::filesystem::path temp_dir = std::filesystem::temp_directory_path(ec);
+    if (ec || !std::filesystem::is_directory(temp_dir, ec)) temp_dir = "/tmp";
+    const std::string log = temp_dir / ("brume-ffmpeg-probe-" + std::to_string(::getpid()));
     if (run_process({"ffmpeg", "-hide_banner", "-version"}, log) != 0) {
-        std::filesystem::remove(log);
+        std::filesystem::remove(log, ec);
         return "";
     }
     std::ifstream in(log);
     std::string first;
     std::getline(in, first);
     in.close();
-    std::filesystem::remove(log);
+    std::filesystem::remove(log, ec);
     return first;
 }
 
@@ -47,6 +53,10 @@ void encode_video(const std::string& pattern, int first, int count, double fps, 
     // Hidden, beside the output, keeping its extension (ffmpeg picks the container from it). Brume
     // creates and locks it, ffmpeg writes into it: a run killed outright leaves it unlocked, and the
     // next run's cleanup removes it (render/atomic_file.h).
+    // What stands at the output decides how the video gets there, as for every output
+    // (render/atomic_file.h): a regular file is replaced by a rename and keeps its permissions, a FIFO
+    // or a device is written into, a symlink is followed. ffmpeg itself writes a regular temporary file.
+    const OutputTarget target = resolve_output(output);
     remove_stale_temporaries(output);
     std::filesystem::path temp;
     const int lock = create_locked_temporary(output, output.extension().string(), temp);
@@ -54,6 +64,9 @@ void encode_video(const std::string& pattern, int first, int count, double fps, 
         int fd;
         ~Unlock() { ::close(fd); }
     } unlock{lock};
+    struct stat old {};
+    if (!target.in_place && ::stat(target.path.c_str(), &old) == 0 && S_ISREG(old.st_mode))
+        (void)::fchmod(lock, old.st_mode & 07777);  // ffmpeg truncates the file it is given and keeps its mode
     char rate[32];
     std::snprintf(rate, sizeof rate, "%.6g", fps);
     const std::vector<std::string> args = {
@@ -69,10 +82,19 @@ void encode_video(const std::string& pattern, int first, int count, double fps, 
                                  ") encoding " + output.string() + "; its log " + log.string() + " ends with " + last_line_of(log));
     }
     std::error_code ec;
-    std::filesystem::rename(temp, resolve_output(output).path, ec);
-    if (ec) {
+    if (target.in_place || target.descriptor >= 0) {
+        // A FIFO or device takes the finished file's bytes: it cannot be renamed over.
+        std::ifstream in(temp, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        in.close();
         std::filesystem::remove(temp, ec);
-        throw std::runtime_error("cannot write " + output.string() + ": " + ec.message());
+        write_file_atomically(output, bytes);
+    } else {
+        std::filesystem::rename(temp, target.path, ec);
+        if (ec) {
+            std::filesystem::remove(temp, ec);
+            throw std::runtime_error("cannot write " + output.string() + ": " + ec.message());
+        }
     }
     // The log is for a failed encoding; after a good one it would only clutter the frames.
     std::filesystem::remove(log, ec);

@@ -121,6 +121,43 @@ if command -v ffmpeg >/dev/null 2>&1; then
 else
     echo "skip video_good_removes_old_log: ffmpeg not installed"
 fi
+# The video is an output like any other (render/atomic_file.h): a FIFO is written into, not replaced; a
+# replaced file keeps its permissions; the frames' folder may be named "ts/" (tab completion's form) or
+# hold a '%', which ffmpeg's frame pattern must not read as a conversion.
+if command -v ffmpeg >/dev/null 2>&1; then
+    mkfifo vfifo.mp4
+    timeout 60 cat vfifo.mp4 >vfifo_read.mp4 &  # bounded: a run that never opens the FIFO leaves it waiting
+    reader=$!
+    "$brume" play crossing -o vfifo --frames 0-1 --size 16x12 --video vfifo.mp4 >vfifo.log 2>&1
+    rc=$?
+    wait "$reader"
+    if [ "$rc" -eq 0 ] && [ -p vfifo.mp4 ] && [ "$(head -c 8 vfifo_read.mp4 | tail -c 4)" = "ftyp" ]; then ok video_fifo_written_into
+    else fail video_fifo_written_into "rc $rc, $(stat -c %F vfifo.mp4), $(tail -1 vfifo.log)"; fi
+    : >vmode.mp4
+    chmod 600 vmode.mp4
+    "$brume" play crossing -o vmode --frames 0-1 --size 16x12 --video vmode.mp4 >vmode.log 2>&1 &&
+        [ "$(stat -c %a vmode.mp4)" = 600 ] && [ -s vmode.mp4 ] && ok video_keeps_permissions ||
+        fail video_keeps_permissions "mode $(stat -c %a vmode.mp4): $(tail -1 vmode.log)"
+    "$brume" play crossing -o vslash/ --frames 0-1 --size 16x12 --video vslash/crossing.mp4 >vslash.log 2>&1 &&
+        [ -s vslash/crossing.mp4 ] && ok video_in_folder_named_with_slash ||
+        fail video_in_folder_named_with_slash "$(tail -1 vslash.log)"
+    "$brume" play crossing -o 'v%d' --frames 0-1 --size 16x12 --video 'v%d/crossing.mp4' >vpercent.log 2>&1 &&
+        [ -s 'v%d/crossing.mp4' ] && ok video_folder_with_percent || fail video_folder_with_percent "$(tail -1 vpercent.log)"
+else
+    echo "skip video_fifo_written_into, video_keeps_permissions, video_in_folder_named_with_slash, video_folder_with_percent: ffmpeg not installed"
+fi
+# Ctrl-C while the video encodes (a stand-in ffmpeg interrupts brume, its parent, and exits as ffmpeg does
+# on SIGINT): exit 130 and a line saying so, not "ffmpeg failed" with a log; the frames complete, no video.
+mkdir -p intbin
+printf '%s\n' '#!/bin/sh' 'for a in "$@"; do [ "$a" = -version ] && { echo "ffmpeg version stand-in"; exit 0; }; done' \
+    'kill -INT "$PPID"' 'sleep 1' 'exit 255' >intbin/ffmpeg
+chmod +x intbin/ffmpeg
+PATH=$work/intbin:$PATH "$brume" play crossing -o vint --frames 0-1 --size 16x12 --video vint/crossing.mp4 >vint.log 2>vint.err
+rc=$?
+held=$(ls -A vint 2>/dev/null | tr '\n' ' ')
+if [ "$rc" -eq 130 ] && grep -q "interrupted while encoding vint/crossing.mp4" vint.err && ! grep -q "ffmpeg failed" vint.err &&
+    [ "$held" = "crossing.0000.png crossing.0001.png " ]; then ok video_interrupted
+else fail video_interrupted "rc $rc, folder: $held, stderr: $(head -c 300 vint.err)"; fi
 
 # Interrupted: SIGINT after the first frame; exit 130, every written frame complete, no temp files.
 "$brume" play plume -o intr --size 96x72 >intr.log 2>&1 &

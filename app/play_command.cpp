@@ -5,6 +5,7 @@
 #include "app/output_paths.h"
 #include "app/progress.h"
 #include "app/standard_streams.h"
+#include "app/stop_signals.h"
 #include "app/video.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
@@ -20,7 +21,6 @@
 
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -33,11 +33,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Set by SIGINT, SIGTERM and SIGHUP (a closed terminal or ssh session ends a run as gracefully as
-// Ctrl-C): the frame being rendered is finished and written, then playback stops; a preroll or
-// replay stops at its next step. A signal handler can only reach process-wide state, hence this global.
+// Set by SIGINT, SIGTERM and SIGHUP (app/stop_signals.h): the frame being rendered is finished and
+// written, then playback stops; a preroll or replay stops at its next step.
 std::atomic<bool> g_stop_requested{false};
-extern "C" void request_stop(int) { g_stop_requested.store(true); }
 
 struct FrameRange {
     int first = 0;
@@ -216,18 +214,7 @@ int run_play(const PlayArgs& args) {
     auto* reference = dynamic_cast<ReferenceMethod*>(renderer.get());
     if (reference) reference->count_pixels_into(&pixels_done);
 
-    g_stop_requested = false;
-    auto previous_int = std::signal(SIGINT, request_stop);
-    auto previous_term = std::signal(SIGTERM, request_stop);
-    auto previous_hup = std::signal(SIGHUP, request_stop);
-    struct RestoreSignals {
-        decltype(previous_int) i, t, h;
-        ~RestoreSignals() {
-            std::signal(SIGINT, i);
-            std::signal(SIGTERM, t);
-            std::signal(SIGHUP, h);
-        }
-    } restore{previous_int, previous_term, previous_hup};
+    const StopSignals stop_signals(g_stop_requested);
 
     // Frames before the range are simulated, not rendered: the simulation is deterministic, so
     // frames A-B of a split job are exactly those of a full run (replay; see README "Farms").

@@ -8,6 +8,7 @@
 #include "app/preview_imgui.h"
 #include "app/preview_panel.h"
 #include "app/preview_pending_edit.h"
+#include "app/stop_signals.h"
 #include "app/preview_reference.h"
 #include "app/preview_reload.h"
 #include "app/preview_renderer.h"
@@ -27,6 +28,8 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -120,6 +123,7 @@ void add_preview_command(CLI::App& app, PreviewArgs& args) {
 }
 
 int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
+    std::atomic<bool> stopped_by_signal{false};
     // Everything that can be refused is refused before a window opens.
     if (args.preset == kStandardInputName)  // render and play read it; the preview edits and reloads a file
         throw UsageError("preview - : the preview watches, reloads and saves its preset, so it needs a file, not "
@@ -179,7 +183,20 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             if (e.shape == EmitterShape::Density) e.density_source.base_dir = base_dir;
         p.scene.camera.width = width;
         p.scene.camera.height = height;
-        for (const VolumeReport& v : prepare_preset(p)) print_volume_report(v);
+        try {
+            for (const VolumeReport& v : prepare_preset(p)) print_volume_report(v);
+        } catch (const std::exception& e) {
+            // "FILE:LINE: vdb[0] ...": the line is the edited text's as the editor regenerated it, not
+            // the file's; the key path after it names the table.
+            std::string message = e.what();
+            const std::string file = p.scene.source + ":";
+            if (message.starts_with(file)) {
+                std::size_t end = file.size();
+                while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end]))) ++end;
+                if (end > file.size() && message.compare(end, 2, ": ") == 0) message.erase(file.size() - 1, end - file.size() + 1);
+            }
+            throw std::runtime_error(message);
+        }
     };
 
     PreviewWindow window(width, height, "brume preview: " + preset.name);
@@ -317,8 +334,14 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                 pending_edit.start(std::move(edited), key, prepare_edit);
                 return true;
             }
-            prepare_edit(edited);
+            try {
+                prepare_edit(edited);
+            } catch (...) {
+                editor->return_to_shown();  // refused: the editor (the panel's values, Save) keeps what is shown
+                throw;
+            }
             session.apply_edit(edited, key);
+            editor->keep_shown();
             return false;
         };
         panel.preset_edit.preparing = [&pending_edit] { return pending_edit.busy(); };
@@ -342,7 +365,8 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                                           : (args.preset.empty() ? default_preset_name() : args.preset) + ".toml";
         panel.preset_edit.save = [&]() -> std::string {
             try {
-                write_file_atomically(panel.preset_edit.save_path, editor->saved_text());
+                if (pending_edit.busy()) return "save: an edit is still being prepared; save once the view shows it";
+                editor->save(panel.preset_edit.save_path);
                 return {};
             } catch (const std::exception& e) {
                 return e.what();
@@ -392,7 +416,10 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
         constexpr double kDisplayInterval = 1.0 / 60.0;
         constexpr double kIdleInterval = 1.0 / 10.0;
         std::uint64_t events_at_present = 0;
-        while (!window.should_close()) {
+        // A signal closes the window as Esc does, so that a render-sequence's child stops and its
+        // temporary files go (their owners' destructors), then the preview exits 130.
+        const StopSignals stop_signals(stopped_by_signal);
+        while (!window.should_close() && !stopped_by_signal) {
             const auto frame_start = Clock::now();
             const double dt = std::chrono::duration<double>(frame_start - last).count();
             last = frame_start;
@@ -447,9 +474,14 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                 quiet_frames = 0;  // the panel says it is preparing, and the view changes when it is done
                 if (std::optional<std::pair<Preset, std::string>> done = pending_edit.poll(pending_edit_error)) {
                     session.apply_edit(done->first, done->second);
+                    editor->keep_shown();
                     panel.preset_edit.stale = true;
                 } else if (!pending_edit_error.empty()) {
                     panel.preset_edit.error = pending_edit_error;
+                    if (!pending_edit.busy()) {
+                        editor->return_to_shown();  // the refused edit is not saved, and the panel shows its old value
+                        panel.preset_edit.stale = true;
+                    }
                 }
             }
             // The render thread's newest finished view becomes the frame shown.
@@ -488,7 +520,11 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             simulate_ms += seconds_since(t) * 1000.0;
             moved = moved || session.playback().playing || session.timeline().frame() != frame_before;
             moved_since = moved_since || moved;
-            if (window.event_count() != events_seen || moved || script.active()) quiet_frames = 0;
+            // A script blocked on a reload, a sequence or a worker leaves a still view quiet: it was
+            // re-rendered and presented all the while (58 identical frames beside a 48-frame sequence,
+            // which took twice as long as play alone).
+            const bool script_steps = script.active() && !script.blocked();
+            if (window.event_count() != events_seen || moved || script_steps) quiet_frames = 0;
             events_seen = window.event_count();
 
             // Ask the render thread for the view when it changed (the newest request replaces one not
@@ -499,7 +535,7 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             const ViewKey key{session.view_generation(), session.timeline().frame(), internal.width, internal.height,
                               panel.list_stats};
             const bool refining = internal.width != viewport.width && requested_shown && !renderer.busy();
-            if (!waiting_for_view && (scripted || key != requested_key || refining)) {
+            if (!waiting_for_view && ((scripted && !script.blocked()) || key != requested_key || refining)) {
                 FrameRequest request = session.frame_request(internal.width, internal.height, panel.list_stats);
                 request.frame = session.timeline().frame();
                 requested_id = renderer.request_view(std::move(request));
@@ -589,6 +625,10 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
         for (const std::string& m : device.take_validation_messages()) std::fprintf(stderr, "%s\n", m.c_str());
         std::fprintf(stderr, "brume: error: the Vulkan validation layer reported problems (above)\n");
         return 3;
+    }
+    if (stopped_by_signal) {
+        std::fprintf(stderr, "brume: preview interrupted by a signal; closed as Esc closes it\n");
+        return 130;
     }
     if (scripted && timing.frames > 0) {
         const double n = timing.frames;

@@ -1,5 +1,6 @@
 #include "app/preview_edit.h"
 
+#include "render/atomic_file.h"
 #include "sim/preset_file.h"
 #include "sim/scene_file.h"
 
@@ -19,6 +20,7 @@ namespace brume::app {
 struct PresetEditor::Document {
     toml::table root;      // the current, edited values
     toml::table original;  // as read, with the source positions of every value
+    toml::table shown;     // root as of the last keep_shown()
 };
 
 namespace {
@@ -169,6 +171,32 @@ PresetEditor::PresetEditor(const std::string& text, std::string source_name)
     : doc_(std::make_unique<Document>()), source_name_(std::move(source_name)), original_text_(text) {
     doc_->original = toml::parse(text, std::string_view(source_name_));
     doc_->root = doc_->original;
+    doc_->shown = doc_->original;
+}
+
+void PresetEditor::keep_shown() {
+    doc_->shown = doc_->root;
+    shown_edits_ = edits_;
+}
+
+void PresetEditor::return_to_shown() {
+    doc_->root = doc_->shown;
+    edits_ = shown_edits_;
+}
+
+void PresetEditor::save(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec) && std::filesystem::equivalent(path, source_name_, ec)) {
+        const std::string on_disk = toml_text::read_file(path);
+        if (on_disk != original_text_ && on_disk != last_saved_text_)
+            throw std::invalid_argument("save: " + path.string() +
+                                        " changed on disk since the preview read it (a reload it refused, above?): "
+                                        "saving would put the old text back over that change. Fix the file so that it "
+                                        "reloads, or save the edits to another file");
+    }
+    const std::string text = saved_text();
+    write_file_atomically(path, text);
+    if (std::filesystem::equivalent(path, source_name_, ec)) last_saved_text_ = text;
 }
 
 PresetEditor::~PresetEditor() = default;

@@ -7,6 +7,7 @@
 
 #include "sim/preset.h"
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -57,6 +58,17 @@ public:
     std::string saved_text() const;
     bool edited() const { return !edits_.empty(); }
 
+    // The preview shows the preset of the edits up to the last keep_shown(). An edit whose preparation
+    // then fails (a [[vdb]] tolerance the grid cannot meet, found on the worker) is dropped again by
+    // return_to_shown(), with any made after it: Save never writes an edit the preview refused.
+    void keep_shown();
+    void return_to_shown();
+
+    // Save into `path`, refused (std::invalid_argument) where `path` is the file this editor was read from
+    // and that file no longer holds the text read (or last saved): an edit on disk whose reload was
+    // refused would otherwise be overwritten by the old text plus the preview's edits.
+    void save(const std::filesystem::path& path);
+
 private:
     void record_edit(const std::string& key_path, const std::string& value);
 
@@ -64,7 +76,9 @@ private:
     std::unique_ptr<Document> doc_;
     std::string source_name_;
     std::string original_text_;
+    std::string last_saved_text_;  // what save() last wrote to the source file
     std::vector<std::pair<std::string, std::string>> edits_;  // key path, value text; no path inside another
+    std::vector<std::pair<std::string, std::string>> shown_edits_;
 };
 
 }  // namespace brume::app

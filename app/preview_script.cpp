@@ -1,6 +1,7 @@
 #include "app/preview_script.h"
 
 #include "app/cli_util.h"
+#include "sim/scene_file.h"
 
 #include <charconv>
 #include <cmath>
@@ -155,11 +156,15 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
 }
 
 std::vector<ScriptCommand> load_script(const std::string& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw ScriptError("cannot read the script " + file);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parse_script(text.str(), file);
+    std::string text;
+    try {
+        text = toml_text::read_file(file);  // a folder or a device is refused by name (an ifstream opens a folder)
+    } catch (const SceneFileError& e) {
+        throw ScriptError("the script " + file + ": " + e.problem());
+    }
+    // An editor's UTF-8 byte-order mark would make the first command unknown, invisibly.
+    if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
+    return parse_script(text, file);
 }
 
 }  // namespace brume::app

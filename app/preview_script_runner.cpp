@@ -155,7 +155,7 @@ bool ScriptRunner::execute(const ScriptCommand& c, ScriptTargets& targets) {
         break;
     }
     case ScriptCommand::Kind::Save:
-        write_file_atomically(c.text, targets.editor->saved_text());
+        targets.editor->save(c.text);
         std::printf("saved %s\n", c.text.c_str());
         break;
     case ScriptCommand::Kind::Orbit: session.set_user_camera(orbit_camera(session.camera(), c.x, c.y)); break;
@@ -207,6 +207,7 @@ bool ScriptRunner::execute(const ScriptCommand& c, ScriptTargets& targets) {
         sequence_wait_ = true;
         sequence_where_ = c.where;
         std::printf("render-sequence %s: frames %lld-%lld started\n", c.text.c_str(), c.number, c.number2);
+        std::fflush(stdout);  // a log being followed shows the start while the sequence runs
         break;
     case ScriptCommand::Kind::Camera: {
         const Camera cam = session.camera();

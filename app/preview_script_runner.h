@@ -65,6 +65,11 @@ public:
         return !commands_.empty() || reload_wait_.active || reference_wait_ || sequence_wait_ || edit_wait_ ||
                screenshot_.id != 0;
     }
+    // Waiting on something other than shown frames (a reload, a worker's edit, the reference, a sequence,
+    // a screenshot job): the view need not be rendered again meanwhile, as a step of `wait N` needs.
+    bool blocked() const {
+        return reload_wait_.active || reference_wait_ || sequence_wait_ || edit_wait_ || screenshot_.id != 0;
+    }
     // A capture waits for the next frame shown: the main loop asks the presenter to copy it.
     bool wants_capture() const { return !capture_.path.empty(); }
     // After each shown frame: counts down a wait, and writes a capture asked for by the last command.

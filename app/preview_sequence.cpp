@@ -68,9 +68,11 @@ void SequenceRender::read_log() {
     int done = done_;
     for (std::string line; std::getline(in, line);) {
         if (line.empty()) continue;
-        // play's summary ("wrote N frames in ...") when it got there, else whatever it said last
-        // (an error); notes after the summary do not hide it.
-        if (line.rfind("wrote ", 0) == 0 || last_line_.rfind("wrote ", 0) != 0) last_line_ = line;
+        // Its error when it had one: play's stderr is unbuffered and its stdout is not, so the header
+        // it printed first can land after the error in the log. Else its summary ("wrote N frames in
+        // ...") when it got there, else whatever it said last; notes after the summary do not hide it.
+        const bool error = line.rfind("brume: error:", 0) == 0, had_error = last_line_.rfind("brume: error:", 0) == 0;
+        if (error || (!had_error && (line.rfind("wrote ", 0) == 0 || last_line_.rfind("wrote ", 0) != 0))) last_line_ = line;
         const std::size_t at = line.find(" done (");
         if (at == std::string::npos || line.find(": frame ") == std::string::npos) continue;
         int d = 0, t = 0;

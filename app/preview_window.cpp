@@ -23,8 +23,10 @@ bool has_env(const char* name) {
 
 PreviewWindow::PreviewWindow(int width, int height, const std::string& title) {
     // GLFW's own message for a missing display is about X11 internals; a user needs to know what to do.
-    if (!has_env("DISPLAY") && !has_env("WAYLAND_DISPLAY"))
-        throw PreviewUnavailable("no X11 or Wayland display: set DISPLAY, or use brume play");
+    // Debian 12's libglfw3 is GLFW's X11 build: a Wayland desktop is reached through XWayland, which sets
+    // DISPLAY, so WAYLAND_DISPLAY alone is no display it can open.
+    if (!has_env("DISPLAY"))
+        throw PreviewUnavailable("no X11 display: set DISPLAY (a Wayland desktop's XWayland sets it), or use brume play");
     if (!glfwInit()) throw PreviewUnavailable("cannot open the display " +
                                               std::string(has_env("DISPLAY") ? std::getenv("DISPLAY") : "") + ": " +
                                               glfw_error() + " (check DISPLAY, or use brume play)");
@@ -72,6 +74,8 @@ void PreviewWindow::on_key(GLFWwindow* window, int key, int, int action, int) {
 std::vector<std::string> PreviewWindow::required_instance_extensions() const {
     std::uint32_t count = 0;
     const char** names = glfwGetRequiredInstanceExtensions(&count);
+    if (!names && !glfwVulkanSupported())  // no loader, or a loader with no driver: say what to install, as render does
+        throw PreviewUnavailable("no Vulkan driver found for the window: install mesa-vulkan-drivers (lavapipe) or a GPU driver");
     if (!names) throw PreviewUnavailable("GLFW knows no Vulkan surface extension for this display: " + glfw_error());
     return std::vector<std::string>(names, names + count);
 }

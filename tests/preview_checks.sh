@@ -30,10 +30,19 @@ if [ -z "${DISPLAY:-}" ]; then echo "FAIL setup: no DISPLAY (run under xvfb-run,
 # No display: one line naming the problem, non-zero exit, no window attempted.
 env -u DISPLAY -u WAYLAND_DISPLAY "$brume" preview plume >nodisplay.log 2>&1
 rc=$?
-if [ "$rc" -ne 0 ] && [ "$(wc -l <nodisplay.log)" -eq 1 ] && grep -q "no X11 or Wayland display" nodisplay.log; then
+if [ "$rc" -ne 0 ] && [ "$(wc -l <nodisplay.log)" -eq 1 ] && grep -q "no X11 display: set DISPLAY" nodisplay.log; then
     ok no_display_refused
 else
     fail no_display_refused "rc $rc: $(cat nodisplay.log)"
+fi
+# WAYLAND_DISPLAY alone is no display for Debian's GLFW (its X11 build): refused the same way, not
+# with GLFW's "X11: The DISPLAY environment variable is missing".
+env -u DISPLAY WAYLAND_DISPLAY=wayland-9 "$brume" preview plume >wayland.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && [ "$(wc -l <wayland.log)" -eq 1 ] && grep -q "no X11 display: set DISPLAY" wayland.log; then
+    ok wayland_alone_refused
+else
+    fail wayland_alone_refused "rc $rc: $(head -c 300 wayland.log)"
 fi
 
 # A bad script line is refused as FILE:LINE before any window opens.
@@ -267,7 +276,7 @@ else ok render_sequence_named_by_stem; fi
 # brume bench preview: a window per preset, the figures side by side; with no display, one line.
 env -u DISPLAY -u WAYLAND_DISPLAY "$brume" bench preview >bench-nodisplay.log 2>&1
 rc=$?
-if [ "$rc" -ne 0 ] && [ "$(wc -l <bench-nodisplay.log)" -eq 1 ] && grep -q "bench preview opens a window: no X11 or Wayland display" bench-nodisplay.log; then
+if [ "$rc" -ne 0 ] && [ "$(wc -l <bench-nodisplay.log)" -eq 1 ] && grep -q "bench preview opens a window: no X11 display" bench-nodisplay.log; then
     ok bench_preview_no_display_refused
 else
     fail bench_preview_no_display_refused "rc $rc: $(cat bench-nodisplay.log)"
@@ -329,6 +338,60 @@ elif ! cmp -s good.png broken.png; then fail hot_reload.keeps_last_good "the bro
 elif cmp -s good.png fixed.png; then fail hot_reload.recovers "the fixed file was not shown"
 elif ! cmp -s fixed.png edited.png; then fail hot_reload.recovers "the reloaded frame differs from brume render of the file"
 else ok hot_reload; fi
+
+# Save after a reload the preview refused: the file holds the user's newer text, which the preview's
+# edits (made to the text it read) would overwrite with the old one. Refused, and the file stays as the
+# user left it.
+cp "$data/small.toml" keep.toml
+printf 'set lighting.sun [3.0, 0.5, 0.5]\nwait-reload\nsave keep.toml\nquit\n' >keep.script
+"$brume" preview keep.toml --size 64x48 --script keep.script >keep.log 2>&1 &
+keep_pid=$!
+wait_for keep.log "waiting for keep.toml to change" &&
+    printf '\n[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = -1.0  # my work in progress\nextinction = 1.0\n' >>keep.toml
+wait "$keep_pid"
+rc=$?
+{ cat "$data/small.toml"; printf '\n[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = -1.0  # my work in progress\nextinction = 1.0\n'; } >keep.expected
+if [ "$rc" -eq 0 ]; then fail save_after_refused_reload "exit 0: $(tail -2 keep.log)"
+elif ! grep -q "keep.script:3: save: keep.toml changed on disk since the preview read it" keep.log; then
+    fail save_after_refused_reload "no such error: $(grep -i 'error' keep.log | head -2)"
+elif ! cmp -s keep.toml keep.expected; then fail save_after_refused_reload "the file changed: $(diff keep.expected keep.toml | head -3)"
+else ok save_after_refused_reload; fi
+
+# SIGTERM (as Ctrl-C, or a closed terminal) closes the preview as Esc does: the sequence's brume play is
+# stopped, the hidden copy of the edited preset goes, and the exit status is 130. The preview used to die
+# at once, leaving play running to the end and the copy in the user's folder.
+cp "$presets/plume.toml" sig.toml
+printf 'set emitter[0].rate 600.0\nrender-sequence seqsig 0-143\nquit\n' >sig.script
+"$brume" preview sig.toml --size 160x120 --script sig.script >sig.log 2>&1 &
+sig_pid=$!
+wait_for sig.log "^render-sequence .*seqsig: frames 0-143 started" && kill -TERM "$sig_pid"
+wait "$sig_pid"
+rc=$?
+if [ "$rc" -ne 130 ]; then fail signal_closes_like_esc "rc $rc: $(tail -2 sig.log)"
+elif ls -A | grep -q 'sig.preview-sequence'; then fail signal_closes_like_esc "the hidden copy of the preset was left behind"
+elif for f in /proc/[0-9]*/cmdline; do tr '\0' ' ' <"$f" 2>/dev/null; echo; done | grep -q -- "--output seqsi[g]"; then
+    fail signal_closes_like_esc "brume play is still running"  # (no pgrep: procps is not in every Debian image)
+elif ! grep -q "preview interrupted by a signal" sig.log; then fail signal_closes_like_esc "no line says so: $(tail -1 sig.log)"
+else ok signal_closes_like_esc; fi
+
+# While a script waits for something other than frames (here a sequence brume play renders), the view
+# is not rendered again and again: it was, 58 identical frames beside a 48-frame sequence.
+line=$(grep '^preview: the window presented' sequence.log)
+rendered=$(echo "$line" | sed -n 's/.*; \([0-9]*\) frames rendered.*/\1/p')
+shown=$(sed -n 's/^preview: \([0-9]*\) frames shown.*/\1/p' sequence.log)
+if [ -n "$rendered" ] && [ -n "$shown" ] && [ "$rendered" -le $((shown + 2)) ]; then ok render_sequence_renders_the_view_once
+else fail render_sequence_renders_the_view_once "$rendered frames rendered for $shown shown"; fi
+
+# A script that is a folder is refused by name (an ifstream opened it, and the window stayed open with
+# no script); an editor's byte-order mark before the first command is no unknown command.
+"$brume" preview plume --size 64x48 --script . >scriptdir.log 2>&1
+rc=$?
+if [ "$rc" -ne 0 ] && grep -q "the script .: cannot read: is a directory" scriptdir.log; then ok script_folder_refused
+else fail script_folder_refused "rc $rc: $(head -c 300 scriptdir.log)"; fi
+printf '\xef\xbb\xbfframe 3\nquit\n' >bom.script
+"$brume" preview plume --size 64x48 --script bom.script >bom.log 2>&1
+rc=$?
+if [ "$rc" -eq 0 ]; then ok script_byte_order_mark; else fail script_byte_order_mark "rc $rc: $(head -c 300 bom.log)"; fi
 
 # A bad command line exits 2, as it does for render and play (these exited 1): a screenshot's name, a
 # method setting, a CPU method, a frame outside the preset. No window opens for them.

@@ -8,6 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -142,6 +146,65 @@ TEST(PreviewEdit, SaveAddsAMissingKeyToEveryShippedPreset) {
         }
     }
     EXPECT_GE(checked, 3);
+}
+
+// An edit the view could not show (its preparation failed, as a [[vdb]] tolerance the grid cannot meet
+// fails on the worker) is dropped again with any edit after it: Save writes what the view shows, and
+// the panel reads the values shown.
+TEST(PreviewEdit, AnEditTheViewRefusedIsDroppedAgain) {
+    PresetEditor editor(std::string(*builtin_preset_toml("plume")), "plume.toml");
+    editor.set("lighting.sun", "[2.0, 2.0, 2.0]");
+    editor.keep_shown();
+    const std::string shown = editor.saved_text();
+    editor.set("emitter[0].rate", "600.0");
+    editor.set("lighting.sun", "[0.5, 0.5, 0.5]");
+    EXPECT_NE(editor.saved_text(), shown);
+    editor.return_to_shown();
+    EXPECT_EQ(editor.saved_text(), shown);
+    EXPECT_TRUE(editor.edited());
+    for (const EditableValue& v : editor.values()) {
+        if (v.path == "emitter[0].rate") {
+            EXPECT_EQ(v.numbers, std::vector<double>{220.0});
+        }
+    }
+}
+
+std::string file_text(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// Save into the file the editor read refuses when that file changed on disk since (an edit whose
+// reload the preview refused): the old text plus the preview's edits would overwrite it. The text as
+// read, or as this editor last saved it, is no change; another file is written as asked.
+TEST(PreviewEdit, SaveRefusesToOverwriteAChangeOnDisk) {
+    const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "brume_preview_save";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::filesystem::path file = dir / "mine.toml", other = dir / "other.toml";
+    const std::string text(*builtin_preset_toml("plume"));
+    std::ofstream(file, std::ios::binary) << text;
+    PresetEditor editor(text, file.string());
+    editor.set("emitter[0].rate", "600.0");
+    editor.save(file);
+    EXPECT_EQ(file_text(file), editor.saved_text());
+    editor.set("emitter[0].rate", "700.0");
+    editor.save(file);  // the disk holds what this editor saved: no change of the user's
+    EXPECT_EQ(file_text(file), editor.saved_text());
+    std::ofstream(file, std::ios::binary | std::ios::app) << "# my work in progress\n";
+    const std::string theirs = file_text(file);
+    try {
+        editor.save(file);
+        ADD_FAILURE() << "saved over a change on disk";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("changed on disk since the preview read it"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(file_text(file), theirs);
+    editor.save(other);
+    EXPECT_EQ(file_text(other), editor.saved_text());
+    std::filesystem::remove_all(dir);
 }
 
 TEST(PreviewEdit, WhichEditsTheSimulationReads) {

@@ -220,13 +220,15 @@ int run_bench(const BenchArgs& args) {
             const double paper = paper_fps(w, n);
             char size_text[32];
             std::snprintf(size_text, sizeof size_text, "%dx%d", w, h);
-            std::printf("%-9s %6d %9.2f %9.2f %9.2f %9.2f %8.1f %8s %11.1f %9.2f %6.1fx %10s %9s %9.1e %9.2f %6.1fx %9s\n",
+            char max_err_text[32] = "-";  // no reference, no error: "-", never a perfect-looking 0
+            if (!args.no_reference) std::snprintf(max_err_text, sizeof max_err_text, "%.1e", max_err);
+            std::printf("%-9s %6d %9.2f %9.2f %9.2f %9.2f %8.1f %8s %11.1f %9.2f %6.1fx %10s %9s %9s %9.2f %6.1fx %9s\n",
                         size_text, n,
                         median(opaque), median(particles), median(resolve), ms, 1000.0 / ms,
                         paper > 0 ? std::to_string(int(paper)).c_str() : "-", double(n) * w * h / (ms * 1e3), fill_ms,
                         ms / fill_ms,
                         args.no_reference ? "-" : std::to_string(int(ref_ms + 0.5)).c_str(),
-                        args.no_reference ? "-" : (std::to_string(ref_ms / ms).substr(0, 5) + "x").c_str(), max_err,
+                        args.no_reference ? "-" : (std::to_string(ref_ms / ms).substr(0, 5) + "x").c_str(), max_err_text,
                         trace_ms, trace_ms / fill_ms,
                         args.no_reference ? "-" : (std::to_string(ref_ms / trace_ms).substr(0, 5) + "x").c_str());
             std::fflush(stdout);

@@ -3,6 +3,7 @@
 #include "app/charts.h"
 #include "app/cli_util.h"
 #include "app/host_cpu.h"
+#include "app/output_paths.h"
 #include "render/atomic_file.h"
 #include "render/image_compare.h"
 #include "render/methods/registry.h"
@@ -114,8 +115,13 @@ std::vector<BenchScene> make_scenes(const std::vector<std::string>& names, int f
             scenes.push_back({name, {disjoint_scene(300, w, h)}});
         } else if (name == "layers-8") {
             scenes.push_back({name, {make_layers_scene(8, w, h)}});
-        } else {
+        } else if (builtin_preset_toml(name)) {
             scenes.push_back(preset_frames(name, frames, w, h));
+        } else {
+            std::string presets;
+            for (const std::string& p : builtin_preset_names()) presets += (presets.empty() ? "" : ", ") + p;
+            throw UsageError("--scenes: no scene '" + name + "': the scenes are default, cloud-1000, disjoint-300, "
+                             "layers-8 and the presets (" + presets + ")");
         }
     }
     // Shadowed scenes by the per-sphere technique, the comparison methods' light term, for every method
@@ -174,14 +180,12 @@ int run_bench_methods(const BenchArgs& args) {
     if (!args.size.empty()) parse_size(args.size, w, h);
     // A bad spec is refused before the output folder is made or the device opened.
     const std::vector<std::string> specs = args.methods.empty() ? bench_method_specs() : split_commas(args.methods);
+    if (specs.empty()) throw UsageError("--methods: no method named (brume methods lists them)");  // "," ran none
     for (const std::string& spec : specs) check_method_usage(spec, 0);
     // So is a scene name (the scenes are made first: a bad one leaves no empty folder behind).
     const std::vector<BenchScene> scenes = make_scenes(split_commas(args.scenes), args.anim_frames, w, h);
     const fs::path dir = args.output_dir.empty() ? fs::path("bench") : fs::path(args.output_dir);
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
-    check_writable_path(dir / "results.csv");
+    check_folder_can_be_made(dir);
 
     vk::DeviceOptions device_options;
     device_options.device_name = args.device;
@@ -190,6 +194,9 @@ int run_bench_methods(const BenchArgs& args) {
     // Build every method first, so that a method the device refuses fails before any work.
     std::vector<std::unique_ptr<Method>> methods;
     for (const std::string& spec : specs) methods.push_back(make_method(&device, spec));
+    // The folder once the device and every method are there: a missing device leaves none behind.
+    make_folder(dir);
+    check_writable_path(dir / "results.csv");
 
     std::printf("# brume bench: %zu methods x %zu scenes at %dx%d on %s; errors against the CPU reference\n",
                 methods.size(), scenes.size(), w, h, device.name().c_str());

@@ -3,6 +3,8 @@
 #include "app/charts.h"
 #include "app/cli_util.h"
 #include "app/host_cpu.h"
+#include "app/output_paths.h"
+#include "render/atomic_file.h"
 #include "render/fast_tracer.h"
 #include "render/frame/list_heat_map.h"
 #include "render/image_compare.h"
@@ -21,7 +23,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -38,14 +39,6 @@ std::vector<std::string> default_scale_methods() {
         if (entry.exact) specs.push_back(entry.name);
     specs.push_back("sorted");
     return specs;
-}
-
-std::vector<std::string> split_list(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream in(text);
-    for (std::string item; std::getline(in, item, ',');)
-        if (!item.empty()) out.push_back(item);
-    return out;
 }
 
 // A shipped preset's frame a third of the way in (emitters have filled the view), at w x h.
@@ -114,8 +107,10 @@ int run_bench_scale(const BenchArgs& args) {
                                         ", as in a scene file (got " + std::to_string(n) + ")");
         counts.push_back(std::size_t(n));
     }
-    const std::vector<std::string> specs = args.methods.empty() ? default_scale_methods() : split_list(args.methods);
+    const std::vector<std::string> specs = args.methods.empty() ? default_scale_methods() : split_commas(args.methods);
+    if (specs.empty()) throw UsageError("--methods: no method named (brume methods lists them)");
     for (const std::string& spec : specs) check_method_usage(spec, 0);  // a bad spec is refused before any work
+    if (!args.output_dir.empty()) check_folder_can_be_made(args.output_dir);  // made when the figures are in
 
     vk::DeviceOptions device_options;
     device_options.device_name = args.device;
@@ -181,10 +176,8 @@ int run_bench_scale(const BenchArgs& args) {
 
     if (!args.output_dir.empty()) {
         const fs::path dir(args.output_dir);
-        std::error_code ec;
-        fs::create_directories(dir, ec);
-        if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
-        std::ofstream data(dir / "scale.dat");
+        make_folder(dir);
+        std::ostringstream data;
         data << "# method fragments ms\n";
         std::ostringstream plot;
         plot << "set terminal svg size 720,440\nset output 'scale.svg'\nset logscale xy\nset key left top\n"
@@ -197,7 +190,7 @@ int run_bench_scale(const BenchArgs& args) {
             plot << (m ? ", " : "") << "'scale.dat' index " << m << " using 2:3 with linespoints title '" << specs[m] << "'";
         }
         plot << "\nset terminal pngcairo size 720,440\nset output 'scale.png'\nreplot\n";
-        data.close();
+        write_file_atomically(dir / "scale.dat", data.str());
         for (const std::string& file : draw_charts(dir, {{"scale", plot.str()}})) std::printf("# chart: %s\n", file.c_str());
     }
     // The shipped presets, a third of the way in, with every method of the run: frame time and FPS.

@@ -3,6 +3,8 @@
 #include "app/charts.h"
 #include "app/cli_util.h"
 #include "app/host_cpu.h"
+#include "app/output_paths.h"
+#include "render/atomic_file.h"
 #include "render/fast_tracer.h"
 #include "render/image_compare.h"
 #include "render/methods/fill_ceiling.h"
@@ -23,7 +25,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -49,7 +50,11 @@ ShadowScene make_shadow_scene(const std::string& name, int count, int w, int h) 
         out.frames.push_back(std::move(s));
     } else {
         std::optional<Preset> preset = builtin_preset(name);
-        if (!preset) throw std::invalid_argument("--shadow-scenes: no built-in preset '" + name + "' (nor 'default')");
+        if (!preset) {
+            std::string presets;
+            for (const std::string& p : builtin_preset_names()) presets += (presets.empty() ? "" : ", ") + p;
+            throw UsageError("--shadow-scenes: no scene '" + name + "': the scenes are default and the presets (" + presets + ")");
+        }
         prepare_preset(*preset);
         Simulator sim(*preset);
         sim.advance_to_frame(std::max(0, std::min(preset->timeline.frame_count() / 3, preset->timeline.frame_count() - count)));
@@ -123,8 +128,10 @@ int run_bench_shadows(const BenchArgs& args) {
     if (names.empty()) throw std::invalid_argument("--shadow-scenes: no scene named");
     if (args.no_reference && !args.output_dir.empty())
         throw UsageError("--output: the chart plots each technique's error against the reference, which --no-reference skips");
+    if (!args.output_dir.empty()) check_folder_can_be_made(args.output_dir);  // made when the figures are in
     std::vector<std::string> methods(std::begin(kMethods), std::end(kMethods));
     if (!args.methods.empty()) methods = split_commas(args.methods);
+    if (methods.empty()) throw UsageError("--methods: no method named (bench shadows compares ppll, tiles and trace)");
     for (const std::string& m : methods)
         if (std::find(std::begin(kMethods), std::end(kMethods), m) == std::end(kMethods))
             throw UsageError("--methods: bench shadows compares ppll, tiles and trace (got '" + m + "')");
@@ -307,10 +314,8 @@ int run_bench_shadows(const BenchArgs& args) {
 
     if (!args.output_dir.empty()) {
         const fs::path dir(args.output_dir);
-        std::error_code ec;
-        fs::create_directories(dir, ec);
-        if (ec || !fs::is_directory(dir)) throw std::runtime_error("cannot create output directory " + dir.string());
-        std::ofstream data(dir / "shadows.dat");
+        make_folder(dir);
+        std::ostringstream data;
         data << "# series scene ms mean_error_over_peak p999_error_over_peak temporal\n";
         std::ostringstream plot;
         plot << "set terminal svg size 880,440\nset output 'shadows.svg'\nset logscale xy\nset key outside right top\n"
@@ -332,7 +337,7 @@ int run_bench_shadows(const BenchArgs& args) {
                 ++index;
             }
         plot << "\nset terminal pngcairo size 880,440\nset output 'shadows.png'\nreplot\n";
-        data.close();
+        write_file_atomically(dir / "shadows.dat", data.str());
         for (const std::string& file : draw_charts(dir, {{"shadows", plot.str()}})) std::printf("# chart: %s\n", file.c_str());
     }
     return report_validation_messages(device) ? 3 : 0;

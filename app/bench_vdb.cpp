@@ -3,6 +3,7 @@
 #include "app/charts.h"
 #include "app/cli_util.h"
 #include "app/host_cpu.h"
+#include "app/output_paths.h"
 #include "render/atomic_file.h"
 #include "sim/usable_cpus.h"
 #include "sim/vdb/density_source.h"
@@ -44,10 +45,10 @@ std::vector<double> parse_tolerances(const std::string& text) {
             used = 0;
         }
         if (used != item.size() || !(t > 0.0 && t <= 1.0))
-            throw std::invalid_argument("--tolerances: '" + item + "' is not a tolerance in (0, 1]");
+            throw UsageError("--tolerances: '" + item + "' is not a tolerance in (0, 1]");
         out.push_back(t);
     }
-    if (out.empty()) throw std::invalid_argument("--tolerances: none given");
+    if (out.empty()) throw UsageError("--tolerances: none given");
     return out;
 }
 
@@ -76,17 +77,18 @@ DensityGrid uniform_ball(int n) {
 int run_bench_vdb(const BenchArgs& args) {
     const std::vector<int> sizes = parse_int_list(args.vdb_sizes);
     const std::vector<std::string> samples = split_commas(args.vdb_sample);
-    if (samples.empty()) throw std::invalid_argument("--vdb-sample: none given");
+    if (samples.empty()) throw UsageError("--vdb-sample: none given");
     // Every name is checked before the output folder is made or any grid is read.
     for (const std::string& sample : samples)
         if (sample != "ball" && !is_sample_volume(sample))
             throw UsageError("--vdb-sample: no built-in volume '" + sample + "' (there are: ball, " +
                              sample_volume_names() + ")");
     const std::vector<double> tolerances = parse_tolerances(args.tolerances);
-    if (!args.output_dir.empty()) {
-        fs::create_directories(args.output_dir);
-        check_writable_path(fs::path(args.output_dir) / "results_vdb.csv");
-    }
+    for (const int n : sizes)
+        if (n < kMinSampleResolution || n > kMaxSampleResolution)
+            throw UsageError("--vdb-sizes: each resolution must be from " + std::to_string(kMinSampleResolution) + " to " +
+                             std::to_string(kMaxSampleResolution) + " (got " + std::to_string(n) + ")");
+    if (!args.output_dir.empty()) check_folder_can_be_made(args.output_dir);  // made when the figures are in
     std::printf("# brume bench vdb: built-in samples %s (builtin:NAME:N), spheres twice their cell's equal-volume radius;\n"
                 "# error = RMS optical-depth error against the trilinear grid over three %dx%d axis views; 'voxels' is\n"
                 "# one sphere per non-empty voxel; 'unseen' = the same error over three oblique 96x96 views neither\n"
@@ -196,6 +198,7 @@ int run_bench_vdb(const BenchArgs& args) {
     }
     if (!args.output_dir.empty()) {
         const fs::path dir(args.output_dir);
+        make_folder(dir);
         write_file_atomically(dir / "results_vdb.csv", csv.str());
         std::printf("wrote %s\n", (dir / "results_vdb.csv").c_str());
         for (const std::string& f : write_vdb_chart(dir, series)) std::printf("wrote %s\n", f.c_str());

@@ -10,6 +10,29 @@
 #include <stdexcept>
 
 namespace brume::app {
+
+std::filesystem::path existing_ancestor(const std::filesystem::path& dir) {
+    std::filesystem::path p = dir;
+    std::error_code ec;
+    while (!p.empty() && !std::filesystem::exists(std::filesystem::symlink_status(p, ec))) p = p.parent_path();
+    return p.empty() ? std::filesystem::path(".") : p;
+}
+
+void check_folder_can_be_made(const std::filesystem::path& dir) {
+    const std::filesystem::path base = existing_ancestor(dir);
+    std::error_code ec;
+    if (!std::filesystem::is_directory(base, ec))
+        throw std::runtime_error("cannot create output directory " + dir.string() + ": " + base.string() + " is not a directory");
+    check_writable_directory(base);
+}
+
+void make_folder(const std::filesystem::path& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir, ec))
+        throw std::runtime_error("cannot create output directory " + dir.string() + (ec ? ": " + ec.message() : ": it is not a directory"));
+}
+
 namespace {
 
 namespace fs = std::filesystem;

@@ -68,15 +68,6 @@ FrameRange parse_frames(const std::string& text, int frame_count) {
     return {int(first), int(last)};
 }
 
-// The deepest part of `dir` that exists: play creates the rest only when its first frame is ready,
-// so a refused or failed run leaves no empty folder behind (issue 14 item 12).
-fs::path existing_ancestor(const fs::path& dir) {
-    fs::path p = dir;
-    std::error_code ec;
-    while (!p.empty() && !fs::exists(fs::symlink_status(p, ec))) p = p.parent_path();
-    return p.empty() ? fs::path(".") : p;
-}
-
 // The containers ffmpeg writes H.264 into; a name that says otherwise (x.gif, a frame's .png) is
 // refused before the first frame rather than after the last.
 void check_video_name(const std::string& path) {
@@ -127,8 +118,10 @@ int run_play(const PlayArgs& args) {
         const std::string def = default_preset_name();
         for (const std::string& name : builtin_preset_names()) {
             const auto p = builtin_preset(name);
-            std::printf("%-12s %s%s\n", name.c_str(), p ? p->description.c_str() : "",
-                        name == def ? " (default)" : "");
+            // Its frame count too: --frames and a farm's chunks are counted in it (README, "Farms").
+            std::printf("%-12s %4d frames (%4.1f s at %2.0f fps)  %s%s\n", name.c_str(), p ? p->timeline.frame_count() : 0,
+                        p ? p->timeline.frame_count() / p->timeline.fps : 0.0, p ? p->timeline.fps : 0.0,
+                        p ? p->description.c_str() : "", name == def ? " (default)" : "");
         }
         return 0;
     }

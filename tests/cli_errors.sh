@@ -1077,9 +1077,22 @@ done
 run bench methods --methods sorted,kbuf:99 -o "$work/bench_bad_spec"
 expect_error usage.bench_bad_setting "kbuf" && [ "$rc" -eq 2 ] && [ ! -e "$work/bench_bad_spec" ] &&
     ok usage.bench_bad_setting || echo "  (status $rc)"
+# A folder that cannot be made is refused before the benchmark runs: scale and shadows ran to the end,
+# then said so. Without the reference there is no error to print: "-", not a perfect-looking 0.
+: >"$work/bench_file"
+run bench scale -o "$work/bench_file" --spheres 100 --no-presets --frames 1 --size 16x12 --methods trace
+expect_error bench.scale_folder_first "cannot create output directory" "is not a directory" && [ ! -s "$out" ] &&
+    ok bench.scale_folder_first
+run bench shadows -o "$work/bench_file" --shadow-scenes default --methods trace --size 16x12 --shadow-frames 1
+expect_error bench.shadows_folder_first "cannot create output directory" "is not a directory" && [ ! -s "$out" ] &&
+    ok bench.shadows_folder_first
+run bench layers --sizes 16x12 --layers 2 --frames 1 --no-reference
+expect_success bench.layers_no_reference_error && [ "$(awk '$1 == "16x12" { print $14 }' "$out")" = "-" ] &&
+    ok bench.layers_no_reference_error
 # A bad scene or sample name is refused before bench makes its output folder (both left an empty one).
 run bench methods --scenes no-such-scene -o "$work/bench_bad_scene"
-expect_error bench.bad_scene_no_folder "no-such-scene" && [ ! -e "$work/bench_bad_scene" ] && ok bench.bad_scene_no_folder
+expect_error bench.bad_scene_no_folder "--scenes: no scene 'no-such-scene'" "cloud-1000" "plume" && [ "$rc" -eq 2 ] &&
+    [ ! -e "$work/bench_bad_scene" ] && ok bench.bad_scene_no_folder
 run bench vdb --vdb-sample nebula -o "$work/bench_bad_sample"
 expect_line bench.bad_sample_no_folder 2 "--vdb-sample: no built-in volume 'nebula' (there are: ball, cloud, fog-sphere, sheet)" &&
     [ ! -e "$work/bench_bad_sample" ] && ok bench.bad_sample_no_folder

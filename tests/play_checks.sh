@@ -25,6 +25,7 @@ if out=$("$brume" play --list 2>&1); then
     done
     if [ -n "$missing" ]; then fail list "missing:$missing"
     elif ! printf '%s\n' "$out" | grep -q "(default)"; then fail list "no default marked"
+    elif ! printf '%s\n' "$out" | grep -q "^fog-bank  *168 frames (" ; then fail list "no frame count: $(printf '%s\n' "$out" | grep fog-bank)"
     else ok list; fi
 else
     fail list "exit status $?"

@@ -1089,6 +1089,16 @@ expect_error bench.shadows_folder_first "cannot create output directory" "is not
 run bench layers --sizes 16x12 --layers 2 --frames 1 --no-reference
 expect_success bench.layers_no_reference_error && [ "$(awk '$1 == "16x12" { print $14 }' "$out")" = "-" ] &&
     ok bench.layers_no_reference_error
+# An empty method list ran nothing and wrote empty results with exit 0; a resolution bench vdb cannot
+# sample failed after its folder was made (exit 1).
+run bench methods --methods , -o "$work/bench_no_methods"
+expect_error bench.no_methods "--methods: no method named" && [ "$rc" -eq 2 ] && [ ! -e "$work/bench_no_methods" ] &&
+    ok bench.no_methods
+run bench methods --device no-such-device --scenes default --methods ppll -o "$work/bench_no_device"
+expect_error bench.no_device_no_folder "no-such-device" && [ ! -e "$work/bench_no_device" ] && ok bench.no_device_no_folder
+run bench vdb -o "$work/bench_vdb_coarse" --vdb-sample fog-sphere --vdb-sizes 4 --tolerances 0.2
+expect_error bench.vdb_size_first "--vdb-sizes" "(got 4)" && [ "$rc" -eq 2 ] && [ ! -e "$work/bench_vdb_coarse" ] &&
+    ok bench.vdb_size_first
 # A bad scene or sample name is refused before bench makes its output folder (both left an empty one).
 run bench methods --scenes no-such-scene -o "$work/bench_bad_scene"
 expect_error bench.bad_scene_no_folder "--scenes: no scene 'no-such-scene'" "cloud-1000" "plume" && [ "$rc" -eq 2 ] &&

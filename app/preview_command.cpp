@@ -485,8 +485,16 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
                 }
             }
             // The render thread's newest finished view becomes the frame shown.
-            if (std::optional<RenderedFrame> done = renderer.take_view()) {
-                if (!done->error.empty()) throw std::runtime_error(done->error);
+            if (std::optional<RenderedFrame> done = renderer.take_view(); done && !done->error.empty()) {
+                // A frame the scene cannot give (a camera path through an undefined view) is said in the
+                // panel and on stderr, once, while the window plays on; a script stops on it.
+                if (!done->refused || scripted) throw std::runtime_error(done->error);
+                if (panel.view_error != done->error)
+                    std::fprintf(stderr, "brume: frame %d not shown: %s\n", done->frame, done->error.c_str());
+                panel.view_error = done->error;
+                quiet_frames = 0;
+            } else if (done) {
+                panel.view_error.clear();
                 session.last_stats() = done->stats;
                 if (session.heat_map()) session.set_heat_figures(done->heat);
                 fresh = FreshFrame{done->upload_ms, done->render_ms,

@@ -245,6 +245,12 @@ void draw_panel(PanelState& s) {
         ImGui::End();
         return;
     }
+    if (!s.view_error.empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", s.view_error.c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::TextDisabled("showing the last frame rendered");
+    }
     if (!s.reload_error.empty()) {
         ImGui::PushTextWrapPos(0.0f);
         ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", s.reload_error.c_str());

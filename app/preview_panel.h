@@ -32,6 +32,7 @@ struct PanelState {
     bool list_stats = false;     // ask the method for list lengths (extra atomics)
     std::string method_error;    // the last refused method switch, shown until the next one
     std::string reload_error;    // the watched file's error while it does not read; the last good preset plays
+    std::string view_error;      // why the frame asked for was not rendered (RenderedFrame::refused); the last one stays
     std::string watched_file;    // empty: nothing is watched (a built-in preset)
     char method_setting[32] = {};  // the setting text being edited
     int method_index = 0;          // into the GPU methods of the catalogue

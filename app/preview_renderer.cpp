@@ -114,6 +114,9 @@ void PreviewRenderer::loop() {
         try {
             if (!job && slow_frame_ms_ > 0) std::this_thread::sleep_for(std::chrono::milliseconds(slow_frame_ms_));
             done = render_frame(path, next.second);
+        } catch (const std::invalid_argument& e) {
+            done.error = e.what();
+            done.refused = true;
         } catch (const std::exception& e) {
             done.error = e.what();
         }

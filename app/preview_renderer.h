@@ -67,6 +67,9 @@ struct RenderedFrame {
     double upload_ms = 0.0;   // the first method's scene upload (wall clock)
     double render_ms = 0.0;   // the rest of the frame's wall-clock time on the render thread
     std::string error;        // not empty: rendering threw this
+    // The frame's scene cannot be rendered as asked (std::invalid_argument: a camera path through an
+    // undefined view): an interactive window says why and keeps the last frame; anything else ends it.
+    bool refused = false;
 };
 
 // Renders `request` through `path` (on the calling thread): what the render thread does for a frame.

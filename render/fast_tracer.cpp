@@ -1,6 +1,7 @@
 #include "render/fast_tracer.h"
 
 #include "render/box_shadow_volume.h"
+#include "render/compensated_sum.h"
 #include "render/float_sun_depth.h"
 #include "render/nearest_bounds.h"
 #include "render/opaque_surfaces.h"
@@ -886,6 +887,10 @@ private:
         Float4 sigma{};      // {sigma_t, sigma_s}
         Float4 sigma_sun{};  // {0, the sun-lit part of sigma_s} (the per-sphere technique)
         Float4 sigma_e{};    // {0, sum tau_k e_k}
+        // Each sum above is sum + error: the sums stepped by TwoSum, which keeps each step's rounding
+        // exactly in error (step_sum), so leaving a dense sphere inside a thin medium gives the thin
+        // medium back, not a residue of the dense one's rounding (render/compensated_sum.h).
+        Float4 sigma_sum{}, sigma_error{}, sun_sum{}, sun_error{}, emission_sum{}, emission_error{};
         int inside = 0;
         float t_prev = 0.0f;
         // The accurate technique: the ray's box shadows, sorted pairs (lo, hi), once shadows_ready (its
@@ -1197,31 +1202,27 @@ private:
         }
         st.t_prev = t;
         // Enter or leave the event's medium, without a branch (entries and exits alternate unpredictably):
-        // v + (-1 * d) rounds as v - d. Leaving clamps at 0 against rounding, entering does not (a scene
-        // built in code may hold a negative albedo, as the layers benchmark's far spheres do). Back in
-        // free space the sums become exactly 0, dropping the rounding left by add and subtract.
-        // Branches here mispredicted on one event in four (cachegrind): the masks are arithmetic.
+        // each sum steps by plus or minus the medium's values as a compensated sum (compensated_step),
+        // exact to float's rounding of the result however dense the medium left behind. Back in free
+        // space the sums become exactly 0. Branches here mispredicted on one event in four
+        // (cachegrind): the masks are arithmetic.
         const std::uint32_t k = std::uint32_t(key) >> 1;
         const int exit = int(key & 1u);
         const float sign = 1.0f - 2.0f * float(exit);  // -1 on an exit, +1 on an entry
         st.inside += 1 - 2 * exit;
-        const Int4 exit_mask = Int4{} - exit;                     // all ones on an exit
-        const Int4 free_mask = Int4{} - int(st.inside == 0);      // all ones back in free space
-        const auto step = [sign, exit_mask, free_mask](Float4 v, Float4 d) {
-            const Float4 zero{};
-            const Float4 r = v + sign * d;
-            // max(r, 0) lane by lane on an exit, as std::max(r, 0.0f): r unless r < 0.
-            const Float4 clamped = ((r < zero) & exit_mask) != 0 ? zero : r;
-            return free_mask != 0 ? zero : clamped;
+        const Int4 free_mask = Int4{} - int(st.inside == 0);  // all ones back in free space
+        const auto step = [sign, free_mask](Float4& sum, Float4& error, Float4 d) {
+            compensated_step(sum, error, sign * d, free_mask);
+            return sum + error;
         };
-        st.sigma = step(st.sigma, extinction_scatter_[k]);
+        st.sigma = step(st.sigma_sum, st.sigma_error, extinction_scatter_[k]);
         if (!kPlain) {
             // Only what the light reads: the accurate technique never reads sigma_sun, and where no
             // sphere emits sigma_e stays 0 (branches the predictor always gets right). The same images
             // bit for bit; vdb-cloud's frame, whose one-ray walk steps every event here, 0.96-1.00x.
             const LitMedium& m = lit_media_[k];
-            if (!accurate_shadows_) st.sigma_sun = step(st.sigma_sun, m.sun_scatter);
-            if (emits_) st.sigma_e = step(st.sigma_e, m.emission);
+            if (!accurate_shadows_) st.sigma_sun = step(st.sun_sum, st.sun_error, m.sun_scatter);
+            if (emits_) st.sigma_e = step(st.emission_sum, st.emission_error, m.emission);
         }
         return true;
     }

@@ -168,7 +168,7 @@ template <Light kLight, class Gather>
     // Front to back, as packet::walk, each lane's media gathered by the rank of its event's sphere.
     Result out;
     out.transmittance = zero + 1.0f;
-    LaneMedia media;
+    LaneSums media;
     Float8 t_prev{};
     Int8 inside{}, stopped{};
     int walked = 0;  // the slots walked
@@ -177,7 +177,7 @@ template <Light kLight, class Gather>
         // No lane has an event left: neither has it in a later slot.
         if (!any(live)) break;
         walked = k + 1;
-        const Int8 step = walk_segment<kLight>(k, Float8(events.key[k]), live, inside, media, rays, min_transmittance,
+        const Int8 step = walk_segment<kLight>(k, Float8(events.key[k]), live, inside, media.value, rays, min_transmittance,
                                                out, t_prev, stopped, lit_steps);
         // A lane past its events reads rank 0's media and keeps its sums (step is 0 there). Most steps
         // take one sphere in every lane that steps (where the lanes' orders agree and none skipped a

@@ -10,6 +10,7 @@
 // (tests/test_fast_tracer.cpp holds the two together).
 #pragma once
 
+#include "render/compensated_sum.h"
 #include "render/simd8.h"
 #include "render/simd8_math.h"
 
@@ -157,6 +158,11 @@ struct LaneMedia {
     Float8 sun_r{}, sun_g{}, sun_b{};
     Float8 emission_r{}, emission_g{}, emission_b{};
 };
+// Each running sum as the one-ray walk keeps it: the value the segments read, value = sum + error, with
+// sum and error stepped as a compensated sum (render/compensated_sum.h).
+struct LaneSums {
+    LaneMedia value, sum, error;
+};
 
 // The segment [t_prev, t_prev + len] of the lanes of `segment`, each lane as the one-ray walk's
 // integrate() adds it, operation for operation: its light into `out`, its transmittance, and the
@@ -218,37 +224,36 @@ template <Light kLight>
 }
 
 // Enter or leave the event's medium in the lanes of `step` (exit: 1 where it is an exit): the
-// one-ray walk's sums, lane by lane, each plus or minus value(quantity), the medium's in each lane.
-// Leaving clamps at 0; back in free space (inside, after the step, 0) the sums are exactly 0.
+// one-ray walk's sums, lane by lane, each plus or minus value(quantity), the medium's in each lane, as
+// compensated sums; back in free space (inside, after the step, 0) the sums are exactly 0.
 // `emits`: whether any of the tile's spheres has emission; where none has, its sums stay 0 without
 // being stepped (three of the seven sums of a shadowed fog's step).
 template <Light kLight, class Value>
-[[gnu::always_inline]] inline void step_media(LaneMedia& m, Int8& inside, const Int8& step, const Int8& exit,
+[[gnu::always_inline]] inline void step_media(LaneSums& m, Int8& inside, const Int8& step, const Int8& exit,
                                               bool emits, const Value& value) {
-    const Float8 zero{};
-    const Int8 exit_mask = Int8{} - exit;
     inside = step ? inside + 1 - 2 * exit : inside;
     const Int8 free_mask = inside == 0;
     const Float8 sign = 1.0f - 2.0f * __builtin_convertvector(exit, Float8);
-    const auto advance = [&](Float8& v, Quantity q) {
-        const Float8 r = v + sign * value(q);
-        const Float8 clamped = ((r < 0.0f) & exit_mask) != 0 ? zero : r;
-        const Float8 next = free_mask != 0 ? zero : clamped;
-        v = step ? next : v;
+    const auto advance = [&](Float8 LaneMedia::*field, Quantity q) {
+        Float8 sum = m.sum.*field, error = m.error.*field;
+        compensated_step(sum, error, sign * value(q), free_mask);
+        m.sum.*field = step ? sum : m.sum.*field;
+        m.error.*field = step ? error : m.error.*field;
+        m.value.*field = m.sum.*field + m.error.*field;
     };
-    advance(m.sigma_t, Quantity::kSigmaT);
-    advance(m.sigma_r, Quantity::kSigmaR);
-    advance(m.sigma_g, Quantity::kSigmaG);
-    advance(m.sigma_b, Quantity::kSigmaB);
+    advance(&LaneMedia::sigma_t, Quantity::kSigmaT);
+    advance(&LaneMedia::sigma_r, Quantity::kSigmaR);
+    advance(&LaneMedia::sigma_g, Quantity::kSigmaG);
+    advance(&LaneMedia::sigma_b, Quantity::kSigmaB);
     if constexpr (kLight == Light::kPerSphere) {
-        advance(m.sun_r, Quantity::kSunR);
-        advance(m.sun_g, Quantity::kSunG);
-        advance(m.sun_b, Quantity::kSunB);
+        advance(&LaneMedia::sun_r, Quantity::kSunR);
+        advance(&LaneMedia::sun_g, Quantity::kSunG);
+        advance(&LaneMedia::sun_b, Quantity::kSunB);
     }
     if (kLight != Light::kPlain && emits) {
-        advance(m.emission_r, Quantity::kEmissionR);
-        advance(m.emission_g, Quantity::kEmissionG);
-        advance(m.emission_b, Quantity::kEmissionB);
+        advance(&LaneMedia::emission_r, Quantity::kEmissionR);
+        advance(&LaneMedia::emission_g, Quantity::kEmissionG);
+        advance(&LaneMedia::emission_b, Quantity::kEmissionB);
     }
 }
 
@@ -315,7 +320,7 @@ template <int P, Light kLight>
     // Front to back (shaders/exact_integrator.glsl), a lane at a time where its events lie.
     Result out;
     out.transmittance = zero + 1.0f;
-    LaneMedia media;
+    LaneSums media;
     Float8 t_prev{};
     Int8 inside{}, stopped{};
     int walked = 0;  // the slots walked
@@ -324,7 +329,7 @@ template <int P, Light kLight>
         // Every lane has no event left: the slots after this one hold none either.
         if (!any(live)) break;
         walked = e + 1;
-        const Int8 step = walk_segment<kLight>(e, Float8(key[e]), live, inside, media, rays, min_transmittance, out,
+        const Int8 step = walk_segment<kLight>(e, Float8(key[e]), live, inside, media.value, rays, min_transmittance, out,
                                                t_prev, stopped, lit_steps);
         const Int8 rank = Int8(id[e] >> 1u);
         step_media<kLight>(media, inside, step, Int8(id[e] & 1u), spheres.emits,

@@ -30,6 +30,15 @@ struct Integrator {
     vec3 sigma_s;    // running scattering coefficient (tau * albedo summed)
     vec3 sigma_sun;  // the same, each term dimmed by its sphere's T_sun (= sigma_s without shadows)
     vec3 sigma_e;    // running emission (tau * emission summed)
+    // Each running sum above is sum + error, stepped as a compensated sum (compensated_step): leaving a
+    // dense sphere inside a thin medium gives the thin medium back exactly, not a residue of the dense
+    // one's rounding (render/compensated_sum.h; trace's walks keep theirs the same way).
+    vec4 ts_sum;     // {sigma_t, sigma_s}
+    vec4 ts_error;
+    vec3 sun_sum;
+    vec3 sun_error;
+    vec3 e_sum;
+    vec3 e_error;
     int inside;      // how many media the ray is in
     float t_prev;
     bool stopped;    // transmittance fell below the scene's threshold
@@ -201,6 +210,24 @@ float sun_segment_integral(inout Integrator it, float a, float b, float sigma_t,
 }
 
 // Integrates the segment up to the event's distance, then enters or leaves the event's medium.
+// sum + error += d (render/compensated_sum.h): Knuth's TwoSum keeps the rounding of each step exactly,
+// and the errors are summed beside the sum. `precise` keeps a driver from simplifying the rounding's
+// expression away, as reassociating it would.
+void compensated_step(inout vec4 sum, inout vec4 error, vec4 d) {
+    precise vec4 s = sum + d;
+    precise vec4 d_rounded = s - sum;
+    precise vec4 rounding = (sum - (s - d_rounded)) + (d - d_rounded);
+    sum = s;
+    error += rounding;
+}
+void compensated_step(inout vec3 sum, inout vec3 error, vec3 d) {
+    precise vec3 s = sum + d;
+    precise vec3 d_rounded = s - sum;
+    precise vec3 rounding = (sum - (s - d_rounded)) + (d - d_rounded);
+    sum = s;
+    error += rounding;
+}
+
 void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
     float t = uintBitsToFloat(key.x);
     float len = t - it.t_prev;
@@ -231,23 +258,22 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
     vec3 tau_albedo = tau * g.albedo_extinction.rgb;
     vec3 tau_albedo_sun = tau_albedo * g.emission_sun.w;
     vec3 tau_emission = tau * g.emission_sun.rgb;
-    if ((key.y & 1u) == 0u) {
-        it.sigma_t += tau;
-        it.sigma_s += tau_albedo;
-        it.sigma_sun += tau_albedo_sun;
-        it.sigma_e += tau_emission;
-        ++it.inside;
-    } else if (--it.inside == 0) {
-        it.sigma_t = 0.0;  // back in free space: drop the rounding left by add/subtract
-        it.sigma_s = vec3(0.0);
-        it.sigma_sun = vec3(0.0);
-        it.sigma_e = vec3(0.0);
+    bool entry = (key.y & 1u) == 0u;
+    it.inside += entry ? 1 : -1;
+    if (it.inside == 0) {
+        it.ts_sum = it.ts_error = vec4(0.0);  // back in free space: every sum exactly 0
+        it.sun_sum = it.sun_error = it.e_sum = it.e_error = vec3(0.0);
     } else {
-        it.sigma_t = max(it.sigma_t - tau, 0.0);
-        it.sigma_s = max(it.sigma_s - tau_albedo, vec3(0.0));
-        it.sigma_sun = max(it.sigma_sun - tau_albedo_sun, vec3(0.0));
-        it.sigma_e = max(it.sigma_e - tau_emission, vec3(0.0));
+        float sign = entry ? 1.0 : -1.0;
+        compensated_step(it.ts_sum, it.ts_error, sign * vec4(tau, tau_albedo));
+        compensated_step(it.sun_sum, it.sun_error, sign * tau_albedo_sun);
+        compensated_step(it.e_sum, it.e_error, sign * tau_emission);
     }
+    vec4 ts = it.ts_sum + it.ts_error;
+    it.sigma_t = ts.x;
+    it.sigma_s = ts.yzw;
+    it.sigma_sun = it.sun_sum + it.sun_error;
+    it.sigma_e = it.e_sum + it.e_error;
     it.t_prev = t;
 }
 
@@ -256,8 +282,8 @@ Integrator start_integrator(vec3 origin, vec3 unit_dir, float t_opaque) {
     sun_box_span_count = SUN_BOX_SPANS_NONE;
     if (ACCURATE_SHADOWS != 0u && frame.params.w != 0.0 && frame.params.z != 0.0)
         find_sun_box_spans(origin, unit_dir, t_opaque);
-    return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), vec3(0.0), vec3(0.0), 0, 0.0, false, origin, unit_dir, 0.0, 1.0,
-                      false, 0u);
+    return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), vec3(0.0), vec3(0.0), vec4(0.0), vec4(0.0), vec3(0.0), vec3(0.0),
+                      vec3(0.0), vec3(0.0), 0, 0.0, false, origin, unit_dir, 0.0, 1.0, false, 0u);
 }
 
 #ifndef BRUME_NO_FRAGMENT_RAY

@@ -224,6 +224,7 @@ int run_play(const PlayArgs& args) {
                 throw std::runtime_error("frame " + std::to_string(frame) + ": " + e.what());
             }
         simulator->advance_to_frame(range.first);
+        if (g_stop_requested) throw SimulationStopped("stopped");  // in the last step: no frame after it
     } catch (const SimulationStopped&) {
         std::fprintf(stderr, "brume: interrupted during the simulation (%.1f s in), before the first frame; nothing was written\n",
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - sim_start).count());

@@ -204,6 +204,9 @@ int run_vdb_export(const VdbExportArgs& args) {
         Simulator sim(preset);
         sim.advance_to_frame(frame);
         sim.append_spheres(spheres);
+        if (sim.skipped() > 0)  // a silent cap looks like a weak emitter, as render and play say
+            std::printf("note: the particle budget max_particles = %u skipped %llu births up to frame %d\n",
+                        preset.timeline.max_particles, static_cast<unsigned long long>(sim.skipped()), frame);
     }
     const std::string what = animated ? "frame " + std::to_string(frame) + " of " + preset.name : preset.scene.source;
     if (spheres.empty()) throw std::runtime_error(what + " has no spheres: nothing to export");

@@ -13,16 +13,21 @@
 
 namespace brume {
 
-// sum + error += d as a compensated step, lane by lane; where `reset` is set (a mask of the same width:
-// the ray back in free space) both become exactly 0.
+// sum + error += d as a compensated step, lane by lane (masks of the same width). Where `leaving` is
+// set and the result is below 0, it becomes 0: the model clamps the sums a ray leaves a medium with, as
+// the reference does (render/reference.cpp; a scene built in code may hold negative albedos, as the
+// layers benchmark's far spheres do). Where `reset` is set (the ray back in free space) both become
+// exactly 0.
 template <class V, class Mask>
-[[gnu::always_inline]] inline void compensated_step(V& sum, V& error, const V& d, const Mask& reset) {
+[[gnu::always_inline]] inline void compensated_step(V& sum, V& error, const V& d, const Mask& leaving,
+                                                    const Mask& reset) {
     const V s = sum + d;
-    const V d_rounded = s - sum;                                       // the part of d that s holds
-    const V rounding = (sum - (s - d_rounded)) + (d - d_rounded);      // exactly (sum + d) - s
+    const V d_rounded = s - sum;                                   // the part of d that s holds
+    const V rounding = (sum - (s - d_rounded)) + (d - d_rounded);  // exactly (sum + d) - s
     const V e = error + rounding;
-    sum = reset != 0 ? V{} : s;
-    error = reset != 0 ? V{} : e;
+    const Mask zero = reset | (leaving & (s + e < V{}));
+    sum = zero != 0 ? V{} : s;
+    error = zero != 0 ? V{} : e;
 }
 
 }  // namespace brume

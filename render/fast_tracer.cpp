@@ -1203,16 +1203,17 @@ private:
         st.t_prev = t;
         // Enter or leave the event's medium, without a branch (entries and exits alternate unpredictably):
         // each sum steps by plus or minus the medium's values as a compensated sum (compensated_step),
-        // exact to float's rounding of the result however dense the medium left behind. Back in free
-        // space the sums become exactly 0. Branches here mispredicted on one event in four
+        // exact to float's rounding of the result however dense the medium left behind; leaving clamps
+        // at 0, as the reference does, and back in free space the sums become exactly 0. Branches here mispredicted on one event in four
         // (cachegrind): the masks are arithmetic.
         const std::uint32_t k = std::uint32_t(key) >> 1;
         const int exit = int(key & 1u);
         const float sign = 1.0f - 2.0f * float(exit);  // -1 on an exit, +1 on an entry
         st.inside += 1 - 2 * exit;
+        const Int4 exit_mask = Int4{} - exit;                  // all ones on an exit
         const Int4 free_mask = Int4{} - int(st.inside == 0);  // all ones back in free space
-        const auto step = [sign, free_mask](Float4& sum, Float4& error, Float4 d) {
-            compensated_step(sum, error, sign * d, free_mask);
+        const auto step = [sign, exit_mask, free_mask](Float4& sum, Float4& error, Float4 d) {
+            compensated_step(sum, error, sign * d, exit_mask, free_mask);
             return sum + error;
         };
         st.sigma = step(st.sigma_sum, st.sigma_error, extinction_scatter_[k]);

@@ -225,18 +225,20 @@ template <Light kLight>
 
 // Enter or leave the event's medium in the lanes of `step` (exit: 1 where it is an exit): the
 // one-ray walk's sums, lane by lane, each plus or minus value(quantity), the medium's in each lane, as
-// compensated sums; back in free space (inside, after the step, 0) the sums are exactly 0.
+// compensated sums; leaving clamps at 0, and back in free space (inside, after the step, 0) the sums
+// are exactly 0.
 // `emits`: whether any of the tile's spheres has emission; where none has, its sums stay 0 without
 // being stepped (three of the seven sums of a shadowed fog's step).
 template <Light kLight, class Value>
 [[gnu::always_inline]] inline void step_media(LaneSums& m, Int8& inside, const Int8& step, const Int8& exit,
                                               bool emits, const Value& value) {
     inside = step ? inside + 1 - 2 * exit : inside;
+    const Int8 exit_mask = Int8{} - exit;
     const Int8 free_mask = inside == 0;
     const Float8 sign = 1.0f - 2.0f * __builtin_convertvector(exit, Float8);
     const auto advance = [&](Float8 LaneMedia::*field, Quantity q) {
         Float8 sum = m.sum.*field, error = m.error.*field;
-        compensated_step(sum, error, sign * value(q), free_mask);
+        compensated_step(sum, error, sign * value(q), exit_mask, free_mask);
         m.sum.*field = step ? sum : m.sum.*field;
         m.error.*field = step ? error : m.error.*field;
         m.value.*field = m.sum.*field + m.error.*field;

@@ -213,19 +213,25 @@ float sun_segment_integral(inout Integrator it, float a, float b, float sigma_t,
 // sum + error += d (render/compensated_sum.h): Knuth's TwoSum keeps the rounding of each step exactly,
 // and the errors are summed beside the sum. `precise` keeps a driver from simplifying the rounding's
 // expression away, as reassociating it would.
-void compensated_step(inout vec4 sum, inout vec4 error, vec4 d) {
+// Leaving a medium clamps a sum below 0 at 0, as the reference does (negative albedos in scenes built
+// in code).
+void compensated_step(inout vec4 sum, inout vec4 error, vec4 d, bool leaving) {
     precise vec4 s = sum + d;
     precise vec4 d_rounded = s - sum;
     precise vec4 rounding = (sum - (s - d_rounded)) + (d - d_rounded);
-    sum = s;
-    error += rounding;
+    precise vec4 e = error + rounding;
+    bvec4 zero = leaving ? lessThan(s + e, vec4(0.0)) : bvec4(false);
+    sum = mix(s, vec4(0.0), zero);
+    error = mix(e, vec4(0.0), zero);
 }
-void compensated_step(inout vec3 sum, inout vec3 error, vec3 d) {
+void compensated_step(inout vec3 sum, inout vec3 error, vec3 d, bool leaving) {
     precise vec3 s = sum + d;
     precise vec3 d_rounded = s - sum;
     precise vec3 rounding = (sum - (s - d_rounded)) + (d - d_rounded);
-    sum = s;
-    error += rounding;
+    precise vec3 e = error + rounding;
+    bvec3 zero = leaving ? lessThan(s + e, vec3(0.0)) : bvec3(false);
+    sum = mix(s, vec3(0.0), zero);
+    error = mix(e, vec3(0.0), zero);
 }
 
 void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
@@ -265,9 +271,9 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
         it.sun_sum = it.sun_error = it.e_sum = it.e_error = vec3(0.0);
     } else {
         float sign = entry ? 1.0 : -1.0;
-        compensated_step(it.ts_sum, it.ts_error, sign * vec4(tau, tau_albedo));
-        compensated_step(it.sun_sum, it.sun_error, sign * tau_albedo_sun);
-        compensated_step(it.e_sum, it.e_error, sign * tau_emission);
+        compensated_step(it.ts_sum, it.ts_error, sign * vec4(tau, tau_albedo), !entry);
+        compensated_step(it.sun_sum, it.sun_error, sign * tau_albedo_sun, !entry);
+        compensated_step(it.e_sum, it.e_error, sign * tau_emission, !entry);
     }
     vec4 ts = it.ts_sum + it.ts_error;
     it.sigma_t = ts.x;

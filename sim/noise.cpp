@@ -35,6 +35,16 @@ inline float clamp_magnitude(float v, std::int32_t limit_bits) {
     return std::bit_cast<float>((mag < limit_bits ? mag : limit_bits) | (bits & std::int32_t(0x80000000u)));
 }
 
+// 1.0f where |x|, |y| and |z| are all below the limit, else 0.0f (NaN and infinity too), by integer
+// operations on the magnitude bits, as clamp_magnitude.
+inline float within_limit(float x, float y, float z, std::int32_t limit_bits) {
+    const std::int32_t mx = std::bit_cast<std::int32_t>(x) & 0x7fffffff;
+    const std::int32_t my = std::bit_cast<std::int32_t>(y) & 0x7fffffff;
+    const std::int32_t mz = std::bit_cast<std::int32_t>(z) & 0x7fffffff;
+    const std::int32_t inside = -(std::int32_t(mx < limit_bits) & std::int32_t(my < limit_bits) & std::int32_t(mz < limit_bits));
+    return std::bit_cast<float>(inside & 0x3f800000);
+}
+
 // Particles per block of accumulate(): the clamped positions and the accumulators stay in L1.
 constexpr std::size_t kBlock = 256;
 
@@ -70,23 +80,29 @@ CurlNoise::CurlNoise(std::uint64_t key, const CurlNoiseParams& params) {
         octave_frequency *= params.lacunarity;
         octave_gain *= params.gain;
     }
-    glm::dvec3 c_sum{0.0};
-    double k1_max = 0.0;  // largest |k|_1 in turns per unit
     for (const Mode& mode : modes_) {
         const glm::dvec3 turns = mode.k / kTwoPi;
         kx_.push_back(float(turns.x));
         ky_.push_back(float(turns.y));
         kz_.push_back(float(turns.z));
-        k1_max = std::max(k1_max, std::abs(turns.x) + std::abs(turns.y) + std::abs(turns.z));
         cx2_.push_back(float(-2.0 * mode.c.x));
         cy2_.push_back(float(-2.0 * mode.c.y));
         cz2_.push_back(float(-2.0 * mode.c.z));
-        c_sum += mode.c;
     }
-    c_sum_ = glm::vec3(c_sum);
-    // |q| <= |k|_1 * limit + 1/2 < 2^22 keeps sine_squared_turns exact in its reduction.
-    const double limit = k1_max > 0.0 ? std::min(0x1.0p21 / k1_max, 1e30) : 1e30;
-    position_limit_bits_ = std::bit_cast<std::int32_t>(float(limit));
+    for (std::size_t first = 0; first < modes_.size(); first += m_per) {
+        glm::dvec3 c_sum{0.0};
+        double k1_max = 0.0;  // largest |k|_1 in turns per unit
+        bool silent = true;
+        for (std::size_t m = first; m < first + m_per; ++m) {
+            const glm::dvec3 turns = modes_[m].k / kTwoPi;
+            k1_max = std::max(k1_max, std::abs(turns.x) + std::abs(turns.y) + std::abs(turns.z));
+            c_sum += modes_[m].c;
+            silent = silent && cx2_[m] == 0.0f && cy2_[m] == 0.0f && cz2_[m] == 0.0f;
+        }
+        // |q| <= |k|_1 * limit + 1/2 < 2^22 keeps sine_squared_turns exact in its reduction.
+        const double limit = k1_max > 0.0 ? std::min(0x1.0p21 / k1_max, 1e30) : 1e30;
+        octaves_.push_back({first, glm::vec3(c_sum), std::bit_cast<std::int32_t>(float(limit)), silent});
+    }
 }
 
 void CurlNoise::phases(double tau, float* out) const {
@@ -96,33 +112,45 @@ void CurlNoise::phases(double tau, float* out) const {
     }
 }
 
-// cos(2 pi q) = 1 - 2 sin^2(pi q), so sum_m c_m cos(.) = sum_m c_m + sum_m (-2 c_m) sin^2(.): the constant
-// sum is added once and each mode costs one polynomial and three multiply-adds. Modes are the outer
-// loop so that the inner loop is a plain vectorisable sweep over a block of particles.
+// cos(2 pi q) = 1 - 2 sin^2(pi q), so sum_m c_m cos(.) = sum_m c_m + sum_m (-2 c_m) sin^2(.): each
+// octave's constant sum is added once and each mode costs one polynomial and three multiply-adds. Modes
+// are the inner loop's outer loop so that the innermost is a plain vectorisable sweep over a block of
+// particles; each octave's sum is weighted 1 where the particle lies within its limit, else 0.
 void CurlNoise::accumulate(const float* x, const float* y, const float* z, std::size_t n, const float* phases,
                            float* ax, float* ay, float* az) const {
-    alignas(64) float px[kBlock], py[kBlock], pz[kBlock], ux[kBlock], uy[kBlock], uz[kBlock];
-    const std::size_t modes = kx_.size();
+    alignas(64) float px[kBlock], py[kBlock], pz[kBlock], w[kBlock], ux[kBlock], uy[kBlock], uz[kBlock];
+    alignas(64) float vx[kBlock], vy[kBlock], vz[kBlock];
     for (std::size_t i0 = 0; i0 < n; i0 += kBlock) {
         const std::size_t b = std::min(kBlock, n - i0);
-        // Far-away positions are clamped (beyond 2^21 turns of the highest wave number: hundreds of
-        // kilometres at ordinary scales), so every argument stays in the reduction's exact range.
-        for (std::size_t i = 0; i < b; ++i) {
-            px[i] = clamp_magnitude(x[i0 + i], position_limit_bits_);
-            py[i] = clamp_magnitude(y[i0 + i], position_limit_bits_);
-            pz[i] = clamp_magnitude(z[i0 + i], position_limit_bits_);
-            ux[i] = c_sum_.x;
-            uy[i] = c_sum_.y;
-            uz[i] = c_sum_.z;
-        }
-        for (std::size_t m = 0; m < modes; ++m) {
-            const float kx = kx_[m], ky = ky_[m], kz = kz_[m], theta = phases[m];
-            const float cx = cx2_[m], cy = cy2_[m], cz = cz2_[m];
+        for (std::size_t i = 0; i < b; ++i) ux[i] = uy[i] = uz[i] = 0.0f;
+        for (const Octave& octave : octaves_) {
+            if (octave.silent) continue;
+            // Positions past the octave's limit (hundreds of kilometres for the first octaves at
+            // ordinary scales) are clamped, so every argument stays in the reduction's exact range, and
+            // weighted 0.
             for (std::size_t i = 0; i < b; ++i) {
-                const float s2 = sine_squared_turns(kx * px[i] + ky * py[i] + kz * pz[i] + theta);
-                ux[i] += cx * s2;
-                uy[i] += cy * s2;
-                uz[i] += cz * s2;
+                px[i] = clamp_magnitude(x[i0 + i], octave.limit_bits);
+                py[i] = clamp_magnitude(y[i0 + i], octave.limit_bits);
+                pz[i] = clamp_magnitude(z[i0 + i], octave.limit_bits);
+                w[i] = within_limit(x[i0 + i], y[i0 + i], z[i0 + i], octave.limit_bits);
+                vx[i] = octave.c_sum.x;
+                vy[i] = octave.c_sum.y;
+                vz[i] = octave.c_sum.z;
+            }
+            for (std::size_t m = octave.first; m < octave.first + kModesPerOctave; ++m) {
+                const float kx = kx_[m], ky = ky_[m], kz = kz_[m], theta = phases[m];
+                const float cx = cx2_[m], cy = cy2_[m], cz = cz2_[m];
+                for (std::size_t i = 0; i < b; ++i) {
+                    const float s2 = sine_squared_turns(kx * px[i] + ky * py[i] + kz * pz[i] + theta);
+                    vx[i] += cx * s2;
+                    vy[i] += cy * s2;
+                    vz[i] += cz * s2;
+                }
+            }
+            for (std::size_t i = 0; i < b; ++i) {
+                ux[i] += w[i] * vx[i];
+                uy[i] += w[i] * vy[i];
+                uz[i] += w[i] * vz[i];
             }
         }
         for (std::size_t i = 0; i < b; ++i) {

@@ -73,8 +73,18 @@ private:
     std::vector<Mode> modes_;
     std::vector<float> kx_, ky_, kz_;       // float wave vectors in turns (cycles) per unit: k / 2 pi
     std::vector<float> cx2_, cy2_, cz2_;    // -2 c: cos = 1 - 2 sin^2(half), see accumulate()
-    glm::vec3 c_sum_{0.0f};                 // sum of c over all modes
-    std::int32_t position_limit_bits_ = 0;  // positions are clamped to this float's magnitude
+    // Each octave's modes (kModesPerOctave from `first`), the sum of their c, and the distance from the
+    // origin within which float positions resolve its waves (2^21 turns of its highest wave number):
+    // beyond it the octave is left out for that particle, as its mean over space is 0. One limit for all
+    // octaves, the finest's, clamped every particle past it for the coarse ones too: 16 octaves at
+    // lacunarity 16 made the whole field one constant, and a clump drifted rigidly.
+    struct Octave {
+        std::size_t first = 0;
+        glm::vec3 c_sum{0.0f};
+        std::int32_t limit_bits = 0;
+        bool silent = false;  // every c 0 (a gain of 0): skipped
+    };
+    std::vector<Octave> octaves_;
 };
 
 }  // namespace brume

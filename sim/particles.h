@@ -1,8 +1,10 @@
 // Live particles as a structure of arrays: the force and integration loops read a few fields of
 // many particles, and separate float arrays let the compiler vectorise them (4 lanes with SSE2).
 // Float is ample for smoke (a 1e-7 relative position error is far below a particle's radius) and
-// halves the memory traffic; everything that accumulates over a long run (time, emission counts)
-// is kept in double or integers elsewhere. Order is not meaningful: removal swaps in the last one.
+// halves the memory traffic; everything that accumulates over a long run is kept in double or
+// integers: time and emission counts elsewhere, and here each particle's age and lifetime (a float age
+// summed step by step lost 1.7 s of a 100 s life at 15,360 steps a second, and stopped growing at
+// 2,048 s, so that such a particle never died). Order is not meaningful: removal swaps in the last one.
 #pragma once
 
 #include <glm/vec3.hpp>
@@ -37,7 +39,7 @@ struct Particle {
 struct Particles {
     std::vector<float> x, y, z;     // position
     std::vector<float> vx, vy, vz;  // velocity
-    std::vector<float> age, lifetime;
+    std::vector<double> age, lifetime;
     std::vector<float> radius, extinction;
     std::vector<float> albedo_r, albedo_g, albedo_b;
     std::vector<std::uint32_t> emitter;
@@ -53,8 +55,8 @@ struct Particles {
         vx.push_back(float(p.velocity.x));
         vy.push_back(float(p.velocity.y));
         vz.push_back(float(p.velocity.z));
-        age.push_back(float(p.age));
-        lifetime.push_back(float(p.lifetime));
+        age.push_back(p.age);
+        lifetime.push_back(p.lifetime);
         radius.push_back(float(p.radius));
         extinction.push_back(float(p.extinction));
         albedo_r.push_back(float(p.albedo.x));

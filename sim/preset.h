@@ -52,6 +52,9 @@ enum class EmitterShape { Point, Sphere, Box, Disc, Density };
 
 struct EmitterDesc {
     std::string name;
+    // "FILE:LINE" of its [[emitter]] table, which a density emitter's grid errors start with (the grid is
+    // read after the file, as a [[vdb]] volume's); empty for an emitter built in code.
+    std::string defined_at;
     EmitterShape shape = EmitterShape::Point;
     glm::dvec3 center{0.0};
     double radius = 0.0;             // Sphere (volume) and Disc

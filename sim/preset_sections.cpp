@@ -308,6 +308,7 @@ void read_curves(const Reader& in, const toml::node& node, const KeyPath& path, 
 
 EmitterDesc read_emitter(const Reader& in, const toml::table& t, const KeyPath& path) {
     EmitterDesc e;
+    e.defined_at = in.location(t);
     if (const toml::node* n = t.get("shape")) e.shape = EmitterShape(in.choice(*n, path / "shape", kShapeNames));
     const std::string_view shape_name = kShapeNames[std::size_t(e.shape)];
     // The shapes that read `key`, quoted: empty for a key every shape reads.

@@ -99,7 +99,6 @@ double Simulator::time() const { return time_at(step_); }
 void Simulator::substep() {
     const double t0 = time_at(step_), t1 = time_at(step_ + 1);
     const double dt = 1.0 / steps_per_second_;
-    const float dt_f = float(dt);
     forces_.phases(t0, phases_.data());
     const LinearStep ls = forces_.linear_step(dt);
 
@@ -132,11 +131,11 @@ void Simulator::substep() {
                 }
             }
         }
-        float* age = p.age.data() + i0;
-        const float* life = p.lifetime.data() + i0;
+        double* age = p.age.data() + i0;
+        const double* life = p.lifetime.data() + i0;
         int dead = 0;
         for (std::size_t j = 0; j < m; ++j) {
-            age[j] += dt_f;
+            age[j] += dt;
             dead |= age[j] >= life[j];
         }
         any_dead |= dead != 0;
@@ -167,12 +166,29 @@ void Simulator::add_births(double t_begin, double t_end, bool initial) {
         for (const EmitterDesc::Burst& b : st.bursts) {
             const bool now = initial ? b.time <= 0.0 : (b.time > t_begin && b.time <= t_end);
             if (!now) continue;
-            for (std::uint32_t c = 0; c < b.count; ++c) birth(e, b.time, t_end, initial);
+            for (std::uint32_t c = 0; c < b.count; ++c) {
+                if (budget_full()) {  // the rest are skipped, counted at once: 1e10 of them took seconds one by one
+                    skip_births(e, b.count - c);
+                    break;
+                }
+                birth(e, b.time, t_end, initial);
+            }
         }
         const std::uint64_t total = continuous_count(desc, t_end);
-        for (; st.continuous < total; ++st.continuous)
+        for (; st.continuous < total; ++st.continuous) {
+            if (budget_full()) {
+                skip_births(e, total - st.continuous);
+                st.continuous = total;
+                break;
+            }
             birth(e, continuous_birth_time(desc, st.continuous), t_end, initial);
+        }
     }
+}
+
+void Simulator::skip_births(std::uint32_t emitter, std::uint64_t count) {
+    emitters_[emitter].counter += count;  // as birth() counts each: the later births' draws stay theirs
+    skipped_ += count;
 }
 
 void Simulator::birth(std::uint32_t emitter, double birth_time, double t_end, bool initial) {
@@ -186,7 +202,7 @@ void Simulator::birth(std::uint32_t emitter, double birth_time, double t_end, bo
     // may lie a hair after it, hence the clamp.
     const double age = initial ? 0.0 : std::clamp(t_end - birth_time, 0.0, 1.0 / steps_per_second_);
     q.age = age;
-    if (float(q.age) >= float(q.lifetime)) return;  // born and dead within the step
+    if (q.age >= q.lifetime) return;  // born and dead within the step
     particles_.push_back(q);
     new_ages_.push_back(age);
 }
@@ -215,7 +231,7 @@ void Simulator::advance_new(std::size_t first) {
                 !obstacles_.push_out(p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i])) {
                 if (obstacles_.inside(bx, by, bz)) {
                     // Born inside geometry it cannot leave: it dies unseen.
-                    p.lifetime[i] = 0.0f;
+                    p.lifetime[i] = 0.0;
                     any_dead = true;
                 } else {
                     p.x[i] = bx, p.y[i] = by, p.z[i] = bz;
@@ -234,7 +250,7 @@ void Simulator::append_spheres(std::vector<Sphere>& out) const {
     for (std::size_t i = 0; i < p.size(); ++i) {
         const EmitterDesc& emitter = preset_.emitters[p.emitter[i]];
         const AgeCurves& curves = emitter.curves;
-        const double a = p.lifetime[i] > 0.0f ? double(p.age[i]) / double(p.lifetime[i]) : 1.0;
+        const double a = p.lifetime[i] > 0.0 ? p.age[i] / p.lifetime[i] : 1.0;
         const AgeCurveFactors f = evaluate_age_curves(curves, a);
         Sphere s;
         s.radius = double(p.radius[i]) * f.radius;

@@ -90,6 +90,10 @@ private:
     // Births in (t_begin, t_end], or at times <= 0 for the initial state.
     void add_births(double t_begin, double t_end, bool initial);
     void birth(std::uint32_t emitter, double birth_time, double t_end, bool initial);
+    // While the budget is full every birth is skipped (birth() counts it and draws nothing), so a run
+    // of them is counted at once.
+    bool budget_full() const { return particles_.size() >= preset_.timeline.max_particles; }
+    void skip_births(std::uint32_t emitter, std::uint64_t count);
     void advance_new(std::size_t first);
     void remove_dead(std::size_t first);
     double time_at(std::uint64_t step) const { return double(step) / steps_per_second_; }

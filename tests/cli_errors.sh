@@ -1138,6 +1138,20 @@ printf '[timeline]\nfps = 10.0\nduration = 0.5\nmax_particles = 5\n[[emitter]]\n
 run render "$nu/capped.toml" --frame 3 --size 8x8 -o "$nu/capped.exr" --stats "$nu/capped.json"
 expect_success render.budget_counted && grep -q "max_particles = 5" "$out" && grep -Eq '"skipped_births": [1-9]' "$nu/capped.json" &&
     ok render.budget_counted
+# vdb-export of the same frame says so too (it said nothing).
+run vdb-export "$nu/capped.toml" --frame 3 --resolution 16 -o "$nu/capped.vdb"
+expect_success vdb_export.budget_noted && grep -q "note: the particle budget max_particles = 5 skipped" "$out" &&
+    ok vdb_export.budget_noted
+# A [[vdb]] placement that shrinks the voxels past what Brume reads is refused by name: it was blamed
+# on the camera ("the camera's view is undefined"), which the conversion's own views had lost.
+printf '[camera]\nposition = [0.0, 1.0, 6.0]\nlook_at = [0.0, 1.0, 0.0]\n[[vdb]]\nfile = "builtin:sheet:8"\nscale = 1e-200\n' >"$nu/tiny_vdb.toml"
+run render "$nu/tiny_vdb.toml" --size 8x6 --png "$nu/tiny_vdb.png"
+expect_error vdb.tiny_placement "tiny_vdb.toml:4: vdb[0]" "scale 1e-200 makes its voxels" && [ ! -e "$nu/tiny_vdb.png" ] &&
+    ok vdb.tiny_placement
+# A density emitter's grid errors start with its table's FILE:LINE, as a [[vdb]] volume's do.
+printf '[timeline]\nduration = 0.5\n[[emitter]]\nname = "d"\nshape = "density"\nfile = "builtin:sheet:4"\nrate = 10.0\n' >"$nu/density_res.toml"
+run render "$nu/density_res.toml" --frame 1 --size 8x6 --png "$nu/density_res.png"
+expect_error emitter.density_error_located "density_res.toml:3: emitter[0] (\"d\")" "resolution" && ok emitter.density_error_located
 # More huge spheres than the accurate shadows take whole are said (docs/accuracy.md); one is not.
 {
     printf '[lighting]\nshadows = true\n'

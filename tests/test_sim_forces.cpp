@@ -267,6 +267,38 @@ TEST(Turbulence, IsTheCurlOfItsPotential) {
     }
 }
 
+// Octaves a gain of 0 silences change nothing, near the origin or 60 units from it; and the coarse
+// octaves keep varying in space however fine the finest is. One position limit for all octaves, the
+// finest's, clamped every particle past it for the coarse octaves too: 16 octaves at lacunarity 16 made
+// the field one constant everywhere (a clump drifted rigidly), and 16 octaves at lacunarity 2 froze it
+// past 37 units.
+TEST(Turbulence, FineOctavesLeaveTheCoarseOnesAlone) {
+    const CurlNoise one(9, {1, 2.0, 0.5, 1.0, 1.0});
+    const CurlNoise silenced(9, {16, 16.0, 0.0, 1.0, 1.0});
+    std::vector<float> phases_one(one.mode_count()), phases_silenced(silenced.mode_count());
+    one.phases(3.5, phases_one.data());
+    silenced.phases(3.5, phases_silenced.data());
+    constexpr int n = 40;
+    std::vector<float> x(n), y(n), z(n);
+    for (int i = 0; i < n; ++i) {
+        const dvec3 p = random_point(std::uint64_t(i), 5.0) + (i < n / 2 ? dvec3{0.0} : dvec3{60.0, -60.0, 60.0});
+        x[std::size_t(i)] = float(p.x), y[std::size_t(i)] = float(p.y), z[std::size_t(i)] = float(p.z);
+    }
+    std::vector<float> a(3 * n, 0.0f), b(3 * n, 0.0f);
+    one.accumulate(x.data(), y.data(), z.data(), n, phases_one.data(), a.data(), a.data() + n, a.data() + 2 * n);
+    silenced.accumulate(x.data(), y.data(), z.data(), n, phases_silenced.data(), b.data(), b.data() + n, b.data() + 2 * n);
+    EXPECT_EQ(a, b);
+    // Sixteen octaves at lacunarity 2, gain 0.5: past 37 units the field still varies from point to point.
+    const CurlNoise fine(9, {16, 2.0, 0.5, 1.0, 1.0});
+    std::vector<float> phases_fine(fine.mode_count());
+    fine.phases(3.5, phases_fine.data());
+    std::vector<float> c(3 * n, 0.0f);
+    fine.accumulate(x.data(), y.data(), z.data(), n, phases_fine.data(), c.data(), c.data() + n, c.data() + 2 * n);
+    int distinct = 0;
+    for (int i = n / 2 + 1; i < n; ++i) distinct += c[std::size_t(i)] != c[std::size_t(n / 2)];
+    EXPECT_EQ(distinct, n / 2 - 1);
+}
+
 TEST(Turbulence, FloatLoopMatchesTheDoubleFieldAndStaysSolenoidal) {
     const ForceField field({turbulence()}, 5);
     const double t = 12.25;

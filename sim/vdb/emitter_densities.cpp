@@ -16,7 +16,9 @@ void load_emitter_densities(Preset& preset) {
         EmitterDesc& e = preset.emitters[i];
         if (e.shape != EmitterShape::Density) continue;
         // Messages name the emitter as the preset file does (its index) and as the user does (its name).
-        const std::string who = "emitter[" + std::to_string(i) + "] (" + toml_text::quoted(e.name) + "): ";
+        // "FILE:LINE: emitter[0] ("name"): ", as the reader's own messages and a [[vdb]] volume's start.
+        const std::string who = (e.defined_at.empty() ? "" : e.defined_at + ": ") + "emitter[" + std::to_string(i) +
+                                "] (" + toml_text::quoted(e.name) + "): ";
         try {
             e.density = std::make_shared<const DensitySampler>(read_density_source(e.density_source),
                                                                e.density_transform);

@@ -99,6 +99,13 @@ std::vector<VolumeReport> convert_scene_volumes(Scene& scene, const std::vector<
             options.albedo = v.albedo;
             options.fit = v.fit;
             if (grids.size() > 1) options.albedo_grid = &grids[1];
+            // A placement can shrink the voxels past what Brume reads in a file (sim/vdb/vdb_file.h):
+            // scale 1e-200 put the conversion's views 1e200 grid units away, with no view direction left.
+            const double placed_voxel = grids[0].voxel_size * v.transform.scale;
+            if (!(placed_voxel >= kMinVoxelSize))
+                throw std::runtime_error("scale " + toml_text::shortest(v.transform.scale) + " makes its voxels " +
+                                         toml_text::shortest(placed_voxel) + " scene units, below the " +
+                                         toml_text::shortest(kMinVoxelSize) + " Brume reads; raise the scale");
             options.views.push_back(camera_in_grid_space(scene.camera, v.transform));
             for (const Camera& c : more_views) options.views.push_back(camera_in_grid_space(c, v.transform));
             // Keyed on the grids and every option, views included (sim/vdb/conversion_cache.h): a farm's jobs

@@ -10,7 +10,7 @@ namespace brume::app {
 namespace {
 
 // What one live particle costs in a checkpoint: fourteen floats, its emitter and its id (sim/particles.h).
-constexpr std::uint64_t kParticleBytes = 12 * sizeof(float) + 2 * sizeof(double) + sizeof(std::uint32_t) + sizeof(std::uint64_t);
+constexpr std::uint64_t kParticleBytes = 15 * sizeof(float) + 2 * sizeof(double) + sizeof(std::uint32_t) + sizeof(std::uint64_t);
 
 }  // namespace
 

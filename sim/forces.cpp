@@ -116,15 +116,29 @@ glm::dvec3 ForceField::acceleration(const glm::dvec3& x, const glm::dvec3& v, do
     return a;
 }
 
+namespace {
+
+// p + lo += d (TwoSum: the rounded sum and its exact rounding, kept in lo).
+inline void move(float& p, float& lo, float d) {
+    const float step = d + lo;
+    const float s = p + step;
+    const float step_rounded = s - p;
+    lo = (p - (s - step_rounded)) + (step - step_rounded);
+    p = s;
+}
+
+}  // namespace
+
 void integrate(const LinearStep& step, const float* __restrict ax, const float* __restrict ay,
                const float* __restrict az, std::size_t n, float* __restrict x, float* __restrict y,
-               float* __restrict z, float* __restrict vx, float* __restrict vy, float* __restrict vz) {
+               float* __restrict z, float* __restrict x_lo, float* __restrict y_lo, float* __restrict z_lo,
+               float* __restrict vx, float* __restrict vy, float* __restrict vz) {
     const float e = step.decay, p1 = step.phi1, p2 = step.phi2;
     for (std::size_t i = 0; i < n; ++i) {
         const float ux = vx[i], uy = vy[i], uz = vz[i];
-        x[i] += ux * p1 + ax[i] * p2;
-        y[i] += uy * p1 + ay[i] * p2;
-        z[i] += uz * p1 + az[i] * p2;
+        move(x[i], x_lo[i], ux * p1 + ax[i] * p2);
+        move(y[i], y_lo[i], uy * p1 + ay[i] * p2);
+        move(z[i], z_lo[i], uz * p1 + az[i] * p2);
         vx[i] = ux * e + ax[i] * p1;
         vy[i] = uy * e + ay[i] * p1;
         vz[i] = uz * e + az[i] * p1;

@@ -71,9 +71,11 @@ private:
     std::size_t phase_count_ = 0;
 };
 
-// One step for n particles: v' = v e + a phi1, x' = x + v phi1 + a phi2 (a from accelerations()).
+// One step for n particles: v' = v e + a phi1, x' = x + v phi1 + a phi2 (a from accelerations()). The
+// position is x + x_lo (sim/particles.h): each move is added as a compensated sum, so moves far below
+// x's float step still add up.
 void integrate(const LinearStep& step, const float* ax, const float* ay, const float* az, std::size_t n,
-               float* x, float* y, float* z, float* vx, float* vy, float* vz);
+               float* x, float* y, float* z, float* x_lo, float* y_lo, float* z_lo, float* vx, float* vy, float* vz);
 
 // The scene's opaque boxes as obstacles. A centre strictly inside a box (min < p < max on every axis)
 // is pushed out through the nearest face (ties: x before y before z, min before max; a face whose

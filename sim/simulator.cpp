@@ -119,11 +119,13 @@ void Simulator::substep() {
             std::copy(y, y + m, oy);
             std::copy(z, z + m, oz);
         }
-        integrate(ls, ax, ay, az, m, x, y, z, p.vx.data() + i0, p.vy.data() + i0, p.vz.data() + i0);
+        integrate(ls, ax, ay, az, m, x, y, z, p.x_lo.data() + i0, p.y_lo.data() + i0, p.z_lo.data() + i0,
+                  p.vx.data() + i0, p.vy.data() + i0, p.vz.data() + i0);
         if (obstacles) {
             for (std::size_t j = 0; j < m; ++j) {
                 const std::size_t i = i0 + j;
                 if (!obstacles_.inside(x[j], y[j], z[j])) continue;
+                p.drop_rounding(i);  // pushed out, or put back: the floats hold the position whole
                 if (!obstacles_.push_out(x[j], y[j], z[j], p.vx[i], p.vy[i], p.vz[i])) {
                     // Wedged between overlapping boxes: stay where it was (outside, by induction).
                     x[j] = ox[j], y[j] = oy[j], z[j] = oz[j];
@@ -225,8 +227,10 @@ void Simulator::advance_new(std::size_t first) {
             const double age = new_ages_[j0 + j];
             if (age > 0.0) {
                 const LinearStep ls = forces_.linear_step(age);
-                integrate(ls, ax + j, ay + j, az + j, 1, &p.x[i], &p.y[i], &p.z[i], &p.vx[i], &p.vy[i], &p.vz[i]);
+                integrate(ls, ax + j, ay + j, az + j, 1, &p.x[i], &p.y[i], &p.z[i], &p.x_lo[i], &p.y_lo[i], &p.z_lo[i],
+                          &p.vx[i], &p.vy[i], &p.vz[i]);
             }
+            if (obstacles_.inside(p.x[i], p.y[i], p.z[i])) p.drop_rounding(i);
             if (obstacles_.inside(p.x[i], p.y[i], p.z[i]) &&
                 !obstacles_.push_out(p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i])) {
                 if (obstacles_.inside(bx, by, bz)) {
@@ -256,7 +260,7 @@ void Simulator::append_spheres(std::vector<Sphere>& out) const {
         s.radius = double(p.radius[i]) * f.radius;
         s.extinction = double(p.extinction[i]) * f.extinction;
         if (!(s.radius > 0.0) || !(s.extinction > 0.0)) continue;
-        s.center = {p.x[i], p.y[i], p.z[i]};
+        s.center = p.position(i);
         s.albedo = glm::dvec3{p.albedo_r[i], p.albedo_g[i], p.albedo_b[i]} * f.albedo;
         // Emission adds tau * e: it fades with the extinction, so the fades need not touch it.
         s.emission = emitter.emission * f.emission;

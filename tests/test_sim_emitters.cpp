@@ -470,6 +470,28 @@ TEST(AgeCurves, ALongLifeEndsOnTimeAtManySubsteps) {
     EXPECT_EQ(sim.size(), 0u);
 }
 
+// Moves far below a float step still add up: a particle 1,000 units out at 0.5 units a second is 2 units
+// further after 4 s at any substep count. With float positions alone each 3.3e-5 move of 64 substeps at
+// 240 fps rounded to a whole float step there (6.1e-5), and the particle went 87% too fast; 100,000 units
+// out it did not move at all.
+TEST(Simulator, SlowMotionFarFromTheOriginAddsUpAtAnySubstepCount) {
+    for (const double far : {1000.0, 100000.0}) {
+        for (const int substeps : {1, 64}) {
+            EmitterDesc e;
+            e.bursts = {{0.0, 1}};
+            e.center = {far, 1.0, 0.0};
+            e.direction = {1.0, 0.0, 0.0};
+            e.speed = {0.5, 0.5};
+            e.lifetime = {100.0, 100.0};
+            Simulator sim(one_emitter(e, 240.0, substeps));
+            sim.advance_to_frame(960);  // 4 s
+            ASSERT_EQ(sim.size(), 1u);
+            const dvec3 p = sim.particles().at(0).position;
+            EXPECT_NEAR(p.x, far + 2.0, 1e-4 * (1.0 + far / 1000.0)) << far << " units out, " << substeps << " substeps";
+        }
+    }
+}
+
 TEST(AgeCurves, SpheresWithZeroRadiusOrExtinctionAreSkipped) {
     EmitterDesc faded;  // fade-in: extinction 0 at age 0
     faded.bursts = {{0.0, 3}};

@@ -126,21 +126,22 @@ TEST_F(VdbDensityEmitterFiles, ARelativeFileIsReadBesideThePreset) {
 
     // Parsed as text, the same preset looks in the working directory, and says which emitter failed.
     const std::string what = load_error(parse_preset_toml(file_text_of(path), "lumpy.toml"));
-    EXPECT_EQ(what.rfind("emitter[1] (\"seeded cloud\"): grids/lump.vdb", 0), 0u) << what;
+    EXPECT_EQ(what.rfind("lumpy.toml:11: emitter[1] (\"seeded cloud\"): grids/lump.vdb", 0), 0u) << what;
 }
 
+// Each message starts with the emitter's table, FILE:LINE first, as a [[vdb]] volume's and the reader's do.
 TEST_F(VdbDensityEmitterFiles, UnreadableGridsNameTheEmitter) {
     const std::string missing = load_error(parse_preset_toml(preset_text("file = \"no_such_cloud.vdb\""), "p.toml"));
-    EXPECT_EQ(missing.rfind("emitter[1] (\"seeded cloud\"): ", 0), 0u) << missing;
+    EXPECT_EQ(missing.rfind("p.toml:11: emitter[1] (\"seeded cloud\"): ", 0), 0u) << missing;
     EXPECT_NE(missing.find("no_such_cloud.vdb"), std::string::npos) << missing;
 
     const std::string wrong_grid =
         load_error(parse_preset_toml(preset_text("file = \"builtin:cloud:16\"\ngrid = \"smoke\""), "p.toml"));
-    EXPECT_EQ(wrong_grid.rfind("emitter[1] (\"seeded cloud\"): builtin:cloud:16", 0), 0u) << wrong_grid;
+    EXPECT_EQ(wrong_grid.rfind("p.toml:11: emitter[1] (\"seeded cloud\"): builtin:cloud:16", 0), 0u) << wrong_grid;
     EXPECT_NE(wrong_grid.find("\"smoke\""), std::string::npos) << wrong_grid;
 
     const std::string unknown = load_error(parse_preset_toml(preset_text("file = \"builtin:nimbus\""), "p.toml"));
-    EXPECT_EQ(unknown.rfind("emitter[1] (\"seeded cloud\"): ", 0), 0u) << unknown;
+    EXPECT_EQ(unknown.rfind("p.toml:11: emitter[1] (\"seeded cloud\"): ", 0), 0u) << unknown;
     EXPECT_NE(unknown.find("nimbus"), std::string::npos) << unknown;
 
     // A grid of zeros has nothing to seed from (OpenVDB keeps no active voxel of it).
@@ -150,7 +151,7 @@ TEST_F(VdbDensityEmitterFiles, UnreadableGridsNameTheEmitter) {
     write_bytes(dir_ / "empty.vdb", encode_vdb(zeros));
     const std::string empty =
         load_error(parse_preset_toml(preset_text("file = \"" + (dir_ / "empty.vdb").string() + "\""), "p.toml"));
-    EXPECT_EQ(empty.rfind("emitter[1] (\"seeded cloud\"): ", 0), 0u) << empty;
+    EXPECT_EQ(empty.rfind("p.toml:11: emitter[1] (\"seeded cloud\"): ", 0), 0u) << empty;
     EXPECT_NE(empty.find("empty.vdb"), std::string::npos) << empty;
 }
 

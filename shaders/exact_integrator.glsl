@@ -35,10 +35,10 @@ struct Integrator {
     // one's rounding (render/compensated_sum.h; trace's walks keep theirs the same way).
     vec4 ts_sum;     // {sigma_t, sigma_s}
     vec4 ts_error;
-    vec3 sun_sum;
-    vec3 sun_error;
-    vec3 e_sum;
-    vec3 e_error;
+    vec4 sun_sum;    // {sigma_sun, 0}: one compensated_step for every sum
+    vec4 sun_error;
+    vec4 e_sum;      // {sigma_e, 0}
+    vec4 e_error;
     int inside;      // how many media the ray is in
     float t_prev;
     bool stopped;    // transmittance fell below the scene's threshold
@@ -224,15 +224,6 @@ void compensated_step(inout vec4 sum, inout vec4 error, vec4 d, bool leaving) {
     sum = mix(s, vec4(0.0), zero);
     error = mix(e, vec4(0.0), zero);
 }
-void compensated_step(inout vec3 sum, inout vec3 error, vec3 d, bool leaving) {
-    precise vec3 s = sum + d;
-    precise vec3 d_rounded = s - sum;
-    precise vec3 rounding = (sum - (s - d_rounded)) + (d - d_rounded);
-    precise vec3 e = error + rounding;
-    bvec3 zero = leaving ? lessThan(s + e, vec3(0.0)) : bvec3(false);
-    sum = mix(s, vec3(0.0), zero);
-    error = mix(e, vec3(0.0), zero);
-}
 
 void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
     float t = uintBitsToFloat(key.x);
@@ -268,18 +259,18 @@ void integrate_event(inout Integrator it, vec3 source, uvec2 key) {
     it.inside += entry ? 1 : -1;
     if (it.inside == 0) {
         it.ts_sum = it.ts_error = vec4(0.0);  // back in free space: every sum exactly 0
-        it.sun_sum = it.sun_error = it.e_sum = it.e_error = vec3(0.0);
+        it.sun_sum = it.sun_error = it.e_sum = it.e_error = vec4(0.0);
     } else {
         float sign = entry ? 1.0 : -1.0;
         compensated_step(it.ts_sum, it.ts_error, sign * vec4(tau, tau_albedo), !entry);
-        compensated_step(it.sun_sum, it.sun_error, sign * tau_albedo_sun, !entry);
-        compensated_step(it.e_sum, it.e_error, sign * tau_emission, !entry);
+        compensated_step(it.sun_sum, it.sun_error, vec4(sign * tau_albedo_sun, 0.0), !entry);
+        compensated_step(it.e_sum, it.e_error, vec4(sign * tau_emission, 0.0), !entry);
     }
     vec4 ts = it.ts_sum + it.ts_error;
     it.sigma_t = ts.x;
     it.sigma_s = ts.yzw;
-    it.sigma_sun = it.sun_sum + it.sun_error;
-    it.sigma_e = it.e_sum + it.e_error;
+    it.sigma_sun = (it.sun_sum + it.sun_error).xyz;
+    it.sigma_e = (it.e_sum + it.e_error).xyz;
     it.t_prev = t;
 }
 
@@ -288,8 +279,8 @@ Integrator start_integrator(vec3 origin, vec3 unit_dir, float t_opaque) {
     sun_box_span_count = SUN_BOX_SPANS_NONE;
     if (ACCURATE_SHADOWS != 0u && frame.params.w != 0.0 && frame.params.z != 0.0)
         find_sun_box_spans(origin, unit_dir, t_opaque);
-    return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), vec3(0.0), vec3(0.0), vec4(0.0), vec4(0.0), vec3(0.0), vec3(0.0),
-                      vec3(0.0), vec3(0.0), 0, 0.0, false, origin, unit_dir, 0.0, 1.0, false, 0u);
+    return Integrator(vec3(0.0), 1.0, 0.0, vec3(0.0), vec3(0.0), vec3(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0),
+                      vec4(0.0), vec4(0.0), 0, 0.0, false, origin, unit_dir, 0.0, 1.0, false, 0u);
 }
 
 #ifndef BRUME_NO_FRAGMENT_RAY

@@ -82,6 +82,14 @@ Preset one_emitter(const EmitterDesc& e, double fps, int substeps) {
     return p;
 }
 
+// One particle, born at time 0 and living `lifetime` seconds.
+EmitterDesc lone_particle(double lifetime) {
+    EmitterDesc e;
+    e.bursts = {{0.0, 1}};
+    e.lifetime = {lifetime, lifetime};
+    return e;
+}
+
 EmitterDesc long_lived(double rate) {
     EmitterDesc e;
     e.rate = rate;
@@ -458,12 +466,7 @@ TEST(AgeCurves, AppliedToSpheresAtTheParticlesAges) {
 // step in float lost 1.7 s of a 100 s life at 240 fps and 64 substeps (it died at frame 23,602 of the
 // 24,000), and stopped growing at 2,048 s, so that a 3,000 s life never ended.
 TEST(AgeCurves, ALongLifeEndsOnTimeAtManySubsteps) {
-    EmitterDesc e;
-    e.bursts = {{0.0, 1}};
-    e.lifetime = {100.0, 100.0};
-    e.radius_range = {0.2, 0.2};
-    e.extinction = {3.0, 3.0};
-    Simulator sim(one_emitter(e, 240.0, 64));
+    Simulator sim(one_emitter(lone_particle(100.0), 240.0, 64));
     sim.advance_to_frame(23'990);  // t = 99.96 s
     EXPECT_EQ(sim.size(), 1u);
     sim.advance_to_frame(24'010);  // t = 100.04 s
@@ -477,12 +480,10 @@ TEST(AgeCurves, ALongLifeEndsOnTimeAtManySubsteps) {
 TEST(Simulator, SlowMotionFarFromTheOriginAddsUpAtAnySubstepCount) {
     for (const double far : {1000.0, 100000.0}) {
         for (const int substeps : {1, 64}) {
-            EmitterDesc e;
-            e.bursts = {{0.0, 1}};
+            EmitterDesc e = lone_particle(100.0);
             e.center = {far, 1.0, 0.0};
             e.direction = {1.0, 0.0, 0.0};
             e.speed = {0.5, 0.5};
-            e.lifetime = {100.0, 100.0};
             Simulator sim(one_emitter(e, 240.0, substeps));
             sim.advance_to_frame(960);  // 4 s
             ASSERT_EQ(sim.size(), 1u);

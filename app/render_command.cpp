@@ -235,7 +235,7 @@ int run_render(const RenderArgs& command_line) {
     }
     if (args.pool_nodes) {
         options.initial_pool_nodes = args.pool_nodes;
-        given |= kHonoursMaxMemory;
+        given |= kHonoursPoolNodes;
     }
     if (args.threads) {
         options.threads = args.threads;

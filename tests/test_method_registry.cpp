@@ -58,6 +58,21 @@ TEST(MethodRegistry, OptionsReachEveryMethodThatHonoursThem) {
         EXPECT_NE(what.find("'kbuf'"), std::string::npos) << what;
     }
     EXPECT_THROW(check_method_options("ppll", kHonoursThreads), std::invalid_argument);
+    // --pool-nodes goes where --max-memory does, and each refusal names only the options given: play,
+    // which has no --pool-nodes, was told "--max-memory/--pool-nodes applies to ...".
+    EXPECT_NO_THROW(check_method_options("tiles", kHonoursMaxMemory | kHonoursPoolNodes));
+    for (const unsigned given : {unsigned(kHonoursMaxMemory), unsigned(kHonoursPoolNodes)}) {
+        try {
+            check_method_options("trace", given);
+            FAIL() << "a list-pool option was accepted for trace";
+        } catch (const std::invalid_argument& e) {
+            const std::string what = e.what();
+            const bool pool = given == kHonoursPoolNodes;
+            EXPECT_EQ(what.find("--pool-nodes") != std::string::npos, pool) << what;
+            EXPECT_EQ(what.find("--max-memory") != std::string::npos, !pool) << what;
+            EXPECT_NE(what.find("ppll, ppll-general, tiles, auto"), std::string::npos) << what;
+        }
+    }
 }
 
 TEST(MethodRegistry, SettingsAreCheckedBeforeAnyDeviceIsNeeded) {

@@ -73,7 +73,9 @@ void check_screendoor(const std::string& setting) { (void)parse_screendoor_setti
 
 std::string option_names(unsigned bits) {
     std::string out;
-    if (bits & kHonoursMaxMemory) out += "--max-memory/--pool-nodes";
+    // Only the options given: play has no --pool-nodes to name.
+    if (bits & kHonoursMaxMemory) out += "--max-memory";
+    if (bits & kHonoursPoolNodes) out += std::string(out.empty() ? "" : ", ") + "--pool-nodes";
     if (bits & kHonoursThreads) out += std::string(out.empty() ? "" : ", ") + "--threads";
     return out;
 }
@@ -167,11 +169,13 @@ std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec,
 
 void check_method_options(const std::string& spec, unsigned given) {
     const MethodEntry& entry = find_method(spec);
-    const unsigned ignored = given & ~entry.options;
+    // --pool-nodes sizes the same pool --max-memory bounds: honoured where that is.
+    const auto honoured = [](const MethodEntry& m) { return m.options | (m.options & kHonoursMaxMemory ? kHonoursPoolNodes : 0u); };
+    const unsigned ignored = given & ~honoured(entry);
     if (!ignored) return;
     std::string honouring;
     for (const MethodEntry& m : method_catalogue())
-        if (m.options & ignored) honouring += (honouring.empty() ? "" : ", ") + m.name;
+        if (honoured(m) & ignored) honouring += (honouring.empty() ? "" : ", ") + m.name;
     throw std::invalid_argument(option_names(ignored) + " applies to " + honouring + ", not to method '" +
                                 entry.name + "'");
 }

@@ -24,8 +24,9 @@ struct MethodOptions {
 };
 
 enum MethodOptionBits : unsigned {
-    kHonoursMaxMemory = 1u << 0,  // --max-memory and --pool-nodes
+    kHonoursMaxMemory = 1u << 0,  // --max-memory (a method that honours it honours --pool-nodes too)
     kHonoursThreads = 1u << 1,
+    kHonoursPoolNodes = 1u << 2,  // --pool-nodes, render's only: given, not listed in a catalogue entry
 };
 
 struct MethodEntry {

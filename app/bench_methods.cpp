@@ -118,10 +118,8 @@ std::vector<BenchScene> make_scenes(const std::vector<std::string>& names, int f
         } else if (builtin_preset_toml(name)) {
             scenes.push_back(preset_frames(name, frames, w, h));
         } else {
-            std::string presets;
-            for (const std::string& p : builtin_preset_names()) presets += (presets.empty() ? "" : ", ") + p;
             throw UsageError("--scenes: no scene '" + name + "': the scenes are default, cloud-1000, disjoint-300, "
-                             "layers-8 and the presets (" + presets + ")");
+                             "layers-8 and the presets (" + builtin_preset_list() + ")");
         }
     }
     // Shadowed scenes by the per-sphere technique, the comparison methods' light term, for every method

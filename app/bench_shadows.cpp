@@ -50,11 +50,9 @@ ShadowScene make_shadow_scene(const std::string& name, int count, int w, int h) 
         out.frames.push_back(std::move(s));
     } else {
         std::optional<Preset> preset = builtin_preset(name);
-        if (!preset) {
-            std::string presets;
-            for (const std::string& p : builtin_preset_names()) presets += (presets.empty() ? "" : ", ") + p;
-            throw UsageError("--shadow-scenes: no scene '" + name + "': the scenes are default and the presets (" + presets + ")");
-        }
+        if (!preset)
+            throw UsageError("--shadow-scenes: no scene '" + name + "': the scenes are default and the presets (" +
+                             builtin_preset_list() + ")");
         prepare_preset(*preset);
         Simulator sim(*preset);
         sim.advance_to_frame(std::max(0, std::min(preset->timeline.frame_count() / 3, preset->timeline.frame_count() - count)));

@@ -107,15 +107,6 @@ std::string refuse_empty_path(const std::string& text) {
     return text.empty() ? "an empty file name (leave the option out for the default)" : "";
 }
 
-std::string refuse_non_positive(const std::string& text) {
-    double value = 0.0;
-    const char* end = text.data() + text.size();
-    const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-    if (ec != std::errc() || ptr != end || text.empty() || !std::isfinite(value) || value <= 0.0)
-        return "not a positive number (got \"" + text.substr(0, 40) + (text.size() > 40 ? "...\")" : "\")");
-    return "";
-}
-
 namespace {
 
 // `text` read whole as a number (from_chars: no leading space or '+'), or NaN.
@@ -130,6 +121,11 @@ std::string got(const std::string& text) { return " (got \"" + text.substr(0, 40
 
 }  // namespace
 
+std::string refuse_non_positive(const std::string& text) {
+    const double value = whole_number_text(text);
+    return std::isfinite(value) && value > 0.0 ? "" : "not a positive number" + got(text);
+}
+
 std::string refuse_outside_unit_interval(const std::string& text) {
     const double v = whole_number_text(text);
     return v >= 0.0 && v <= 1.0 ? "" : "not a number in [0, 1]" + got(text);
@@ -143,7 +139,7 @@ std::string refuse_outside_half_open_unit(const std::string& text) {
 std::string refuse_non_frame_number(const std::string& text) {
     const std::optional<long long> v = parse_whole_number(text);
     if (!v || *v < 0 || *v > INT32_MAX)
-        return "not a frame number 0, 1, 2, ... (got \"" + text.substr(0, 40) + (text.size() > 40 ? "...\")" : "\")");
+        return "not a frame number 0, 1, 2, ..." + got(text);
     return "";
 }
 

@@ -8,7 +8,6 @@
 #include "app/preview_imgui.h"
 #include "app/preview_panel.h"
 #include "app/preview_pending_edit.h"
-#include "app/stop_signals.h"
 #include "app/preview_reference.h"
 #include "app/preview_reload.h"
 #include "app/preview_renderer.h"
@@ -18,6 +17,7 @@
 #include "app/preview_session.h"
 #include "app/preview_window.h"
 #include "app/standard_streams.h"
+#include "app/stop_signals.h"
 #include "render/atomic_file.h"
 #include "render/frame/swapchain_presenter.h"
 #include "render/methods/registry.h"
@@ -29,7 +29,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -183,20 +182,7 @@ int run_preview(const PreviewArgs& args, PreviewFigures* figures) {
             if (e.shape == EmitterShape::Density) e.density_source.base_dir = base_dir;
         p.scene.camera.width = width;
         p.scene.camera.height = height;
-        try {
-            for (const VolumeReport& v : prepare_preset(p)) print_volume_report(v);
-        } catch (const std::exception& e) {
-            // "FILE:LINE: vdb[0] ...": the line is the edited text's as the editor regenerated it, not
-            // the file's; the key path after it names the table.
-            std::string message = e.what();
-            const std::string file = p.scene.source + ":";
-            if (message.starts_with(file)) {
-                std::size_t end = file.size();
-                while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end]))) ++end;
-                if (end > file.size() && message.compare(end, 2, ": ") == 0) message.erase(file.size() - 1, end - file.size() + 1);
-            }
-            throw std::runtime_error(message);
-        }
+        for (const VolumeReport& v : prepare_preset(p)) print_volume_report(v);
     };
 
     PreviewWindow window(width, height, "brume preview: " + preset.name);

@@ -240,6 +240,10 @@ Preset PresetEditor::set(const std::string& key_path, const std::string& value) 
     text << edited;
     try {
         Preset preset = parse_preset_toml(text.str(), source_name_);
+        // Its tables' lines are the regenerated text's, not the file's: the messages of its preparation
+        // (a [[vdb]] volume's, a density emitter's) name the file and the table alone.
+        for (VdbVolume& v : preset.scene.volumes) v.defined_at = source_name_;
+        for (EmitterDesc& e : preset.emitters) e.defined_at = source_name_;
         doc_->root = std::move(edited);
         record_edit(key_path, value);
         return preset;

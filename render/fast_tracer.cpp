@@ -888,7 +888,7 @@ private:
         Float4 sigma_sun{};  // {0, the sun-lit part of sigma_s} (the per-sphere technique)
         Float4 sigma_e{};    // {0, sum tau_k e_k}
         // Each sum above is sum + error: the sums stepped by TwoSum, which keeps each step's rounding
-        // exactly in error (step_sum), so leaving a dense sphere inside a thin medium gives the thin
+        // exactly in error (compensated_step), so leaving a dense sphere inside a thin medium gives the thin
         // medium back, not a residue of the dense one's rounding (render/compensated_sum.h).
         Float4 sigma_sum{}, sigma_error{}, sun_sum{}, sun_error{}, emission_sum{}, emission_error{};
         int inside = 0;
@@ -1204,8 +1204,8 @@ private:
         // Enter or leave the event's medium, without a branch (entries and exits alternate unpredictably):
         // each sum steps by plus or minus the medium's values as a compensated sum (compensated_step),
         // exact to float's rounding of the result however dense the medium left behind; leaving clamps
-        // at 0, as the reference does, and back in free space the sums become exactly 0. Branches here mispredicted on one event in four
-        // (cachegrind): the masks are arithmetic.
+        // at 0, as the reference does, and back in free space the sums become exactly 0. Branches here
+        // mispredicted on one event in four (cachegrind): the masks are arithmetic.
         const std::uint32_t k = std::uint32_t(key) >> 1;
         const int exit = int(key & 1u);
         const float sign = 1.0f - 2.0f * float(exit);  // -1 on an exit, +1 on an entry

@@ -37,6 +37,12 @@ std::optional<Preset> builtin_preset(std::string_view name) {
 
 std::string default_preset_name() { return "plume"; }
 
+std::string builtin_preset_list() {
+    std::string list;
+    for (const std::string& name : builtin_preset_names()) list += (list.empty() ? "" : ", ") + name;
+    return list;
+}
+
 Preset resolve_preset(const std::string& name_or_path) {
     // A directory is never a preset: `brume play plume` writes its frames to ./plume/, and playing
     // plume again must still find the built-in.
@@ -49,8 +55,7 @@ Preset resolve_preset(const std::string& name_or_path) {
     std::string problem = "no such file, and not a built-in preset";
     if (const auto close = toml_text::suggest(name_or_path, names))
         problem += " (did you mean \"" + std::string(*close) + "\"?)";
-    problem += "; built-in presets: ";
-    for (std::size_t i = 0; i < names.size(); ++i) problem += (i ? ", " : "") + std::string(names[i]);
+    problem += "; built-in presets: " + builtin_preset_list();
     throw SceneFileError(name_or_path, 0, 0, "", problem);
 }
 

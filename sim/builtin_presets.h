@@ -13,6 +13,8 @@ namespace brume {
 
 // The built-in names (each file's stem), sorted.
 std::vector<std::string> builtin_preset_names();
+// The same names as messages list them: "campfire, crossing, ...".
+std::string builtin_preset_list();
 
 // The text of presets/NAME.toml as it was when this binary was built; nullopt for an unknown name.
 std::optional<std::string_view> builtin_preset_toml(std::string_view name);

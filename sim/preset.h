@@ -53,7 +53,7 @@ enum class EmitterShape { Point, Sphere, Box, Disc, Density };
 struct EmitterDesc {
     std::string name;
     // "FILE:LINE" of its [[emitter]] table, which a density emitter's grid errors start with (the grid is
-    // read after the file, as a [[vdb]] volume's); empty for an emitter built in code.
+    // read after the file, as a [[vdb]] volume's); "FILE" or empty as VdbVolume::defined_at.
     std::string defined_at;
     EmitterShape shape = EmitterShape::Point;
     glm::dvec3 center{0.0};

@@ -90,7 +90,8 @@ struct VdbVolume {
     bool fit = false;
     VolumeTransform transform;
     // "FILE:LINE" of its [[vdb]] table, which the conversion's messages start with (the file is read well
-    // before a volume is converted); empty for a volume built in code.
+    // before a volume is converted); "FILE" where the line is not the file's (the preview's edits);
+    // empty for a volume built in code.
     std::string defined_at;
 };
 

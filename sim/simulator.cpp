@@ -230,9 +230,9 @@ void Simulator::advance_new(std::size_t first) {
                 integrate(ls, ax + j, ay + j, az + j, 1, &p.x[i], &p.y[i], &p.z[i], &p.x_lo[i], &p.y_lo[i], &p.z_lo[i],
                           &p.vx[i], &p.vy[i], &p.vz[i]);
             }
-            if (obstacles_.inside(p.x[i], p.y[i], p.z[i])) p.drop_rounding(i);
-            if (obstacles_.inside(p.x[i], p.y[i], p.z[i]) &&
-                !obstacles_.push_out(p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i])) {
+            if (!obstacles_.inside(p.x[i], p.y[i], p.z[i])) continue;
+            p.drop_rounding(i);  // pushed out, or put back: the floats hold the position whole
+            if (!obstacles_.push_out(p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i])) {
                 if (obstacles_.inside(bx, by, bz)) {
                     // Born inside geometry it cannot leave: it dies unseen.
                     p.lifetime[i] = 0.0;

@@ -20,8 +20,7 @@ Preset read_preset(const toml_read::Reader& in, const std::string& source_name) 
     read_scene_sections(in, p.scene);
     read_preset_sections(in, p);
     p.scene.source = source_name;
-    // A name taken from the file's stem is cut to the same bound a written name must meet.
-    if (p.name.empty()) p.name = std::filesystem::path(source_name).stem().string().substr(0, kMaxPresetName);
+    if (p.name.empty()) p.name = preset_name_from_file(source_name);
     return p;
 }
 
@@ -35,6 +34,16 @@ void set_base_dirs(Preset& p, const std::filesystem::path& path) {
 }
 
 }  // namespace
+
+std::string preset_name_from_file(const std::filesystem::path& file) {
+    const std::string stem = file.stem().string();
+    std::string name;
+    for (const char c : stem.substr(std::min(stem.find_first_not_of('.'), stem.size()))) {
+        if (name.size() == kMaxPresetName) break;
+        name += is_preset_name_character(c) ? c : '_';
+    }
+    return name.empty() ? "preset" : name;
+}
 
 Preset parse_preset_toml(std::string_view text, const std::string& source_name) {
     return read_preset(toml_read::Reader(text, source_name), source_name);

@@ -55,6 +55,15 @@ inline constexpr std::uint32_t kMaxParticles = 10'000'000;
 // [preset] name: NAME.####.png and its hidden temporary ".NAME.####.png.tmp-XXXXXXXX" must fit in a
 // file name (255 bytes); 100 leaves room, and a longer name is no name a person types.
 inline constexpr std::size_t kMaxPresetName = 100;
+// The characters a preset's name may hold: it names output files (NAME.0001.png), so no paths and no
+// shell-hostile characters; a name also must not start with '.' (hidden frames).
+inline constexpr bool is_preset_name_character(char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_' ||
+           c == '.';
+}
+// The name of a preset that sets none, from its file's stem: held to the rule a written name meets
+// (leading dots dropped, other characters '_', at most kMaxPresetName), "preset" when nothing is left.
+std::string preset_name_from_file(const std::filesystem::path& file);
 inline constexpr std::uint32_t kMaxBurstCount = 10'000'000;
 inline constexpr double kMaxEmissionRate = 10'000'000.0;  // particles per second
 inline constexpr double kMaxTimeSeconds = 1e6;             // emission windows, bursts, camera keys (>= 0)
@@ -65,7 +74,7 @@ inline constexpr std::size_t kMaxForces = 10'000;
 inline constexpr std::size_t kMaxListEntries = 1'000'000;  // bursts, ramp keys, camera keys
 
 // Parses and validates a preset; source_name stands for the file in messages, becomes scene.source,
-// and its stem is the name unless [preset] sets one. Grid files are not opened (base_dir stays empty and
+// and its stem is the name unless [preset] sets one (preset_name_from_file). Grid files are not opened (base_dir stays empty and
 // density emitters' samplers null: sim/vdb/volume_loader.h prepare_preset reads them).
 Preset parse_preset_toml(std::string_view text, const std::string& source_name);
 

@@ -188,10 +188,7 @@ void read_preset(const Reader& in, const toml::node& node, const KeyPath& path, 
         const KeyPath np = path / "name";
         p.name = in.one_line(*n, np);
         // The name names output files (`brume play` writes NAME.0001.png): no paths, no hidden files.
-        const bool ok = !p.name.empty() && p.name[0] != '.' && std::all_of(p.name.begin(), p.name.end(), [](char c) {
-            return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
-                   c == '_' || c == '.';
-        });
+        const bool ok = !p.name.empty() && p.name[0] != '.' && std::ranges::all_of(p.name, is_preset_name_character);
         if (!ok)
             in.fail(*n, np,
                     "must be letters, digits, '-', '_' and '.', not starting with '.' (it names output files; got " +

@@ -474,6 +474,26 @@ TEST(PresetFile, OrbitPath) {
     EXPECT_EQ(p.camera_path.orbit_deg_per_second, -12.5);
 }
 
+TEST(PresetFile, ANameFromTheFileStemMeetsTheNameRule) {
+    // Frames are named NAME.0001.png: a stem the [preset] name rule would refuse is made to meet it, so a
+    // file named .smoke.toml does not write hidden frames, nor "my smoke.toml" frames with a space.
+    EXPECT_EQ(preset_name_from_file("dir/.smoke.toml"), "smoke");
+    EXPECT_EQ(preset_name_from_file("..double.toml"), "double");
+    EXPECT_EQ(preset_name_from_file("my smoke (v2).toml"), "my_smoke__v2_");
+    EXPECT_EQ(preset_name_from_file("fog.v3.toml"), "fog.v3");
+    EXPECT_EQ(preset_name_from_file("..toml"), "preset");
+    EXPECT_EQ(preset_name_from_file("/dev/stdin"), "stdin");
+    EXPECT_EQ(preset_name_from_file(std::string(300, 'a') + ".toml"), std::string(kMaxPresetName, 'a'));
+    const Preset p = parse_preset_toml("[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = 1\nalbedo = [1, 1, 1]\n",
+                                       "d/.hidden.toml");
+    EXPECT_EQ(p.name, "hidden");
+    // And every name made so is one the rule accepts when written back.
+    for (const char* file : {"a b.toml", ".x.toml", "\xc3\xa9t\xc3\xa9.toml", "-.toml"}) {
+        const std::string name = preset_name_from_file(file);
+        EXPECT_NO_THROW(parse_preset_toml("[preset]\nname = \"" + name + "\"\n", "x.toml")) << name;
+    }
+}
+
 TEST(PresetFile, AStaticSceneIsAPreset) {
     // No [timeline], no [[emitter]]: the defaults, and the name is the file's stem.
     const Preset p = parse_preset_toml("[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nextinction = 1\n"

@@ -177,24 +177,33 @@ const toml::key* Reader::first_unknown(const toml::table& t, std::span<const std
 void Reader::check_root_keys(std::span<const std::string_view> known,
                              std::initializer_list<std::span<const SectionHint>> homes,
                              std::span<const std::string_view> refused, std::string_view refused_problem) const {
+    homes_.clear();
+    for (const std::span<const SectionHint> sections : homes) homes_.insert(homes_.end(), sections.begin(), sections.end());
     const toml::key* first = first_unknown(root_, known);
     if (!first) return;
     const std::string_view name = first->str();
     std::string problem = unknown_what(root_.at(name));
-    const SectionHint* home = nullptr;
-    for (const std::span<const SectionHint> sections : homes)
-        for (const SectionHint& s : sections)
-            if (!home && contains(s.keys, name)) home = &s;
+    const auto home = std::ranges::find_if(homes_, [&](const SectionHint& s) { return contains(s.keys, name); });
     if (contains(refused, name))
         problem = std::string(refused_problem);
     else if (const auto s = suggest(name, known))
         problem += " (did you mean \"" + std::string(*s) + "\"?)";
-    else if (home)
+    else if (home != homes_.end())
         problem += " (" + std::string(home->hint) + ")";
     else
         problem += " (allowed at the top level: " + join(known) + ")";
     const KeyPath top;
     fail(first->source(), top / name, problem);
+}
+
+const char* Reader::only_home_of(std::string_view key) const {
+    const char* home = nullptr;
+    for (const SectionHint& s : homes_) {
+        if (!contains(s.keys, key)) continue;
+        if (home) return nullptr;
+        home = s.hint;
+    }
+    return home;
 }
 
 const toml::table& Reader::table(const toml::node& n, const KeyPath& path) const {

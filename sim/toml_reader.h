@@ -80,7 +80,10 @@ public:
     [[noreturn]] void fail(const toml::node& n, const KeyPath& path, const std::string& problem) const;
 
     // The first key in the file that is not in `allowed`. A key in `elsewhere` (used by another shape or
-    // type) is explained by `misplaced`; any other gets a suggestion from `allowed` when one is close.
+    // type) is explained by `misplaced`. Any other is pointed to the one section that reads it, with the
+    // list of `allowed` ("fps" under [camera]: "it belongs under [timeline]", not a guess of "up"; the
+    // sections are those check_root_keys was given), else gets a suggestion from `allowed` when one is
+    // close, else the list.
     template <class Misplaced>
     void check_keys(const toml::table& t, const KeyPath& table_path, std::span<const std::string_view> allowed,
                     std::span<const std::string_view> elsewhere, Misplaced misplaced) const {
@@ -90,6 +93,8 @@ public:
         std::string problem;
         if (contains(elsewhere, name))
             problem = misplaced(name);
+        else if (const char* home = only_home_of(name))
+            problem = unknown_what(t.at(name)) + " (" + home + "; allowed here: " + join(allowed) + ")";
         else if (const auto s = toml_text::suggest(name, allowed))
             problem = unknown_what(t.at(name)) + " (did you mean \"" + std::string(*s) + "\"?)";
         else
@@ -103,6 +108,7 @@ public:
     // The first top-level key not in `known`. One in `refused` (a section another kind of document
     // holds) is answered with `refused_problem`; any other gets a suggestion from `known` when one is
     // close, else the section of `homes` it belongs in (the first that reads it), else the list of `known`.
+    // The document's sections are read after this check: `homes` is kept for their checks (check_keys).
     void check_root_keys(std::span<const std::string_view> known,
                          std::initializer_list<std::span<const SectionHint>> homes,
                          std::span<const std::string_view> refused = {},
@@ -186,9 +192,14 @@ private:
     static const toml::key* first_unknown(const toml::table& t, std::span<const std::string_view> known);
     const toml::array& elements_are_tables(const toml::array& a, const KeyPath& path, std::size_t limit,
                                            const char* what) const;
+    // The hint of the one section that reads `key`; nullptr when none or several do ("radius").
+    const char* only_home_of(std::string_view key) const;
 
     const std::string& file_;
     toml::table root_;
+    // The document's sections, as check_root_keys last saw them. Mutable because the document is read
+    // through a const Reader; the check runs before any section is read.
+    mutable std::vector<SectionHint> homes_;
 };
 
 }  // namespace brume::toml_read

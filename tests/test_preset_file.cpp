@@ -688,6 +688,11 @@ TEST(PresetFileErrors, UnknownKeysAndTables) {
     expect_rejected("[render_settings]\nmethods = \"ppll\"\n", "methods", "render_settings.methods",
                     "did you mean \"method\"?");
     expect_rejected("[preset]\ntitle = \"x\"\n", "title", "preset.title", "allowed here: name, description");
+    // In a preset the sections that make the scene move are homes too; a key that several read gets the list.
+    expect_rejected("[timeline]\nexposure = 1\n", "exposure", "timeline.exposure",
+                    "unknown key (it belongs under [render_settings]; allowed here: fps");
+    expect_rejected("[camera]\nfps = 24\n", "fps", "camera.fps", "it belongs under [timeline];");
+    expect_rejected("[timeline]\nradius = 1\n", "radius", "timeline.radius", "unknown key (allowed here: fps");
     expect_rejected("[[emitters]]\nrate = 1\n", "[[emitters]]", "emitters", "did you mean \"emitter\"?");
     // A section's key at the top level is pointed to its section.
     expect_rejected("fps = 24\n", "fps", "fps", "it belongs under [timeline]");

@@ -422,6 +422,11 @@ TEST(SceneFileErrors, UnknownKeysAreNamedWithSuggestions) {
     expect_rejected("[lighting]\nsun_dir = [0, -1, 0]\n", 2, "lighting.sun_dir", "unknown key");
     expect_rejected("[render]\nsamples = 4\n", 2, "render.samples", "allowed here: min_transmittance");
     expect_rejected("width = 3\n", 1, "width", "belongs under [camera]");
+    // A key of one section written in another is pointed to its section, beside what the other reads.
+    expect_rejected("[camera]\nshadows = true\n", 2, "camera.shadows",
+                    "unknown key (it belongs under [lighting]; allowed here: position, look_at");
+    expect_rejected("[lighting]\nsupersample = 2\n", 2, "lighting.supersample", "it belongs under [camera];");
+    expect_rejected(sphere("diffuse = [1, 1, 1]"), 4, "sphere[0].diffuse", "it belongs in a [[box]] section;");
     expect_rejected("[[boxes]]\n", 1, "boxes", "unknown table (did you mean \"box\"?)");
     expect_rejected("[camera.lens]\nf = 1\n", 1, "camera.lens", "unknown table");
     // Of several unknown keys the first in the file is reported, not the first alphabetically.
@@ -601,7 +606,8 @@ TEST(SceneFileErrors, VdbKeysAndTables) {
     expect_rejected("\n[[vdb]]\ngrid = \"density\"\n", 2, "vdb[0].file",
                     "missing (each [[vdb]] needs file: a .vdb path or builtin:NAME)");
     expect_rejected(vdb("tolerence = 0.1"), 4, "vdb[0].tolerence", "unknown key (did you mean \"tolerance\"?)");
-    expect_rejected(vdb("radius = 1"), 4, "vdb[0].radius", "unknown key (allowed here: file, grid, albedo_grid");
+    expect_rejected(vdb("radius = 1"), 4, "vdb[0].radius",
+                    "unknown key (it belongs in a [[sphere]] section; allowed here: file, grid, albedo_grid");
     expect_rejected("[[vbd]]\nfile = \"a.vdb\"\n", 1, "vbd", "unknown table (did you mean \"vdb\"?)");
     expect_rejected("[vdb]\nfile = \"a.vdb\"\n", 1, "vdb", "write [[vdb]], not [vdb]");
     expect_rejected("albedo_grid = \"tint\"\n", 1, "albedo_grid", "it belongs in a [[vdb]] section");

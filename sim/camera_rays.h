@@ -12,6 +12,13 @@
 
 namespace brume {
 
+// Whether a view direction leaves the camera a defined roll: the sine of its angle with up above 1e-9
+// (below, cross(forward, up) is ill-conditioned). Both must be non-zero and finite. The one statement of
+// the rule: the scene and preset readers and undefined_view all ask it.
+inline bool view_has_roll(const glm::dvec3& view, const glm::dvec3& up) {
+    return glm::length(glm::cross(glm::normalize(view), glm::normalize(up))) > 1e-9;
+}
+
 // Why a camera's view is undefined, or "" when it is defined: make_camera_rays normalises
 // look_at - position and cross(forward, up), so the eye must not sit on look_at nor look along up.
 // The scene and preset readers refuse such a camera in a file; a moving camera can still pass
@@ -22,7 +29,7 @@ inline std::string undefined_view(const Camera& c) {
     const double view_length = glm::length(view), up_length = glm::length(c.up);
     if (!(view_length > 0.0) || !std::isfinite(view_length)) return "the eye is on look_at (no view direction)";
     if (!(up_length > 0.0) || !std::isfinite(up_length)) return "camera.up is zero";
-    if (!(glm::length(glm::cross(view / view_length, c.up / up_length)) > 1e-9))
+    if (!view_has_roll(view, c.up))
         return "the view direction (look_at - position) is parallel to camera.up";
     return "";
 }

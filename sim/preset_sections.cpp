@@ -2,6 +2,7 @@
 // its keys and values with the toolkit (sim/toml_reader.h) and the limits of sim/preset_file.h.
 #include "sim/preset_sections.h"
 
+#include "sim/camera_rays.h"
 #include "sim/preset_file.h"
 #include "sim/scene_sections.h"
 
@@ -175,8 +176,7 @@ void check_view(const Reader& in, const toml::source_region& at, const KeyPath& 
     const double view_length = glm::length(view);
     if (!(view_length > 0.0)) in.fail(at, path, same_point);
     const double up_length = glm::length(up);
-    // sin(angle) below 1e-9 leaves the basis ill-conditioned; the camera has no defined roll.
-    if (up_length > 0.0 && !(glm::length(glm::cross(view / view_length, up / up_length)) > 1e-9))
+    if (up_length > 0.0 && !view_has_roll(view, up))
         in.fail(at, path, "the view direction (look_at - position) must not be parallel to camera.up");
 }
 

@@ -2,6 +2,8 @@
 // its keys and values with the toolkit (sim/toml_reader.h) and the limits of sim/scene_file.h.
 #include "sim/scene_sections.h"
 
+#include "sim/camera_rays.h"
+
 #include "sim/volume_transform.h"
 
 #include <glm/geometric.hpp>
@@ -60,8 +62,7 @@ void read_camera(const Reader& in, const toml::node& node, const KeyPath& path, 
                 "position and look_at must differ (they are the same point)");
     const double up_length = glm::length(c.up);
     if (!(up_length > 0.0)) in.fail(toml_read::where(t, {up}), path / "up", "must not be zero");
-    const double sin_angle = glm::length(glm::cross(view / view_length, c.up / up_length));
-    if (!(sin_angle > 1e-9))
+    if (!view_has_roll(view, c.up))
         in.fail(toml_read::where(t, {position, look_at, up}), path / "up",
                 std::string("must not be parallel to the view direction (look_at - position)") +
                     (up ? "" : "; up is [0, 1, 0] unless given: a camera looking straight down or up needs its own, e.g. up = [0, 0, -1]"));

@@ -6,6 +6,7 @@
 #include "app/preview_command.h"
 #include "app/preview_window.h"
 #include "app/render_command.h"
+#include "app/standard_streams.h"
 #include "app/vdb_command.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
@@ -17,7 +18,13 @@
 
 #include <CLI/CLI.hpp>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <iostream>
 #include <cstring>
 #include <string>
 #include <new>
@@ -58,9 +65,49 @@ int fail(const char* what) {
     return 1;
 }
 
+// Standard error closed (`2>&-`): the descriptor is given /dev/null, so that messages vanish as asked
+// rather than the next file opened taking descriptor 2 (and the error lines), and an output named "-"
+// can still move the command's own lines off standard output (app/standard_streams.cpp).
+void give_closed_standard_error_a_sink() {
+    if (::fcntl(STDERR_FILENO, F_GETFD) != -1 || errno != EBADF) return;
+    const int fd = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (fd < 0 || fd == STDERR_FILENO) return;
+    ::dup2(fd, STDERR_FILENO);  // dup2 clears close-on-exec on the copy
+    ::close(fd);                // a lower descriptor (0 or 1) it took is closed again, as it was
+}
+
+int run(int argc, char** argv);
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    give_closed_standard_error_a_sink();
+    // A file-size limit (ulimit -f) or a reader that closed its pipe would kill the process in the
+    // middle of a write, with no message and a temporary file left: ignored, the write fails with
+    // EFBIG or EPIPE and is reported as any failed write. (play and preview take SIGPIPE as a stop
+    // request while they run: app/stop_signals.h.) Child processes get the defaults back
+    // (app/process.cpp).
+    std::signal(SIGXFSZ, SIG_IGN);
+    std::signal(SIGPIPE, SIG_IGN);
+    const int status = run(argc, argv);
+    // What the command printed on standard output (a list, a help text, a log) must have arrived:
+    // `brume devices > /dev/full` is a failure, as in coreutils. The output files are written and
+    // checked by their own writers.
+    // A reader that stopped reading (`brume methods | head -1`) is no error to report: the shell's status
+    // for it, as if the signal had ended the process.
+    errno = 0;
+    std::cout.flush();
+    const bool lost = std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout;
+    if (!lost) return status;
+    if (errno == EPIPE) return status != 0 ? status : 128 + SIGPIPE;
+    std::fprintf(stderr, "brume: error: cannot write to standard output%s%s: its lines were lost\n",
+                 errno != 0 ? ": " : "", errno != 0 ? std::strerror(errno) : "");
+    return status != 0 ? status : 1;
+}
+
+namespace {
+
+int run(int argc, char** argv) {
     CLI::App app{"Brume: exact volumetric particle rendering with per-pixel linked lists"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "brume " BRUME_VERSION);
@@ -151,6 +198,11 @@ int main(int argc, char** argv) {
         sub = parsed.front();
     }
 
+    // An output named by the file standard output is open on is written as "-" is (app/standard_streams.h).
+    for (std::string* out : {&render_args.exr, &render_args.png, &render_args.stats, &play_args.video,
+                             &vdb_import_args.output, &vdb_export_args.output, &vdb_sample_args.output})
+        *out = brume::app::standard_output_alias(*out);
+
     try {
         if (app.got_subcommand("render")) return brume::app::run_render(render_args);
         if (app.got_subcommand("play")) return brume::app::run_play(play_args);
@@ -187,3 +239,5 @@ int main(int argc, char** argv) {
     }
     return 0;
 }
+
+}  // namespace

@@ -68,6 +68,18 @@ Identity identify(const std::string& path, bool follow_output_links) {
     return id;
 }
 
+// The file an output named "-" goes to. A pipe or socket is no file an input or another output can be.
+Identity standard_output_identity() {
+    Identity id;
+    struct stat st {};
+    if (::fstat(standard_output_descriptor(), &st) != 0 || S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode)) return id;
+    id.exists = true;
+    id.device = S_ISCHR(st.st_mode);
+    id.dev = st.st_dev;
+    id.ino = st.st_ino;
+    return id;
+}
+
 }  // namespace
 
 void check_outputs_distinct(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
@@ -81,22 +93,26 @@ void check_outputs_distinct(const std::vector<NamedPath>& outputs, const std::ve
     const NamedPath* to_standard_output = nullptr;
     for (const NamedPath& out : outputs) {
         if (out.path.empty()) continue;
-        if (names_standard_output(out.path)) {  // "-": no file, and one stream for one output's bytes
+        const bool to_stream = names_standard_output(out.path);
+        if (to_stream) {  // "-": one stream for one output's bytes
             if (to_standard_output)
-                throw UsageError(to_standard_output->option + " - and " + out.option +
-                                 " - both name standard output: at most one output can go there");
+                throw UsageError(to_standard_output->option + " and " + out.option +
+                                 " both name standard output (- or the file it is open on): at most one output can go there");
             to_standard_output = &out;
-            continue;
         }
-        const Identity id = identify(out.path, true);
+        // "-" is the file standard output is open on (`--png - > scene.toml`, or >> it): checked as that
+        // file, so that it neither overwrites an input nor lands in the file another output replaces.
+        const Identity id = to_stream ? standard_output_identity() : identify(out.path, true);
+        if (to_stream && !id.exists) continue;
+        const std::string shown = to_stream ? "- (standard output)" : out.path;
         for (std::size_t k = 0; k < seen.size(); ++k) {
             if (!(seen[k].second == id)) continue;
             const NamedPath& other = *seen[k].first;
             if (k < input_count)
-                throw UsageError(out.option + " " + out.path + " would overwrite " + other.option + " " +
+                throw UsageError(out.option + " " + shown + " would overwrite " + other.option + " " +
                                             other.path + ": name another output file");
             if (id.device) continue;  // writing twice into /dev/null replaces nothing
-            throw UsageError(out.option + " " + out.path + " and " + other.option + " " + other.path +
+            throw UsageError(out.option + " " + shown + " and " + other.option + " " + other.path +
                                         " are the same file: each output needs its own name");
         }
         seen.emplace_back(&out, id);

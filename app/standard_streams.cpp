@@ -4,6 +4,7 @@
 #include "render/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -26,6 +27,14 @@ void claim_standard_output(const std::string& option, bool binary) {
     // the two keep their order however standard error is redirected.
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
     set_standard_output_descriptor(kept);
+}
+
+std::string standard_output_alias(const std::string& path) {
+    if (path.empty() || names_standard_output(path)) return path;
+    struct stat out {}, named {};
+    if (::fstat(STDOUT_FILENO, &out) != 0 || ::stat(path.c_str(), &named) != 0) return path;
+    const bool stream_or_file = S_ISFIFO(out.st_mode) || S_ISSOCK(out.st_mode) || S_ISREG(out.st_mode);
+    return stream_or_file && out.st_dev == named.st_dev && out.st_ino == named.st_ino ? kStandardOutputName : path;
 }
 
 std::string input_path(const std::string& given) { return given == kStandardInputName ? "/dev/stdin" : given; }

@@ -17,6 +17,13 @@ namespace brume::app {
 // to a terminal, and FileWriteError when standard output is closed.
 void claim_standard_output(const std::string& option, bool binary);
 
+// "-" when `path` names the file standard output is open on (/dev/stdout, /proc/self/fd/1, or the
+// file `> FILE` opened) and that is a pipe, socket or regular file; else `path`. An output written
+// there is then written as "-" is: its bytes alone on standard output, the command's lines on standard
+// error (`render --stats /dev/stdout | jq` would otherwise read "wrote ..." after the JSON). A terminal
+// or a device (/dev/null) is left as named. Called on each output path before any is checked.
+std::string standard_output_alias(const std::string& path);
+
 // The name that stands for standard input, as "-" stands for standard output among the outputs.
 inline constexpr const char* kStandardInputName = "-";
 

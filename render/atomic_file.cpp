@@ -51,17 +51,19 @@ int write_all(int fd, std::string_view bytes) {
     return 0;
 }
 
-int standard_output_descriptor = STDOUT_FILENO;
+int standard_output_fd = STDOUT_FILENO;
 
 }  // namespace
 
 bool names_standard_output(const fs::path& path) { return path.native() == kStandardOutputName; }
 
-void set_standard_output_descriptor(int fd) { standard_output_descriptor = fd; }
+void set_standard_output_descriptor(int fd) { standard_output_fd = fd; }
+
+int standard_output_descriptor() { return standard_output_fd; }
 
 OutputTarget resolve_output(const fs::path& path) {
     if (path.empty()) fail_write(path, "an empty file name");
-    if (names_standard_output(path)) return {path, true, standard_output_descriptor};
+    if (names_standard_output(path)) return {path, true, standard_output_fd};
     // stat follows every link, /proc's fd links included, to what a write would reach.
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0) {

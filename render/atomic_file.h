@@ -35,6 +35,8 @@ bool names_standard_output(const std::filesystem::path& path);
 // Where the bytes of an output named "-" go: a command that sends its own lines elsewhere to keep
 // standard output for one output's bytes (app/standard_streams.h) gives the descriptor it kept.
 void set_standard_output_descriptor(int fd);
+// The descriptor an output named "-" is written into: the process's standard output as it was given.
+int standard_output_descriptor();
 
 // Follows symbolic links at `path` to what they name (at most 40, as the kernel allows). Throws
 // FileWriteError naming `path` when it is, or leads to, something that must not be replaced.

@@ -973,7 +973,7 @@ if expect_success stdout.png_pipe; then
     fi
 fi
 (cd "$so/d" && "$brume" render "$data/small.toml" -o - --png - >"$out" 2>"$err"); rc=$?
-if expect_line stdout.only_one 2 "-o - and --png - both name standard output: at most one output can go there"; then
+if expect_line stdout.only_one 2 "-o and --png both name standard output (- or the file it is open on): at most one output can go there"; then
     if [ -s "$out" ] || ! dir_holds "$so/d"; then
         fail stdout.only_one "wrote: $(listing "$so/d"), $(wc -c <"$out") bytes on stdout"
     else
@@ -982,6 +982,47 @@ if expect_line stdout.only_one 2 "-o - and --png - both name standard output: at
 fi
 (cd "$so/d" && "$brume" render "$data/small.toml" --stats - >&- 2>"$err"); rc=$?
 expect_line stdout.closed 1 "cannot write to standard output: it is closed" && { dir_holds "$so/d" && ok stdout.closed || fail stdout.closed "the folder holds: $(listing "$so/d")"; }
+# An output named by the file standard output is open on is written as "-" is: its bytes alone there.
+(cd "$so/d" && "$brume" render "$data/small.toml" --size 32x24 --stats /dev/stdout 2>"$err" | cat >"$so/alias.json"
+ exit "${PIPESTATUS[0]}"); rc=$?
+if expect_success stdout.alias_dev_stdout; then
+    if [ "$(head -c 1 "$so/alias.json")" != "{" ] || [ "$(tail -c 2 "$so/alias.json")" != "}" ]; then
+        fail stdout.alias_dev_stdout "the pipe holds more than the statistics: $(tail -c 200 "$so/alias.json" | tr '\n' '|')"
+    elif ! grep -q "^$data/small.toml: 32x24" "$err" || ! dir_holds "$so/d"; then
+        fail stdout.alias_dev_stdout "brume's line is not on stderr, or the folder holds: $(listing "$so/d")"
+    else
+        ok stdout.alias_dev_stdout
+    fi
+fi
+# "-" is checked as the file standard output is open on: not the scene, not another output's file.
+cp "$data/small.toml" "$so/d/scene.toml"
+(cd "$so/d" && "$brume" render scene.toml --size 32x24 --png - >>scene.toml 2>"$err"); rc=$?
+expect_line stdout.into_the_scene 2 "--png - (standard output) would overwrite the scene scene.toml: name another output file" &&
+    { cmp -s "$so/d/scene.toml" "$data/small.toml" && ok stdout.into_the_scene || fail stdout.into_the_scene "the scene changed"; }
+rm -f "$so/d/scene.toml"
+(cd "$so/d" && "$brume" render "$data/small.toml" --size 32x24 -o y.exr --png - >y.exr 2>"$err"); rc=$?
+expect_line stdout.same_as_an_output 2 "-o and --png both name standard output (- or the file it is open on): at most one output can go there" &&
+    ok stdout.same_as_an_output
+rm -f "$so/d/y.exr"
+# What a command prints must arrive: a full device is a failure, as in coreutils.
+"$brume" methods >/dev/full 2>"$err"; rc=$?
+expect_line stdout.full 1 "cannot write to standard output: No space left on device: its lines were lost" && ok stdout.full
+# Standard error closed: an image on standard output is still written, and alone.
+(cd "$so/d" && "$brume" render "$data/small.toml" --size 32x24 --png - 2>&- >"$so/noerr.png"); rc=$?
+if expect_success stderr.closed; then
+    cmp -s "$so/noerr.png" "$so/b/s.png" && dir_holds "$so/d" && ok stderr.closed ||
+        fail stderr.closed "standard output is not the PNG alone, or the folder holds: $(listing "$so/d")"
+fi
+# A file-size limit (ulimit -f) without the shell's trap: one line naming the limit's error, not a kill.
+(cd "$so/d" && ulimit -f 4 && exec "$brume" render "$data/small.toml" --size 256x192 -o big.exr 2>"$err"); rc=$?
+started[output.file_size_limit]=1
+if [ "$rc" -ne 1 ] || [ "$(wc -l <"$err")" -ne 1 ] || ! grep -q '^brume: error: cannot write big.exr: .*File too large$' "$err"; then
+    fail output.file_size_limit "status $rc: $(head -c 300 "$err" | tr '\n' '|')"
+elif ! dir_holds "$so/d"; then
+    fail output.file_size_limit "the folder holds: $(listing "$so/d")"
+else
+    ok output.file_size_limit
+fi
 if command -v script >/dev/null; then
     # script gives the command a terminal as its standard output.
     (cd "$so/d" && script -qec "'$brume' render '$data/small.toml' --png -" /dev/null >"$out" 2>&1); rc=$?

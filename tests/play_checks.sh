@@ -234,6 +234,19 @@ elif [ -n "$unpaired" ] || ls -A hup | grep -q '^\.'; then fail sighup "unpaired
 elif ! grep -q "interrupted" hup.log; then fail sighup "no message"
 else ok sighup; fi
 
+# A log pipe whose reader went away (`play ... | head -1`, a dropped ssh session's pipe) ends a run as
+# SIGHUP does: the frame in progress finished, a message on stderr, exit 130; not a kill by SIGPIPE.
+( "$brume" play plume -o piped --size 64x48 --format png,exr 2>piped.err; echo $? >piped.rc ) | head -c 1 >/dev/null
+rc=$(cat piped.rc)
+unpaired=""
+for f in piped/*.png; do [ -e "${f%.png}.exr" ] || unpaired="$unpaired $f"; done
+for f in piped/*.exr; do [ -e "${f%.exr}.png" ] || unpaired="$unpaired $f"; done
+if [ "$rc" -ne 130 ]; then fail log_pipe_closed "exit status $rc, expected 130: $(tail -c 300 piped.err)"
+elif [ -n "$unpaired" ] || ls -A piped | grep -q '^\.'; then fail log_pipe_closed "unpaired or temporary files:$unpaired"
+elif ! grep -q "interrupted" piped.err; then fail log_pipe_closed "no message: $(tail -c 300 piped.err)"
+elif [ "$(ls piped | wc -l)" -ge 288 ]; then fail log_pipe_closed "every frame was rendered"
+else ok log_pipe_closed; fi
+
 # Ctrl-C during a long preroll stops it within moments, and nothing is written (issue 14 item 9).
 cat >long_preroll.toml <<'EOF'
 [timeline]

@@ -212,18 +212,49 @@ void warm_up(const std::function<void()>& frame, double min_ms, int max_frames) 
 
 double warm_up_ms(int device_type) { return device_type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0.0 : 300.0; }
 
+namespace {
+
+// The length of the well-formed UTF-8 sequence at text[i] (RFC 3629: no overlong forms, no surrogates,
+// nothing past U+10FFFF), or 0 when the bytes there are not one.
+std::size_t utf8_sequence_length(const std::string& text, std::size_t i) {
+    const auto byte = [&](std::size_t k) { return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u; };
+    const unsigned c = byte(i);
+    const auto tail = [&](std::size_t k, unsigned lo = 0x80, unsigned hi = 0xBF) { return byte(k) >= lo && byte(k) <= hi; };
+    if (c < 0x80) return 1;
+    if (c >= 0xC2 && c <= 0xDF) return tail(i + 1) ? 2 : 0;
+    if (c == 0xE0) return tail(i + 1, 0xA0) && tail(i + 2) ? 3 : 0;
+    if (c == 0xED) return tail(i + 1, 0x80, 0x9F) && tail(i + 2) ? 3 : 0;
+    if (c >= 0xE1 && c <= 0xEF) return tail(i + 1) && tail(i + 2) ? 3 : 0;
+    if (c == 0xF0) return tail(i + 1, 0x90) && tail(i + 2) && tail(i + 3) ? 4 : 0;
+    if (c >= 0xF1 && c <= 0xF3) return tail(i + 1) && tail(i + 2) && tail(i + 3) ? 4 : 0;
+    if (c == 0xF4) return tail(i + 1, 0x80, 0x8F) && tail(i + 2) && tail(i + 3) ? 4 : 0;
+    return 0;
+}
+
+}  // namespace
+
 std::string json_string(const std::string& text) {
     std::string out = "\"";
-    for (unsigned char c : text) {
-        if (c == '"' || c == '\\') {
+    for (std::size_t i = 0; i < text.size();) {
+        const unsigned char c = static_cast<unsigned char>(text[i]);
+        const std::size_t n = utf8_sequence_length(text, i);
+        if (n == 0) {
+            // JSON is Unicode text: a byte that is no UTF-8 (a file name in Latin-1) becomes U+FFFD, as
+            // decoders replace it, so that strict parsers read the statistics.
+            out += "\\ufffd";
+            ++i;
+        } else if (c == '"' || c == '\\') {
             out += '\\';
             out += char(c);
+            ++i;
         } else if (c < 0x20) {
             char esc[8];
             std::snprintf(esc, sizeof esc, "\\u%04x", c);
             out += esc;
+            ++i;
         } else {
-            out += char(c);
+            out.append(text, i, n);
+            i += n;
         }
     }
     return out + "\"";

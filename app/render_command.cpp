@@ -55,8 +55,9 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
     cmd->add_option("--pool-nodes", args.pool_nodes, "Initial node-pool size (default: estimated from the scene)")
         ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 40));
     cmd->add_option("--shadows", args.shadows,
-                    "Shadow technique of the GPU methods when the scene has shadows: accurate (default) or per-sphere; "
-                    "off renders the scene without shadows")
+                    "Shadow technique of the exact methods when the scene has shadows: accurate (default; for reference, "
+                    "the exact model) or per-sphere (T_sun once per sphere; reference has that mode too); off renders "
+                    "the scene without shadows. The comparison methods always shade per sphere")
         ->check(CLI::IsMember({"accurate", "per-sphere", "off"}));
     cmd->add_option("--threads", args.threads, "CPU threads for the CPU tracers (reference, trace, auto; 0 or unset: every CPU this process may use: its affinity and CPU quota)")->check(CLI::Range(0, 1024));
 }
@@ -149,8 +150,9 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
     // The exact methods (ppll, tiles, trace, auto) sample T_sun along their segments; the methods that
     // composite whole spheres use the per-sphere term whatever the scene asks.
     const bool integrates = find_method(args.method).exact;
+    const bool per_sphere = scene.render.shadow_technique == ShadowTechnique::PerSphere;
     const char* shadows = !scene.lighting.shadows ? "off"
-                          : !on_gpu              ? "exact"
+                          : !on_gpu              ? (per_sphere ? "per-sphere" : "exact")  // the reference's modes
                           : integrates           ? kShadowTechniqueNames[int(scene.render.shadow_technique)]
                                                  : "per-sphere";
     j << "  \"shadows\": " << json_string(shadows) << ",\n";
@@ -313,8 +315,9 @@ int run_render(const RenderArgs& command_line) {
     if (last.list_stats)
         std::printf(", %llu fragments, longest list %u", (unsigned long long)last.fragments, last.max_list_length);
     std::printf("\n");
-    for (const std::string& out : {exr, png})
-        if (names_standard_output(out)) std::printf("wrote the %s to standard output\n", out == exr ? "EXR" : "PNG");
+    const std::pair<const std::string&, const char*> written[] = {{exr, "EXR"}, {png, "PNG"}, {args.stats, "statistics"}};
+    for (const auto& [out, what] : written)
+        if (names_standard_output(out)) std::printf("wrote the %s to standard output\n", what);
         else if (!out.empty()) std::printf("wrote %s\n", out.c_str());
     return 0;
 }

@@ -31,6 +31,19 @@ TEST(CliUtil, NonFinitePixelsAreRefusedNamingTheFirst) {
     EXPECT_THROW(refuse_non_finite(all_nan, "the frame"), std::runtime_error);
 }
 
+TEST(CliUtil, JsonStringsAreValidUtf8WhateverTheBytes) {
+    EXPECT_EQ(json_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\u000a\"");
+    // Well-formed UTF-8 passes as it is: 2, 3 and 4 bytes.
+    EXPECT_EQ(json_string("f\xc3\xa9\xe2\x82\xac\xf0\x9f\x94\xa5"), "\"f\xc3\xa9\xe2\x82\xac\xf0\x9f\x94\xa5\"");
+    // A Latin-1 byte, a cut sequence, an overlong form, a surrogate and a lone continuation byte are each
+    // U+FFFD, one per byte that begins no sequence, and the text after them is kept.
+    EXPECT_EQ(json_string("bad\xff.toml"), "\"bad\\ufffd.toml\"");
+    EXPECT_EQ(json_string("\xe2\x82"), "\"\\ufffd\\ufffd\"");
+    EXPECT_EQ(json_string("\xc0\xaf"), "\"\\ufffd\\ufffd\"");
+    EXPECT_EQ(json_string("\xed\xa0\x80x"), "\"\\ufffd\\ufffd\\ufffdx\"");
+    EXPECT_EQ(json_string("\x80"), "\"\\ufffd\"");
+}
+
 TEST(CliUtil, WholeNumbersNeverWrap) {
     EXPECT_EQ(parse_whole_number("4294967328"), 4294967328LL);
     EXPECT_EQ(parse_whole_number("-3"), -3LL);

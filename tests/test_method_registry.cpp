@@ -2,6 +2,8 @@
 // them, options reach the methods that honour them and are refused by the others, and `brume bench`
 // sweeps what the entries say.
 #include "render/methods/registry.h"
+#include "render/reference.h"
+#include "test_scenes.h"
 
 #include <gtest/gtest.h>
 
@@ -10,6 +12,24 @@
 
 namespace brume {
 namespace {
+
+bool same_pixels(const Image& a, const Image& b) { return a.width == b.width && a.height == b.height && a.rgb == b.rgb; }
+
+TEST(MethodRegistry, TheReferenceTakesTheScenesShadowTechnique) {
+    // `--method reference --shadows per-sphere` (and crossing, pop) renders the reference's per-sphere mode,
+    // what the methods shading by that technique are measured against; `accurate` the exact model.
+    Scene s = testing::random_scene(24, 18, 40, 3, true);
+    s.lighting.shadows = true;
+    s.lighting.sun_direction = {-0.4, -0.8, -0.3};
+    ReferenceOptions per_sphere;
+    per_sphere.shadows = ReferenceShadows::PerSphere;
+    const Image exact = render_reference(s), approximated = render_reference(s, per_sphere);
+    ASSERT_FALSE(same_pixels(exact, approximated));  // else the scene tells the modes apart nowhere
+    s.render.shadow_technique = ShadowTechnique::PerSphere;
+    EXPECT_TRUE(same_pixels(make_method(nullptr, "reference")->render(s), approximated));
+    s.render.shadow_technique = ShadowTechnique::Accurate;
+    EXPECT_TRUE(same_pixels(make_method(nullptr, "reference")->render(s), exact));
+}
 
 TEST(MethodRegistry, NamesAreUniqueAndFindable) {
     std::set<std::string> names;

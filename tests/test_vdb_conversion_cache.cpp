@@ -173,12 +173,24 @@ TEST_F(ConversionCache, AnUnwritableOrSwitchedOffCacheStillConverts) {
     cloud.spheres = reference;
     EXPECT_FALSE(store_cached_conversion(dir_ / "file" / "below", "key", cloud));
 
-    // Relative XDG_CACHE_HOME is ignored (the XDG specification): $HOME/.cache is used instead.
+    // Relative XDG_CACHE_HOME is ignored (the XDG specification): $HOME/.cache is used instead, when HOME
+    // is a directory; a HOME that does not exist (a service account's /nonexistent) is not made: no cache.
     ::setenv("XDG_CACHE_HOME", "relative/dir", 1);
-    const char* home = std::getenv("HOME");
-    if (home) {
-        EXPECT_EQ(conversion_cache_dir(), fs::path(home) / ".cache" / "brume" / "vdb");
-    }
+    const std::string saved_home = std::getenv("HOME") ? std::getenv("HOME") : "";
+    ::setenv("HOME", dir_.c_str(), 1);
+    EXPECT_EQ(conversion_cache_dir(), dir_ / ".cache" / "brume" / "vdb");
+    ::setenv("HOME", (dir_ / "nonexistent").c_str(), 1);
+    EXPECT_TRUE(conversion_cache_dir().empty());
+    expect_bit_identical(reference, convert(kScene, &cached));
+    EXPECT_FALSE(fs::exists(dir_ / "nonexistent"));
+    if (saved_home.empty()) ::unsetenv("HOME");
+    else ::setenv("HOME", saved_home.c_str(), 1);
+
+    // A value of BRUME_CACHE that is neither on nor off is refused by name, not taken as on.
+    ::setenv("BRUME_CACHE", "of", 1);
+    EXPECT_THROW(conversion_cache_dir(), std::invalid_argument);
+    ::setenv("BRUME_CACHE", "On", 1);
+    EXPECT_FALSE(conversion_cache_dir().empty());
 
     // Off: nothing read, nothing written.
     ::setenv("XDG_CACHE_HOME", (dir_ / "xdg2").c_str(), 1);

@@ -52,8 +52,9 @@ PoolBudgetError::PoolBudgetError(std::uint64_t needed, std::uint64_t allowed, bo
           "the per-pixel lists need " + format_bytes(needed) + " of node pool but " +
           (addressable ? "the " + std::to_string(gpu::MAX_POOL_PARTS) + " pool parts this device can address hold " +
                              format_bytes(allowed) + "; lower the resolution or the particle count"
-                       : "the budget is " + format_bytes(allowed) +
-                             "; raise --max-memory, lower the resolution or the particle count")),
+                       : "the budget holds " + format_bytes(allowed) + " of whole " +
+                             std::to_string(gpu::NODE_BYTES) +
+                             "-byte nodes; raise --max-memory, lower the resolution or the particle count")),
       needed_(needed),
       allowed_(allowed) {}
 

@@ -1,4 +1,5 @@
-// The CPU double-precision reference as a Method, timed on the wall clock.
+// The CPU double-precision reference as a Method, timed on the wall clock. A scene whose shadow
+// technique is per-sphere is rendered in the reference's per-sphere mode, else by the exact model.
 #pragma once
 
 #include "render/methods/method.h"

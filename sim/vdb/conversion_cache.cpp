@@ -165,11 +165,16 @@ std::optional<SphereCloud> decode(std::string_view bytes, const std::string& key
     return c;
 }
 
+// BRUME_CACHE: unset or a word for on, a word for off; any other value is refused by name, so that a
+// typo ("of") does not leave the cache on unnoticed.
 bool switched_off(const char* v) {
     if (!v) return false;
     std::string s(v);
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
-    return s == "off" || s == "0" || s == "no" || s == "false";
+    if (s == "off" || s == "0" || s == "no" || s == "false") return true;
+    if (s == "on" || s == "1" || s == "yes" || s == "true") return false;
+    throw std::invalid_argument("BRUME_CACHE='" + std::string(v).substr(0, 80) +
+                                "': 'off' (or 0, no, false) or 'on' (or 1, yes, true)");
 }
 
 }  // namespace
@@ -179,7 +184,10 @@ std::filesystem::path conversion_cache_dir() {
     if (const char* d = std::getenv("BRUME_CACHE_DIR"); d && *d) return std::filesystem::path(d);
     if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x && std::filesystem::path(x).is_absolute())
         return std::filesystem::path(x) / "brume" / "vdb";
-    if (const char* h = std::getenv("HOME"); h && *h) return std::filesystem::path(h) / ".cache" / "brume" / "vdb";
+    // A HOME that does not exist (a service account's /nonexistent) is not made: no cache, as without one.
+    std::error_code ec;
+    if (const char* h = std::getenv("HOME"); h && *h && std::filesystem::is_directory(h, ec))
+        return std::filesystem::path(h) / ".cache" / "brume" / "vdb";
     return {};
 }
 

@@ -33,8 +33,9 @@ inline constexpr int kConversionVersion = 4;  // 2: fits merge spheres; 3: a fit
 
 // Where entries live: $BRUME_CACHE_DIR when set (tests, farms with a shared disk), else
 // $XDG_CACHE_HOME/brume/vdb (an absolute XDG_CACHE_HOME only, as the XDG base directory specification
-// says), else $HOME/.cache/brume/vdb. Empty, meaning no cache, when BRUME_CACHE is "off" (or "0", "no",
-// "false") or no directory can be named.
+// says), else $HOME/.cache/brume/vdb when HOME is a directory. Empty, meaning no cache, when BRUME_CACHE is
+// "off" (or "0", "no", "false") or no directory can be named. Throws std::invalid_argument when BRUME_CACHE
+// is neither a word for off nor one for on ("on", "1", "yes", "true").
 std::filesystem::path conversion_cache_dir();
 
 // The canonical text of everything that decides a conversion's result: kConversionVersion, a hash of the

@@ -47,6 +47,7 @@ int list_methods() {
         if (!m.default_setting.empty()) notes += " (default " + m.default_setting + ")";
         if (m.exact) notes += " [exact]";
         if (m.options & brume::kHonoursMaxMemory) notes += " [--max-memory]";
+        if (m.options & brume::kHonoursPoolNodes) notes += " [--pool-nodes]";
         if (m.options & brume::kHonoursThreads) notes += " [--threads]";
         std::printf("%-22s %s%s\n", name.c_str(), m.summary.c_str(), notes.c_str());
     }

@@ -78,9 +78,21 @@ TEST(MethodRegistry, OptionsReachEveryMethodThatHonoursThem) {
         EXPECT_NE(what.find("'kbuf'"), std::string::npos) << what;
     }
     EXPECT_THROW(check_method_options("ppll", kHonoursThreads), std::invalid_argument);
-    // --pool-nodes goes where --max-memory does, and each refusal names only the options given: play,
-    // which has no --pool-nodes, was told "--max-memory/--pool-nodes applies to ...".
-    EXPECT_NO_THROW(check_method_options("tiles", kHonoursMaxMemory | kHonoursPoolNodes));
+    // --pool-nodes sizes a node pool: ppll's and auto's. tiles has none (its lists are sized per frame,
+    // bounded by --max-memory): it refuses --pool-nodes, which it had taken and ignored.
+    EXPECT_NO_THROW(check_method_options("ppll-general", kHonoursMaxMemory | kHonoursPoolNodes));
+    EXPECT_NO_THROW(check_method_options("auto", kHonoursMaxMemory | kHonoursPoolNodes));
+    EXPECT_NO_THROW(check_method_options("tiles", kHonoursMaxMemory));
+    try {
+        check_method_options("tiles", kHonoursPoolNodes);
+        FAIL() << "--pool-nodes was accepted for tiles";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("--pool-nodes applies to ppll, ppll-general, auto, not to method 'tiles'"),
+                  std::string::npos)
+            << e.what();
+    }
+    // Each refusal names only the options given: play, which has no --pool-nodes, was told
+    // "--max-memory/--pool-nodes applies to ...".
     for (const unsigned given : {unsigned(kHonoursMaxMemory), unsigned(kHonoursPoolNodes)}) {
         try {
             check_method_options("trace", given);
@@ -90,7 +102,8 @@ TEST(MethodRegistry, OptionsReachEveryMethodThatHonoursThem) {
             const bool pool = given == kHonoursPoolNodes;
             EXPECT_EQ(what.find("--pool-nodes") != std::string::npos, pool) << what;
             EXPECT_EQ(what.find("--max-memory") != std::string::npos, !pool) << what;
-            EXPECT_NE(what.find("ppll, ppll-general, tiles, auto"), std::string::npos) << what;
+            EXPECT_NE(what.find(pool ? "ppll, ppll-general, auto" : "ppll, ppll-general, tiles, auto"), std::string::npos)
+                << what;
         }
     }
 }

@@ -86,10 +86,10 @@ const std::vector<MethodEntry>& method_catalogue() {
     static const std::vector<MethodEntry> catalogue = {
         {"ppll", "", "",
          "per-pixel linked lists, exact intersecting media (GPU); spheres drawn far to near, each list merged in one walk",
-         true, true, true, kHonoursMaxMemory, {}, &make_ppll},
+         true, true, true, kHonoursMaxMemory | kHonoursPoolNodes, {}, &make_ppll},
         {"ppll-general", "", "",
          "ppll with every pixel resolved by repeated walks of its list, O(n^2): the resolve before the ordered one",
-         true, true, true, kHonoursMaxMemory, {}, &make_ppll_general},
+         true, true, true, kHonoursMaxMemory | kHonoursPoolNodes, {}, &make_ppll_general},
         {"tiles", "", "",
          "exact intersecting media in compute, no per-pixel lists: spheres binned to 8x8 tiles near to far, each "
          "pixel merging its tile's events in one pass",
@@ -103,7 +103,7 @@ const std::vector<MethodEntry>& method_catalogue() {
         {"auto", "", "",
          "per frame the cheapest exact path: trace on a CPU device; on a GPU power-distance sorted spheres when none "
          "intersect (and the shadows are not accurate), else the fastest of tiles, ppll and trace as measured",
-         true, true, false, kHonoursMaxMemory | kHonoursThreads, {}, &make_auto},
+         true, true, false, kHonoursMaxMemory | kHonoursPoolNodes | kHonoursThreads, {}, &make_auto},
         {"sorted", "", "",
          "painter's algorithm: planar billboards sorted back to front by centre (insertion sort reusing last "
          "frame's order); pops when order flips",
@@ -169,8 +169,7 @@ std::unique_ptr<Method> make_method(vk::Device* device, const std::string& spec,
 
 void check_method_options(const std::string& spec, unsigned given) {
     const MethodEntry& entry = find_method(spec);
-    // --pool-nodes sizes the same pool --max-memory bounds: honoured where that is.
-    const auto honoured = [](const MethodEntry& m) { return m.options | (m.options & kHonoursMaxMemory ? kHonoursPoolNodes : 0u); };
+    const auto honoured = [](const MethodEntry& m) { return m.options; };
     const unsigned ignored = given & ~honoured(entry);
     if (!ignored) return;
     std::string honouring;

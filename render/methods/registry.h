@@ -24,9 +24,9 @@ struct MethodOptions {
 };
 
 enum MethodOptionBits : unsigned {
-    kHonoursMaxMemory = 1u << 0,  // --max-memory (a method that honours it honours --pool-nodes too)
+    kHonoursMaxMemory = 1u << 0,  // --max-memory: the bound on a method's list memory (ppll's pool, tiles' lists)
     kHonoursThreads = 1u << 1,
-    kHonoursPoolNodes = 1u << 2,  // --pool-nodes, render's only: given, not listed in a catalogue entry
+    kHonoursPoolNodes = 1u << 2,  // --pool-nodes (render's only): the first size of a node pool (ppll, and auto's)
 };
 
 struct MethodEntry {

@@ -103,6 +103,13 @@ void check_method_usage(const std::string& method, unsigned given_options) {
     }
 }
 
+void check_device_options(const std::string& method, const std::string& device, bool validate) {
+    if (find_method(method).needs_device || (device.empty() && !validate)) return;
+    const std::string given = !device.empty() && validate ? "--device and --validate" : !device.empty() ? "--device" : "--validate";
+    throw UsageError(given + " applies to the methods that run on a Vulkan device, not to method '" +
+                     find_method(method).name + "', which runs on the CPU alone");
+}
+
 std::string refuse_empty_path(const std::string& text) {
     return text.empty() ? "an empty file name (leave the option out for the default)" : "";
 }

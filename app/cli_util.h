@@ -32,6 +32,9 @@ public:
 // The method checks of the registry (an unknown name, a bad setting, an option the method ignores) as
 // UsageError.
 void check_method_usage(const std::string& method, unsigned given_options);
+// --device and --validate choose and check a Vulkan device: refused (UsageError) for a method that runs on
+// the CPU alone (reference), which would ignore them, as every option a method would ignore is.
+void check_device_options(const std::string& method, const std::string& device, bool validate);
 
 // "512M", "2G", "1.5GiB", "1000000" -> bytes. Throws std::invalid_argument naming the text.
 std::uint64_t parse_bytes(const std::string& text);

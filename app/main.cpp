@@ -34,9 +34,10 @@ namespace {
 int list_devices() {
     const auto devices = brume::vk::Device::enumerate();
     if (devices.empty()) std::printf("no Vulkan devices\n");
-    for (const auto& d : devices)
-        std::printf("%s (%s, Vulkan %u.%u)\n", d.name.c_str(), d.type.c_str(), VK_API_VERSION_MAJOR(d.api_version),
-                    VK_API_VERSION_MINOR(d.api_version));
+    // Numbered as --device '#N' picks them (two of the same GPU differ only by number).
+    for (std::size_t i = 0; i < devices.size(); ++i)
+        std::printf("#%zu %s (%s, Vulkan %u.%u)\n", i, devices[i].name.c_str(), devices[i].type.c_str(),
+                    VK_API_VERSION_MAJOR(devices[i].api_version), VK_API_VERSION_MINOR(devices[i].api_version));
     return 0;
 }
 

@@ -193,6 +193,7 @@ int run_play(const PlayArgs& args) {
         given |= kHonoursThreads;
     }
     check_method_usage(method, given);
+    check_device_options(method, args.device, args.validate);
     std::unique_ptr<vk::Device> device;
     if (find_method(method).needs_device) {
         vk::DeviceOptions device_options;

@@ -244,6 +244,7 @@ int run_render(const RenderArgs& command_line) {
         given |= kHonoursThreads;
     }
     check_method_usage(args.method, given);
+    check_device_options(args.method, args.device, args.validate);
     const bool on_gpu = find_method(args.method).needs_device;
 
     Timing timing;

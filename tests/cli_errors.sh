@@ -476,9 +476,20 @@ if expect_success render.reference_exr; then
     fi
 fi
 
+run render "$data/small.toml" --method reference --device nosuch --size 8x8 -o "$ok_dir/cpu_only.exr"
+expect_line device.cpu_method 2 "--device applies to the methods that run on a Vulkan device, not to method 'reference', which runs on the CPU alone" &&
+    { [ ! -e "$ok_dir/cpu_only.exr" ] && ok device.cpu_method || fail device.cpu_method "an image was written"; }
+run render "$data/small.toml" --device nosuch --size 8x8 -o "$ok_dir/nosuch.exr"
+started[device.none_matches]=1
+if [ "$rc" -eq 1 ] && [ "$(wc -l <"$err")" -eq 1 ] &&
+    grep -q "^brume: error: no Vulkan device matches 'nosuch'; the devices (brume devices): #0 'llvmpipe" "$err"; then
+    ok device.none_matches
+else
+    fail device.none_matches "status $rc: $(head -c 300 "$err")"
+fi
 run devices
 if expect_success devices.lists_llvmpipe; then
-    if grep -q llvmpipe "$out"; then
+    if grep -q '^#0 llvmpipe' "$out"; then
         ok devices.lists_llvmpipe
     else
         fail devices.lists_llvmpipe "llvmpipe is not listed: $(head -n 1 "$out")"

@@ -11,6 +11,7 @@
 #include "render/methods/ppll.h"
 #include "render/methods/registry.h"
 #include "render/vk/device.h"
+#include "render/vk/vk_check.h"
 #include "sim/builtin_scenes.h"
 
 #include <gtest/gtest.h>
@@ -179,6 +180,28 @@ TEST(DeviceNames, LavapipeMeansLlvmpipe) {
     EXPECT_TRUE(vk::device_name_matches("NVIDIA H200", "h200"));
     EXPECT_FALSE(vk::device_name_matches("NVIDIA H200", "lavapipe"));
     EXPECT_FALSE(vk::device_name_matches("llvmpipe (LLVM 15.0.6, 256 bits)", "nvidia"));
+}
+
+// `--device` picks one device or says why not: by number ('#N', as `brume devices` lists them), by the
+// one name it matches, the first of identical devices, never silently one of two different ones.
+TEST(DeviceNames, OneDeviceIsPickedOrTheChoiceIsRefused) {
+    const std::vector<std::string> names{"NVIDIA H100", "llvmpipe (LLVM 15.0.6, 256 bits)", "NVIDIA H100", "NVIDIA A10"};
+    EXPECT_EQ(vk::pick_device(names, ""), 1u);  // lavapipe by default
+    EXPECT_EQ(vk::pick_device(names, "h100"), 0u);  // two of the same: the first...
+    EXPECT_EQ(vk::pick_device(names, "#2"), 2u);    // ... and the other by its number
+    EXPECT_EQ(vk::pick_device(names, "a10"), 3u);
+    for (const char* wanted : {"nvidia", "#4", "#", "#x", "#-1", "amd"}) {
+        try {
+            (void)vk::pick_device(names, wanted);
+            ADD_FAILURE() << wanted << " was accepted";
+        } catch (const vk::VulkanError& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find("#3 'NVIDIA A10'"), std::string::npos) << what;  // the choices, numbered
+            EXPECT_NE(what.find(wanted), std::string::npos) << what;
+        }
+    }
+    EXPECT_EQ(vk::pick_device({"NVIDIA H200"}, ""), 0u);  // no lavapipe: what there is
+    EXPECT_THROW((void)vk::pick_device({}, "h200"), vk::VulkanError);
 }
 
 // Positions reach the device relative to the eye (render/vk/gpu_types.h): the same shadowed scene over

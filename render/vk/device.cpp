@@ -79,14 +79,11 @@ std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
     return devices;
 }
 
-std::string device_list(VkInstance instance) {
+// "#0 'llvmpipe (...)'" for each of `indices`, as `brume devices` numbers them.
+std::string numbered(const std::vector<std::string>& names, const std::vector<std::size_t>& indices) {
     std::string list;
-    for (VkPhysicalDevice d : physical_devices(instance)) {
-        VkPhysicalDeviceProperties p;
-        vkGetPhysicalDeviceProperties(d, &p);
-        list += std::string(list.empty() ? "" : ", ") + "'" + p.deviceName + "' (" + type_name(p.deviceType) + ")";
-    }
-    return list.empty() ? "none" : list;
+    for (const std::size_t i : indices) list += std::string(list.empty() ? "" : ", ") + "#" + std::to_string(i) + " '" + names[i] + "'";
+    return list;
 }
 
 VkPhysicalDevice choose_physical_device(VkInstance instance, const std::string& wanted) {
@@ -94,15 +91,13 @@ VkPhysicalDevice choose_physical_device(VkInstance instance, const std::string& 
     if (devices.empty())
         throw VulkanError(VK_ERROR_INITIALIZATION_FAILED,
                           "no Vulkan device found: install mesa-vulkan-drivers (lavapipe) or a GPU driver");
-    // Default: lavapipe, the device every test and figure is made on.
+    std::vector<std::string> names;
     for (VkPhysicalDevice d : devices) {
         VkPhysicalDeviceProperties p;
         vkGetPhysicalDeviceProperties(d, &p);
-        if (device_name_matches(p.deviceName, wanted.empty() ? "lavapipe" : wanted)) return d;
+        names.emplace_back(p.deviceName);
     }
-    if (wanted.empty()) return devices.front();  // no lavapipe here: take what there is
-    throw VulkanError(VK_ERROR_INITIALIZATION_FAILED,
-                      "no Vulkan device matches '" + wanted + "'; available: " + device_list(instance));
+    return devices[pick_device(names, wanted)];
 }
 
 void require_capabilities(VkPhysicalDevice physical, const VkPhysicalDeviceProperties& props) {
@@ -130,6 +125,37 @@ bool device_name_matches(const std::string& device_name, const std::string& want
     std::string needle = lower(wanted);
     if (needle == "lavapipe") needle = "llvmpipe";  // Mesa's CPU driver reports itself as llvmpipe
     return name.find(needle) != std::string::npos;
+}
+
+std::size_t pick_device(const std::vector<std::string>& names, const std::string& wanted) {
+    std::vector<std::size_t> all(names.size());
+    for (std::size_t i = 0; i < names.size(); ++i) all[i] = i;
+    const std::string available = "; the devices (brume devices): " + (names.empty() ? std::string("none") : numbered(names, all));
+    if (!wanted.empty() && wanted[0] == '#') {
+        const std::string digits = wanted.substr(1);
+        std::size_t index = names.size();
+        if (!digits.empty() && digits.size() < 6 && std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+            index = std::stoul(digits);
+        if (index >= names.size())
+            throw VulkanError(VK_ERROR_INITIALIZATION_FAILED, "no Vulkan device numbered '" + wanted + "'" + available);
+        return index;
+    }
+    // Default: lavapipe, the device every test and figure is made on.
+    std::vector<std::size_t> matches;
+    for (std::size_t i = 0; i < names.size(); ++i)
+        if (device_name_matches(names[i], wanted.empty() ? "lavapipe" : wanted)) matches.push_back(i);
+    if (matches.empty()) {
+        if (wanted.empty() && !names.empty()) return 0;  // no lavapipe here: take what there is
+        throw VulkanError(VK_ERROR_INITIALIZATION_FAILED, "no Vulkan device matches '" + wanted + "'" + available);
+    }
+    for (const std::size_t i : matches)
+        if (names[i] != names[matches.front()])
+            throw VulkanError(VK_ERROR_INITIALIZATION_FAILED,
+                              "--device '" + (wanted.empty() ? std::string("lavapipe") : wanted) + "' matches " +
+                                  std::to_string(matches.size()) + " devices: " + numbered(names, matches) +
+                                  "; name one more fully, or by its number (--device '#" +
+                                  std::to_string(matches[1]) + "')");
+    return matches.front();
 }
 
 std::vector<PhysicalDeviceInfo> Device::enumerate() {

@@ -33,6 +33,12 @@ struct DeviceOptions {
 // itself "llvmpipe (LLVM ...)"; any other name is matched as it is, case-insensitively.
 bool device_name_matches(const std::string& device_name, const std::string& wanted);
 
+// The device `--device` picks among `names` (in the order `brume devices` numbers them): "#N" the N-th;
+// a name (device_name_matches) the one device it matches, or the first of several that share one name
+// (two of the same GPU: "#1" picks the other); nothing (the default) the first lavapipe, else the first
+// device. Throws VulkanError naming the devices when none matches or devices of different names do.
+std::size_t pick_device(const std::vector<std::string>& names, const std::string& wanted);
+
 struct PhysicalDeviceInfo {
     std::string name;
     std::string type;  // "cpu", "discrete gpu", ...

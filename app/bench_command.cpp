@@ -55,6 +55,7 @@ double pass_ms(const FrameStats& stats, const std::string& name) {
 
 void add_bench_command(CLI::App& app, BenchArgs& args) {
     CLI::App* cmd = app.add_subcommand("bench", "Benchmarks that print figures side by side");
+    args.command = cmd;
     cmd->add_option("benchmark", args.which,
                     "methods (default: every method on every scene, charted), layers (Barta & Kovács, Tables 1-2), "
                     "scale (exact methods against list length), sim (simulation step), vdb (OpenVDB import: spheres against error), "
@@ -79,19 +80,28 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
     cmd->add_option("--shadow-frames", args.shadow_frames, "bench shadows: consecutive frames per preset")
         ->capture_default_str()
         ->check(CLI::Range(1, 1000));
-    cmd->add_option("--sizes", args.sizes, "Resolutions, e.g. 800x600,1024x768");
-    cmd->add_option("--layers", args.layers, "Layer counts, e.g. 2-16:2 or 2,8,16 (even)");
-    cmd->add_option("--frames", args.frames, "ppll frames per point (median reported); bench preview: headless frames per preset")->check(CLI::Range(1, 10000));
-    cmd->add_option("--reference-frames", args.reference_frames, "CPU reference frames per point")->check(CLI::Range(1, 100));
-    cmd->add_flag("--no-reference", args.no_reference, "Skip the CPU reference (bench shadows: its error columns too)");
-    cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
-    cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers");
+    cmd->add_option("--sizes", args.sizes, "bench layers: resolutions, e.g. 800x600,1024x768")->capture_default_str();
+    cmd->add_option("--layers", args.layers, "bench layers: layer counts, e.g. 2-16:2 or 2,8,16 (even)")->capture_default_str();
+    cmd->add_option("--frames", args.frames,
+                    "timed frames per point, the median reported: bench layers, scale and shadows (default 9; shadows: "
+                    "rounds); bench methods: frames of each static scene (default 5); bench preview: headless frames "
+                    "per preset (default 9)")
+        ->check(CLI::Range(1, 10000));
+    cmd->add_option("--reference-frames", args.reference_frames, "bench layers: CPU reference frames per point (default 1)")
+        ->check(CLI::Range(1, 100));
+    cmd->add_flag("--no-reference", args.no_reference,
+                  "bench layers and shadows: skip the CPU reference (bench shadows: its error columns too)");
+    cmd->add_option("--device", args.device,
+                    "Vulkan device (substring of its name; default lavapipe): bench methods, layers, scale, preview, shadows");
+    cmd->add_flag("--validate", args.validate,
+                  "Enable the Vulkan validation layers: bench methods, layers, scale, preview, shadows");
 }
 
-void restrict_bench_help(CLI::App& bench, const std::string& which) {
-    // Which benchmark reads which option (run_bench and the bench_* files).
+const std::vector<std::string>& bench_reads(const std::string& which) {
+    // Which benchmark reads which option (run_bench and the bench_* files). A new option of a bench
+    // joins its row here, or the bench refuses it.
     static const std::vector<std::pair<std::string, std::vector<std::string>>> kReads = {
-        {"methods", {"--output", "--methods", "--scenes", "--size", "--anim-frames", "--device", "--validate"}},
+        {"methods", {"--output", "--methods", "--scenes", "--size", "--frames", "--anim-frames", "--device", "--validate"}},
         {"layers", {"--sizes", "--layers", "--frames", "--reference-frames", "--no-reference", "--device", "--validate"}},
         {"scale", {"--spheres", "--methods", "--size", "--no-presets", "--frames", "--output", "--device", "--validate"}},
         {"sim", {"--particles", "--steps"}},
@@ -101,16 +111,45 @@ void restrict_bench_help(CLI::App& bench, const std::string& which) {
          {"--shadow-scenes", "--shadow-frames", "--methods", "--size", "--frames", "--no-reference", "--output", "--device",
           "--validate"}},
     };
-    for (const auto& [name, reads] : kReads) {
-        if (name != which) continue;
-        for (CLI::Option* opt : bench.get_options()) {
-            if (opt->get_positional() || opt->check_name("--help")) continue;
-            bool read = false;
-            for (const std::string& r : reads) read = read || opt->check_name(r);
-            if (!read) opt->group("");  // CLI11 leaves options of the empty group out of the help
-        }
-        bench.footer("(the options of bench " + which + "; brume bench --help lists those of every benchmark)");
+    static const std::vector<std::string> kNone;
+    for (const auto& [name, reads] : kReads)
+        if (name == which) return reads;
+    return kNone;
+}
+
+namespace {
+
+bool reads_option(const std::string& which, const CLI::Option& opt) {
+    for (const std::string& r : bench_reads(which))
+        if (opt.check_name(r)) return true;
+    return false;
+}
+
+}  // namespace
+
+void restrict_bench_help(CLI::App& bench, const std::string& which) {
+    if (bench_reads(which).empty()) return;
+    for (CLI::Option* opt : bench.get_options()) {
+        if (opt->get_positional() || opt->check_name("--help")) continue;
+        if (!reads_option(which, *opt)) opt->group("");  // CLI11 leaves options of the empty group out of the help
     }
+    bench.footer("(the options of bench " + which + "; brume bench --help lists those of every benchmark)");
+}
+
+void refuse_unread_bench_options(const BenchArgs& args) {
+    if (!args.command) return;
+    for (const CLI::Option* opt : args.command->get_options()) {
+        if (opt->get_positional() || opt->count() == 0 || reads_option(args.which, *opt)) continue;
+        std::string takes;
+        for (const std::string& r : bench_reads(args.which)) takes += (takes.empty() ? "" : ", ") + r;
+        // README ("Tour"): an option a command would ignore is refused, never silently dropped.
+        throw UsageError(opt->get_name(false, true) + ": bench " + args.which + " does not use it; it takes " + takes +
+                         " (see brume bench " + args.which + " --help)");
+    }
+}
+
+bool bench_option_given(const BenchArgs& args, const std::string& name) {
+    return args.command && args.command->count(name) > 0;
 }
 
 namespace {
@@ -128,6 +167,7 @@ int run_bench_sim(const BenchArgs& args) {
 }  // namespace
 
 int run_bench(const BenchArgs& args) {
+    refuse_unread_bench_options(args);  // before any work or folder
     refuse_standard_output("-o", args.output_dir, "a benchmark's folder of results");
     if (args.which == "sim") return run_bench_sim(args);
     if (args.which == "methods") return run_bench_methods(args);

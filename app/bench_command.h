@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
 
 namespace brume::vk {
 class Device;
@@ -43,9 +44,20 @@ struct BenchArgs {
     // bench preview
     int preview_frames = 60;
     std::string presets;  // empty: every shipped preset
+    // The `bench` subcommand these were parsed by (add_bench_command), so run_bench can ask which
+    // options the command line gave; null where a caller fills the fields itself.
+    const CLI::App* command = nullptr;
 };
 
 void add_bench_command(CLI::App& app, BenchArgs& args);
+// The options benchmark WHICH reads (run_bench and the bench_* files), by their first long name;
+// empty for an unknown WHICH. The one table behind both `bench WHICH --help` and the refusal below.
+const std::vector<std::string>& bench_reads(const std::string& which);
+// Refuses, as a UsageError naming the option and the benchmark, an option given on the command line
+// that `args.which` does not read: `bench layers --methods kbuf:4` printed ppll's table as if unasked.
+void refuse_unread_bench_options(const BenchArgs& args);
+// Whether the command line gave option NAME ("--frames"): false without `args.command`.
+bool bench_option_given(const BenchArgs& args, const std::string& name);
 // `bench WHICH --help` lists only the options WHICH reads: hides the others of `bench` (its
 // subcommand) from the help. An unknown WHICH changes nothing (the parser names it).
 void restrict_bench_help(CLI::App& bench, const std::string& which);

@@ -32,6 +32,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Timed frames of a static scene when --frames is not given: its median, against one frame's noise on a
+// shared machine, at a cost beside the reference's and the animated presets' frames.
+constexpr int kStaticFrames = 5;
+// A depth bin of the error chart with fewer pixels than this is noise, not a mean, and is left out.
+constexpr int kMinDepthBinPixels = 20;
+
 // One scene of the chart: a static scene (one frame) or consecutive frames of a preset.
 struct BenchScene {
     std::string name;
@@ -134,12 +140,14 @@ std::vector<BenchScene> make_scenes(const std::vector<std::string>& names, int f
 struct Row {
     std::string method, scene;
     bool exact = false;
-    int frames = 0;
-    double median_ms = 0, memory_bytes = 0, rmse = 0, psnr_db = 0, max_error = 0, temporal_mean = 0, temporal_max = 0;
+    int frames = 0;              // frames timed: a static scene's repeats, or an animation's frames
+    std::uint64_t memory_bytes = 0;  // the most any frame of this scene held, by a method made for it
+    double median_ms = 0, rmse = 0, psnr_db = 0, max_error = 0, temporal_mean = 0, temporal_max = 0;
     std::vector<double> temporal;  // per frame step
 };
 
-std::string short_bytes(double bytes) {
+std::string short_bytes(std::uint64_t count) {
+    const double bytes = double(count);
     char text[32];
     if (bytes >= 1024.0 * 1024.0) std::snprintf(text, sizeof text, "%.1f MiB", bytes / (1024.0 * 1024.0));
     else if (bytes >= 1024.0) std::snprintf(text, sizeof text, "%.1f KiB", bytes / 1024.0);
@@ -165,19 +173,28 @@ std::string number(double v) {
 }  // namespace
 
 void add_bench_methods_options(CLI::App& cmd, BenchArgs& args) {
-    cmd.add_option("-o,--output", args.output_dir, "bench methods and vdb: directory for results and charts");
-    cmd.add_option("--methods", args.methods, "bench methods and scale: comma-separated specs (default: all, with settings sweeps); bench shadows: some of ppll, tiles, trace");
-    cmd.add_option("--scenes", args.scenes, "bench methods: comma-separated scenes/presets");
-    cmd.add_option("--size", args.size, "bench methods: resolution WxH (default 160x120); bench preview: the window (default 640x360)");
+    cmd.add_option("-o,--output", args.output_dir,
+                   "bench methods (default bench/), scale, shadows and vdb: folder for results and charts");
+    cmd.add_option("--methods", args.methods,
+                   "bench methods and scale: comma-separated specs (default: all, with settings sweeps; a setting "
+                   "that holds a comma stays whole: stochastic:8,depth,ppll is two); bench shadows: some of ppll, "
+                   "tiles, trace");
+    cmd.add_option("--scenes", args.scenes, "bench methods: comma-separated scenes/presets")->capture_default_str();
+    cmd.add_option("--size", args.size,
+                   "resolution WxH: bench methods (default 160x120), scale (640x360), shadows (128x96), preview (the "
+                   "window, 640x360)");
     cmd.add_option("--anim-frames", args.anim_frames, "bench methods: consecutive frames per animated preset")
-        ->check(CLI::Range(2, 1000));
+        ->check(CLI::Range(2, 1000))
+        ->capture_default_str();
 }
 
 int run_bench_methods(const BenchArgs& args) {
     int w = 160, h = 120;
     if (!args.size.empty()) parse_size(args.size, w, h);
     // A bad spec is refused before the output folder is made or the device opened.
-    const std::vector<std::string> specs = args.methods.empty() ? bench_method_specs() : split_commas(args.methods);
+    // A static scene is timed over several frames (--frames), an animated one over its frames.
+    const int static_frames = bench_option_given(args, "--frames") ? args.frames : kStaticFrames;
+    const std::vector<std::string> specs = args.methods.empty() ? bench_method_specs() : split_method_list(args.methods);
     if (specs.empty()) throw UsageError("--methods: no method named (brume methods lists them)");  // "," ran none
     for (const std::string& spec : specs) check_method_usage(spec, 0);
     // So is a scene name (the scenes are made first: a bad one leaves no empty folder behind).
@@ -198,9 +215,15 @@ int run_bench_methods(const BenchArgs& args) {
 
     std::printf("# brume bench: %zu methods x %zu scenes at %dx%d on %s; errors against the CPU reference\n",
                 methods.size(), scenes.size(), w, h, device.name().c_str());
+    std::printf("# ms: the median of %d frames of a static scene, of every frame of an animated one (%d), after an "
+                "untimed frame; memory: the most a frame held, each scene by a method made for it\n",
+                static_frames, args.anim_frames);
     std::printf("# host: %s\n", host_cpu_description().c_str());
-    std::printf("%-16s %-12s %9s %12s %10s %9s %10s %11s %11s\n", "method", "scene", "ms", "memory", "rmse/peak",
-                "psnr_db", "max/peak", "temporal", "temp_max");
+    // The method column as wide as the longest name: "stochastic:8,depth" pushed its row out of line.
+    int name_width = 16;
+    for (const std::unique_ptr<Method>& method : methods) name_width = std::max(name_width, int(method->name().size()));
+    std::printf("%-*s %-12s %9s %12s %10s %9s %10s %11s %11s\n", name_width, "method", "scene", "ms", "memory",
+                "rmse/peak", "psnr_db", "max/peak", "temporal", "temp_max");
 
     std::vector<Row> rows;
     std::map<std::string, std::map<std::uint32_t, std::pair<double, double>>> depth_error;  // method -> n -> (sum, count)
@@ -217,7 +240,15 @@ int run_bench_methods(const BenchArgs& args) {
         std::vector<std::uint32_t> complexity;
         if (scene.frames.size() == 1) complexity = reference_list_lengths(scene.frames[0]);
 
+        const bool still = scene.frames.size() == 1;
         for (std::size_t m = 0; m < methods.size(); ++m) {
+            // A method made for each scene: ppll's node pool, grown on cloud-1000, was reported as the
+            // memory of every later scene (disjoint-300: 57 KiB alone, 895 KiB after the cloud). The
+            // methods made before the first scene were the check that the device takes them all.
+            if (&scene != &scenes.front()) {
+                methods[m].reset();
+                methods[m] = make_method(&device, specs[m]);
+            }
             Method& method = *methods[m];
             Row row;
             row.method = method.name();
@@ -229,10 +260,14 @@ int run_bench_methods(const BenchArgs& args) {
             FrameStats stats;
             // An untimed first frame: shader compilation and first-touch memory are not the method's cost.
             method.render(scene.frames[0], nullptr);
-            for (std::size_t f = 0; f < scene.frames.size(); ++f) {
+            const int timed = still ? static_frames : int(scene.frames.size());
+            for (int t = 0; t < timed; ++t) {
+                const std::size_t f = still ? 0 : std::size_t(t);
                 const Image img = method.render(scene.frames[f], &stats);
                 ms.push_back(stats.total_ms);
-                row.memory_bytes = std::max(row.memory_bytes, double(stats.memory_bytes));
+                row.memory_bytes = std::max<std::uint64_t>(row.memory_bytes, stats.memory_bytes);
+                // A static scene's repeats are for its time: its error is measured once, on the last.
+                if (still && t + 1 < timed) continue;
                 const ImageDiff d = compare_images(img, refs[f], 0.0);
                 rmse_sum += d.peak > 0 ? d.rmse / d.peak : d.rmse;
                 psnr_sum += std::isfinite(d.psnr_db) ? d.psnr_db : 200.0;
@@ -250,7 +285,7 @@ int run_bench_methods(const BenchArgs& args) {
                 }
                 prev = img;
             }
-            row.frames = int(scene.frames.size());
+            row.frames = timed;
             row.median_ms = median(ms);
             row.rmse = rmse_sum / double(scene.frames.size());
             row.psnr_db = psnr_sum / double(scene.frames.size());
@@ -260,7 +295,7 @@ int run_bench_methods(const BenchArgs& args) {
                     row.temporal_max = std::max(row.temporal_max, t);
                 }
             }
-            std::printf("%-16s %-12s %9.2f %12s %10.2e %9.1f %10.2e %11s %11s\n", row.method.c_str(), row.scene.c_str(),
+            std::printf("%-*s %-12s %9.2f %12s %10.2e %9.1f %10.2e %11s %11s\n", name_width, row.method.c_str(), row.scene.c_str(),
                         row.median_ms, short_bytes(row.memory_bytes).c_str(), row.rmse, row.psnr_db, row.max_error,
                         row.temporal.empty() ? "-" : number(row.temporal_mean).c_str(),
                         row.temporal.empty() ? "-" : number(row.temporal_max).c_str());
@@ -280,12 +315,12 @@ int run_bench_methods(const BenchArgs& args) {
     for (std::size_t k = 0; k < rows.size(); ++k) {
         const Row& r = rows[k];
         csv << csv_text(r.method) << ',' << csv_text(r.scene) << ',' << (r.exact ? 1 : 0) << ',' << r.frames << ',' << number(r.median_ms)
-            << ',' << number(r.memory_bytes) << ',' << number(r.rmse) << ',' << number(r.psnr_db) << ','
+            << ',' << r.memory_bytes << ',' << number(r.rmse) << ',' << number(r.psnr_db) << ','
             << number(r.max_error) << ',' << (r.temporal.empty() ? "" : number(r.temporal_mean)) << ','
             << (r.temporal.empty() ? "" : number(r.temporal_max)) << '\n';
         json << "    {\"method\": " << json_string(r.method) << ", \"scene\": " << json_string(r.scene)
              << ", \"exact\": " << (r.exact ? "true" : "false") << ", \"frames\": " << r.frames
-             << ", \"median_gpu_ms\": " << number(r.median_ms) << ", \"memory_bytes\": " << number(r.memory_bytes)
+             << ", \"median_gpu_ms\": " << number(r.median_ms) << ", \"memory_bytes\": " << r.memory_bytes
              << ", \"rmse_over_peak\": " << number(r.rmse) << ", \"psnr_db\": " << number(r.psnr_db)
              << ", \"max_error_over_peak\": " << number(r.max_error) << ", \"temporal_error\": [";
         for (std::size_t t = 0; t < r.temporal.size(); ++t) json << (t ? ", " : "") << number(r.temporal[t]);
@@ -317,12 +352,22 @@ int run_bench_methods(const BenchArgs& args) {
     for (const auto& [name, bins] : depth_error) {
         DepthErrorSeries d{name, {}};
         for (const auto& [n, acc] : bins)
-            if (acc.second >= 20) d.points.push_back({double(n), acc.first / acc.second});
-        depth.push_back(std::move(d));
+            if (acc.second >= kMinDepthBinPixels) d.points.push_back({double(n), acc.first / acc.second});
+        if (!d.points.empty()) depth.push_back(std::move(d));
     }
-    const std::vector<std::string> charts = write_charts(dir, points, series, depth);
-    for (const std::string& c : charts) std::printf("wrote %s\n", c.c_str());
+    // At 2x2 no list length is met by enough pixels to mean anything: the chart is not drawn, and said so.
+    if (!depth_error.empty() && depth.empty())
+        std::fprintf(stderr, "brume: error_vs_depth not charted: at %dx%d no list length is met by %d pixels of the "
+                             "static scenes (a larger --size charts it)\n", w, h, kMinDepthBinPixels);
+    const ChartsWritten charts = write_charts(dir, points, series, depth);
+    for (const std::string& c : charts.drawn) std::printf("wrote %s\n", c.c_str());
     std::printf("wrote %s and %s\n", (dir / "results.csv").c_str(), (dir / "results.json").c_str());
+    // The charts this bench may make that this run did not (README, "Methods compared"): an earlier run's
+    // temporal_crossing.svg beside a static-only run's results read as this run's.
+    std::vector<std::string> known = {"speed_accuracy", "error_vs_depth"};
+    for (const std::string& name : builtin_preset_names()) known.push_back("temporal_" + name);
+    for (const std::string& r : remove_charts_not_written(dir, known, charts.stems))
+        std::printf("removed %s (an earlier run's chart, not made by this run)\n", r.c_str());
     return 0;
 }
 

@@ -107,7 +107,7 @@ int run_bench_scale(const BenchArgs& args) {
                                         ", as in a scene file (got " + std::to_string(n) + ")");
         counts.push_back(std::size_t(n));
     }
-    const std::vector<std::string> specs = args.methods.empty() ? default_scale_methods() : split_commas(args.methods);
+    const std::vector<std::string> specs = args.methods.empty() ? default_scale_methods() : split_method_list(args.methods);
     if (specs.empty()) throw UsageError("--methods: no method named (brume methods lists them)");
     for (const std::string& spec : specs) check_method_usage(spec, 0);  // a bad spec is refused before any work
     if (!args.output_dir.empty()) check_folder_can_be_made(args.output_dir);  // made when the figures are in

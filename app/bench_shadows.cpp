@@ -9,6 +9,7 @@
 #include "render/image_compare.h"
 #include "render/methods/fill_ceiling.h"
 #include "render/methods/ppll.h"
+#include "render/methods/registry.h"
 #include "render/methods/tiles.h"
 #include "render/reference.h"
 #include "render/vk/device.h"
@@ -128,7 +129,7 @@ int run_bench_shadows(const BenchArgs& args) {
         throw UsageError("--output: the chart plots each technique's error against the reference, which --no-reference skips");
     if (!args.output_dir.empty()) check_folder_can_be_made(args.output_dir);  // made when the figures are in
     std::vector<std::string> methods(std::begin(kMethods), std::end(kMethods));
-    if (!args.methods.empty()) methods = split_commas(args.methods);
+    if (!args.methods.empty()) methods = split_method_list(args.methods);
     if (methods.empty()) throw UsageError("--methods: no method named (bench shadows compares ppll, tiles and trace)");
     for (const std::string& m : methods)
         if (std::find(std::begin(kMethods), std::end(kMethods), m) == std::end(kMethods))

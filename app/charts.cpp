@@ -73,9 +73,8 @@ std::vector<ChartLabel> chart_labels(const std::vector<ChartPoint>& points) {
     return labels;
 }
 
-std::vector<std::string> write_charts(const fs::path& dir, const std::vector<ChartPoint>& points,
-                                      const std::vector<TemporalSeries>& temporal,
-                                      const std::vector<DepthErrorSeries>& depth) {
+ChartsWritten write_charts(const fs::path& dir, const std::vector<ChartPoint>& points,
+                           const std::vector<TemporalSeries>& temporal, const std::vector<DepthErrorSeries>& all_depth) {
     std::vector<std::pair<std::string, std::string>> scripts;  // stem, gnuplot script
 
     // Speed against accuracy, with the Pareto front.
@@ -125,7 +124,10 @@ std::vector<std::string> write_charts(const fs::path& dir, const std::vector<Cha
         scripts.push_back({"temporal_" + scene, both_terminals("temporal_" + scene, plot.str())});
     }
 
-    // Error against depth complexity.
+    // Error against depth complexity, of the series that have points.
+    std::vector<DepthErrorSeries> depth;
+    for (const DepthErrorSeries& d : all_depth)
+        if (!d.points.empty()) depth.push_back(d);
     if (!depth.empty()) {
         std::ostringstream data, plot;
         plot << "set title 'Error against depth complexity (static scenes)'\n"
@@ -143,7 +145,29 @@ std::vector<std::string> write_charts(const fs::path& dir, const std::vector<Cha
         scripts.push_back({"error_vs_depth", both_terminals("error_vs_depth", plot.str())});
     }
 
-    return draw_charts(dir, scripts);
+    ChartsWritten written;
+    for (const auto& [stem, script] : scripts) written.stems.push_back(stem);
+    written.drawn = draw_charts(dir, scripts);
+    return written;
+}
+
+std::vector<std::string> remove_charts_not_written(const fs::path& dir, const std::vector<std::string>& known,
+                                                   const std::vector<std::string>& written) {
+    std::vector<std::string> removed;
+    for (const std::string& stem : known) {
+        if (std::find(written.begin(), written.end(), stem) != written.end()) continue;
+        std::vector<std::string> names;
+        for (const char* ext : {".dat", ".gp", ".svg", ".png", ".gnuplot.log"}) names.push_back(stem + ext);
+        if (stem == "speed_accuracy") {
+            names.push_back("pareto_front.dat");
+            names.push_back("speed_accuracy_labels.dat");
+        }
+        for (const std::string& name : names) {
+            std::error_code ec;
+            if (fs::remove(dir / name, ec)) removed.push_back((dir / name).string());
+        }
+    }
+    return removed;
 }
 
 namespace {
@@ -156,19 +180,31 @@ std::vector<std::string> draw_charts_impl(const fs::path& dir,
     for (const auto& [stem, script] : scripts) {
         const fs::path gp = dir / (stem + ".gp");
         write_file_atomically(gp, script);
-        if (gnuplot_missing) continue;
+        // gnuplot writes the pictures in place: one it could not finish is empty or cut short, and one
+        // not drawn this time is an earlier run's beside this run's data. Neither is left.
+        const auto remove_pictures = [&] {
+            std::error_code ec;
+            fs::remove(dir / (stem + ".svg"), ec);
+            fs::remove(dir / (stem + ".png"), ec);
+        };
+        if (gnuplot_missing) {
+            remove_pictures();
+            continue;
+        }
         // gnuplot resolves the data files relative to its working directory: run it in DIR.
         const int status = run_process({"sh", "-c", "cd \"$0\" && exec gnuplot \"$1\"", dir.string(), gp.filename().string()},
                                        (dir / (stem + ".gnuplot.log")).string());
         if (status == 127 || status < 0) {
             gnuplot_missing = true;
+            remove_pictures();
             std::fprintf(stderr, "brume: gnuplot is not installed (Debian: gnuplot-nox); the charts' data and scripts "
                                  "are in %s: run gnuplot there on each .gp file\n", dir.c_str());
             continue;
         }
         if (status != 0) {
-            std::fprintf(stderr, "brume: gnuplot failed on %s (see %s)\n", gp.c_str(),
-                         (dir / (stem + ".gnuplot.log")).c_str());
+            remove_pictures();
+            std::fprintf(stderr, "brume: gnuplot failed on %s (see %s); %s.svg and %s.png were not drawn\n", gp.c_str(),
+                         (dir / (stem + ".gnuplot.log")).c_str(), stem.c_str(), stem.c_str());
             continue;
         }
         std::error_code ec;

@@ -26,11 +26,26 @@ struct DepthErrorSeries {
     std::vector<std::pair<double, double>> points;  // (list length, mean |error| / peak)
 };
 
-// Writes DIR/*.dat, DIR/*.gp and, when gnuplot runs, DIR/*.svg and DIR/*.png; returns the chart
-// files written.
-std::vector<std::string> write_charts(const std::filesystem::path& dir, const std::vector<ChartPoint>& points,
-                                      const std::vector<TemporalSeries>& temporal,
-                                      const std::vector<DepthErrorSeries>& depth);
+// What write_charts made: the stems of the charts whose data and script it wrote ("speed_accuracy",
+// "temporal_crossing", ...), and the SVG and PNG files gnuplot drew of them.
+struct ChartsWritten {
+    std::vector<std::string> stems;
+    std::vector<std::string> drawn;
+};
+
+// Writes DIR/*.dat, DIR/*.gp and, when gnuplot runs, DIR/*.svg and DIR/*.png. A depth series without
+// points is left out, and the depth chart with it when no series has any (gnuplot fails on an empty
+// plot, and left a 0-byte SVG).
+ChartsWritten write_charts(const std::filesystem::path& dir, const std::vector<ChartPoint>& points,
+                           const std::vector<TemporalSeries>& temporal, const std::vector<DepthErrorSeries>& depth);
+
+// The files of chart STEM in a bench's folder: STEM.dat, .gp, .svg, .png and .gnuplot.log (speed_accuracy
+// also pareto_front.dat and speed_accuracy_labels.dat). Removes those of each stem of `known` that is not
+// in `written`, so that a run into a folder an earlier run filled leaves no chart of that run beside its
+// own results (temporal_crossing.svg after a run of static scenes); returns the paths removed. Files of
+// other names are never touched.
+std::vector<std::string> remove_charts_not_written(const std::filesystem::path& dir, const std::vector<std::string>& known,
+                                                   const std::vector<std::string>& written);
 
 // `brume bench vdb`: per grid, (sphere count, RMS optical-depth error) for each tolerance.
 struct VdbSeries {
@@ -40,7 +55,8 @@ struct VdbSeries {
 std::vector<std::string> write_vdb_chart(const std::filesystem::path& dir, const std::vector<VdbSeries>& series);
 
 // Writes each (stem, gnuplot script) as DIR/STEM.gp and draws it; returns the SVG and PNG files drawn.
-// Without gnuplot, says so once on stderr and returns none.
+// Without gnuplot, says so once on stderr and returns none. A chart not drawn (no gnuplot, or gnuplot
+// failed: said on stderr) leaves no STEM.svg or STEM.png, neither an empty one nor an earlier run's.
 std::vector<std::string> draw_charts(const std::filesystem::path& dir,
                                      const std::vector<std::pair<std::string, std::string>>& scripts);
 

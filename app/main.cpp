@@ -42,16 +42,7 @@ int list_devices() {
 }
 
 int list_methods() {
-    for (const brume::MethodEntry& m : brume::method_catalogue()) {
-        std::string name = m.name + (m.setting.empty() ? "" : ":" + m.setting);
-        std::string notes;
-        if (!m.default_setting.empty()) notes += " (default " + m.default_setting + ")";
-        if (m.exact) notes += " [exact]";
-        if (m.options & brume::kHonoursMaxMemory) notes += " [--max-memory]";
-        if (m.options & brume::kHonoursPoolNodes) notes += " [--pool-nodes]";
-        if (m.options & brume::kHonoursThreads) notes += " [--threads]";
-        std::printf("%-22s %s%s\n", name.c_str(), m.summary.c_str(), notes.c_str());
-    }
+    for (const std::string& line : brume::method_listing()) std::printf("%s\n", line.c_str());
     return 0;
 }
 

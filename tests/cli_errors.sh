@@ -1429,6 +1429,92 @@ for k in $(seq 1 16); do
 done
 [ -z "$fuzz_bad" ] && ok fuzz.cli_sample || fail fuzz.cli_sample "$fuzz_bad (inputs kept in $fz)"
 
+# --- 19. bench as a benchmark user met it (docs/reliability.md, "Found 2026-12-07 by a benchmark user"). -----
+bu=$work/bench_user
+mkdir -p "$bu/list"
+# csv_field FILE METHOD SCENE COLUMN: one field of bench methods' results.csv (its method names are quoted
+# where they hold a comma).
+csv_field() {
+    sed -E 's/"([^",]*),([^"]*)"/\1;\2/' "$1" | awk -F, -v m="${2//,/;}" -v s="$3" -v c="$4" '$1 == m && $2 == s { print $c }'
+}
+# A list holding stochastic's setting S,depth (the default sweep's own stochastic:8,depth) was refused as
+# "unknown method 'depth'". An earlier run's chart that this run does not make was left beside its results;
+# a static scene was timed from one frame whatever --frames said (now 5 by default).
+: >"$bu/list/temporal_crossing.svg"
+echo "1 1e-3" >"$bu/list/temporal_crossing.dat"
+echo "mine" >"$bu/list/notes.txt"
+run bench methods --methods trace,stochastic:8,depth --scenes default --size 32x24 -o "$bu/list"
+expect_success bench.methods_setting_with_comma &&
+    [ "$(csv_field "$bu/list/results.csv" stochastic:8,depth default 2)" = default ] &&
+    [ "$(grep -c . "$bu/list/results.csv")" -eq 3 ] && ok bench.methods_setting_with_comma
+expect_success bench.methods_stale_charts_removed && [ ! -e "$bu/list/temporal_crossing.svg" ] &&
+    [ ! -e "$bu/list/temporal_crossing.dat" ] && [ -e "$bu/list/notes.txt" ] && [ -e "$bu/list/speed_accuracy.dat" ] &&
+    grep -q "removed .*temporal_crossing.svg" "$out" && ok bench.methods_stale_charts_removed
+expect_success bench.methods_static_frames_default && [ "$(csv_field "$bu/list/results.csv" trace default 4)" = 5 ] &&
+    ok bench.methods_static_frames_default
+run bench scale --spheres 50 --no-presets --frames 1 --size 16x12 --methods stochastic:8,plain
+expect_success bench.scale_setting_with_comma && grep -q "stochastic:8,plain" "$out" && ok bench.scale_setting_with_comma
+run bench methods --methods ppll,depth --scenes default --size 32x24 -o "$bu/never"
+expect_error bench.methods_stray_setting "unknown method 'depth'" && [ "$rc" -eq 2 ] && [ ! -e "$bu/never" ] &&
+    ok bench.methods_stray_setting
+# ppll's pool grown on cloud-1000 was reported as disjoint-300's memory after it; --frames was ignored.
+run bench methods --methods ppll --scenes disjoint-300 --size 32x24 --frames 3 -o "$bu/alone"
+expect_success bench.methods_memory_alone && ok bench.methods_memory_alone
+run bench methods --methods ppll --scenes cloud-1000,disjoint-300 --size 32x24 --frames 3 -o "$bu/after"
+alone=$(csv_field "$bu/alone/results.csv" ppll disjoint-300 6)
+after=$(csv_field "$bu/after/results.csv" ppll disjoint-300 6)
+cloud=$(csv_field "$bu/after/results.csv" ppll cloud-1000 6)
+expect_success bench.methods_memory_per_scene && [ -n "$alone" ] && [ "$alone" = "$after" ] && [ "$cloud" -gt "$alone" ] &&
+    ok bench.methods_memory_per_scene || echo "  (disjoint-300 alone $alone B, after cloud-1000 $after B; cloud-1000 $cloud B)"
+[ "$(csv_field "$bu/after/results.csv" ppll disjoint-300 4)" = 3 ] && ok bench.methods_frames_honoured ||
+    fail bench.methods_frames_honoured "frames column $(csv_field "$bu/after/results.csv" ppll disjoint-300 4), expected 3"
+# memory_bytes of a million and more was written 1.24109e+06: whole numbers in results.csv and .json.
+run bench methods --methods kbuf:16 --scenes default --frames 1 -o "$bu/big"
+big=$(csv_field "$bu/big/results.csv" kbuf:16 default 6)
+expect_success bench.methods_memory_whole && [[ "$big" =~ ^[0-9]+$ ]] && [ "$big" -ge 1000000 ] &&
+    grep -q "\"memory_bytes\": $big," "$bu/big/results.json" && ok bench.methods_memory_whole || echo "  (memory_bytes '$big')"
+# A size too small for any depth bin left every error_vs_depth series empty: gnuplot failed, a 0-byte
+# error_vs_depth.svg stayed, exit 0. Now the chart is skipped with a note, and no file is empty.
+run bench methods --methods trace --scenes default --size 2x2 --frames 1 -o "$bu/tiny"
+expect_success bench.methods_tiny_size && grep -q "error_vs_depth not charted" "$err" &&
+    [ -z "$(ls "$bu/tiny" | grep '^error_vs_depth')" ] && [ -z "$(find "$bu/tiny" -type f -size 0)" ] &&
+    ok bench.methods_tiny_size || echo "  ($(listing "$bu/tiny"))"
+# Every bench took every option and ignored those it does not read: one line naming both, exit 2, nothing made.
+run bench layers --methods sorted,kbuf:4 --sizes 16x12 --layers 2
+expect_error bench.unread_option_layers "--methods" "bench layers does not use it" && [ "$rc" -eq 2 ] &&
+    [ "$(wc -l <"$err")" -eq 1 ] && [ ! -s "$out" ] && ok bench.unread_option_layers
+run bench layers -o "$bu/layers_out" --sizes 16x12 --layers 2
+expect_error bench.unread_option_layers_output "--output" "bench layers" && [ "$rc" -eq 2 ] && [ ! -e "$bu/layers_out" ] &&
+    ok bench.unread_option_layers_output
+run bench sim -o "$bu/sim_out" --particles 10 --steps 1
+expect_error bench.unread_option_sim "--output" "bench sim does not use it" "--particles" && [ "$rc" -eq 2 ] &&
+    [ ! -e "$bu/sim_out" ] && ok bench.unread_option_sim
+run bench methods --no-reference --methods trace --scenes default --size 16x12 -o "$bu/noref"
+expect_error bench.unread_option_methods "--no-reference" "bench methods does not use it" && [ "$rc" -eq 2 ] &&
+    [ ! -e "$bu/noref" ] && ok bench.unread_option_methods
+# bench NAME --help lists the options NAME takes and no other.
+run bench methods --help
+expect_success bench.help_methods && grep -q -- "--frames" "$out" && grep -q -- "--scenes" "$out" &&
+    ! grep -q -- "--no-reference" "$out" && ! grep -q -- "--layers" "$out" && ok bench.help_methods
+run bench layers --help
+expect_success bench.help_layers && grep -q -- "--reference-frames" "$out" && ! grep -q -- "--methods" "$out" &&
+    ! grep -qE -- "(^| )-o," "$out" && ok bench.help_layers
+run bench sim --help
+expect_success bench.help_sim && grep -q -- "--steps" "$out" && ! grep -q -- "--device" "$out" && ok bench.help_sim
+# An empty setting rendered the default under the name "kbuf:"; peel:dual rendered peel:dual:8. Refused
+# before the device opens (the device named does not exist, and the error is not about it).
+for spec in kbuf: peel: peel:dual stochastic: screendoor:; do
+    run render "$data/small.toml" --method "$spec" --device no-such-device -o "$bu/never.exr"
+    expect_error "usage.empty_setting_$spec" "'${spec%%:*}'" && [ "$rc" -eq 2 ] && ! grep -q "no-such-device" "$err" &&
+        [ ! -e "$bu/never.exr" ] && ok "usage.empty_setting_$spec" || echo "  (status $rc: $(first_err))"
+done
+# brume methods listed peel:N|dual:N (dual:6 is no method) and stochastic's setting ran into its summary.
+run methods
+summary_columns=$(awk '{ match($0, /^[^ ]+ +/); print RLENGTH }' "$out" | sort -u | wc -l)
+expect_success methods.listing_aligned && [ "$summary_columns" -eq 1 ] && grep -q "^peel:\[dual:\]N " "$out" &&
+    ! grep -q "|dual:N" "$out" && grep -q "^stochastic:S\[,plain|,depth\] " "$out" && ok methods.listing_aligned ||
+    echo "  ($summary_columns summary columns)"
+
 for name in "${!started[@]}"; do
     [ -n "${reported[$name]:-}" ] || fail "$name" "neither passed nor failed: a condition after its expect_* step was false"
 done

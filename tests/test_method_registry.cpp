@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <string>
+#include <vector>
 #include <stdexcept>
 
 namespace brume {
@@ -139,6 +141,72 @@ TEST(MethodRegistry, ASpecsSettingIsCheckedWithoutADevice) {
             EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
         }
     }
+}
+
+// A ':' with nothing after it ("kbuf:", an unset variable in a script) rendered the default and was named
+// "kbuf:" in the stats; "peel:dual" rendered peel:dual:8. Each is refused, naming its method.
+TEST(MethodRegistry, AnEmptySettingIsRefused) {
+    for (const char* bad : {"kbuf:", "peel:", "peel:dual", "peel:dual:", "stochastic:", "stochastic:8,", "screendoor:",
+                            "ppll:", "trace:"}) {
+        try {
+            check_method_spec(bad);
+            ADD_FAILURE() << bad << " was accepted";
+        } catch (const std::invalid_argument& e) {
+            const std::string name = std::string(bad).substr(0, std::string(bad).find(':'));
+            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_NO_THROW(check_method_spec("kbuf"));  // the default, asked for by leaving ':' out
+    EXPECT_NO_THROW(check_method_spec("peel:dual:8"));
+}
+
+// `--methods` splits on commas, but stochastic's setting holds one (S[,plain|,depth]), and the default
+// sweep itself renders stochastic:8,depth: a list naming it was refused as "unknown method 'depth'".
+TEST(MethodRegistry, AMethodListKeepsSettingsThatHoldAComma) {
+    using List = std::vector<std::string>;
+    EXPECT_EQ(split_method_list("stochastic:8,depth"), (List{"stochastic:8,depth"}));
+    EXPECT_EQ(split_method_list("ppll,stochastic:8,plain,kbuf:4"), (List{"ppll", "stochastic:8,plain", "kbuf:4"}));
+    EXPECT_EQ(split_method_list("stochastic:8,depth,stochastic:4"), (List{"stochastic:8,depth", "stochastic:4"}));
+    EXPECT_EQ(split_method_list(",ppll,,trace,"), (List{"ppll", "trace"}));
+    EXPECT_EQ(split_method_list(","), List{});
+    // A token that completes no spec stays one, and is refused as what it is.
+    EXPECT_EQ(split_method_list("ppll,depth"), (List{"ppll", "depth"}));
+    EXPECT_EQ(split_method_list("stochastic,depth"), (List{"stochastic", "depth"}));
+    EXPECT_EQ(split_method_list("kbuf:4,depth"), (List{"kbuf:4", "depth"}));
+    EXPECT_THROW(check_method_spec(split_method_list("ppll,depth")[1]), std::invalid_argument);
+    // A joined token that its method refuses is refused by the method's own check.
+    const List bad = split_method_list("stochastic:8,magic");
+    ASSERT_EQ(bad.size(), 1u);
+    EXPECT_THROW(check_method_spec(bad[0]), std::invalid_argument);
+    // Every spec of the default sweep survives being written as a list.
+    std::string all;
+    for (const std::string& spec : bench_method_specs()) all += (all.empty() ? "" : ",") + spec;
+    EXPECT_EQ(split_method_list(all), bench_method_specs());
+}
+
+// `brume methods`: one line per entry, the summaries starting in one column (stochastic's setting ran
+// into its summary), and peel's setting written as the spec that works (peel:dual:N; "dual:6" is no method).
+TEST(MethodRegistry, TheListingAlignsItsSummariesAndNamesWorkingSpecs) {
+    const std::vector<std::string> lines = method_listing();
+    ASSERT_EQ(lines.size(), method_catalogue().size());
+    std::size_t column = std::string::npos;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        const MethodEntry& m = method_catalogue()[i];
+        const std::size_t at = lines[i].find(m.summary);
+        ASSERT_NE(at, std::string::npos) << lines[i];
+        if (column == std::string::npos) column = at;
+        EXPECT_EQ(at, column) << lines[i];
+        EXPECT_EQ(lines[i].rfind(m.name, 0), 0u) << lines[i];
+        EXPECT_EQ(lines[i][at - 1], ' ') << lines[i];
+        EXPECT_EQ(lines[i][at - 2], ' ') << lines[i];  // at least two spaces after the widest name
+    }
+    for (const std::string& line : lines)
+        if (line.rfind("peel", 0) == 0) {
+            EXPECT_EQ(line.find("|dual"), std::string::npos) << line;
+            EXPECT_NE(line.find("peel:[dual:]N"), std::string::npos) << line;
+        }
+    EXPECT_THROW(check_method_spec("dual:6"), std::invalid_argument);
+    EXPECT_NO_THROW(check_method_spec("peel:dual:6"));
 }
 
 TEST(MethodRegistry, BenchSweepsEveryMethodButTheReference) {

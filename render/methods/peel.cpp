@@ -70,8 +70,8 @@ VkClearValue clear_float(float r, float g, float b, float a) {
 }
 
 int parse_passes(const std::string& text, const std::string& setting) {
-    const std::string allowed = "peel setting must be N or dual:N with N in 1.." + std::to_string(kMaxPasses) +
-                                " (got '" + setting + "')";
+    const std::string allowed = "method 'peel' takes N or dual:N (peel:N, peel:dual:N) with N in 1.." +
+                                std::to_string(kMaxPasses) + " (got ':" + setting + "')";
     if (text.empty() || text.size() > 3 || !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
         throw std::invalid_argument(allowed);
     const int n = std::stoi(text);
@@ -84,10 +84,8 @@ int parse_passes(const std::string& text, const std::string& setting) {
 PeelOptions parse_peel_setting(const std::string& setting) {
     PeelOptions o;
     if (setting.empty()) return o;
-    if (setting == "dual") {
-        o.dual = true;
-        return o;
-    }
+    // "dual" alone is refused with the rest (parse_passes of ""): like "kbuf:", a setting left half
+    // written, which rendered peel:dual:8 unasked.
     if (setting.rfind("dual:", 0) == 0) {
         o.dual = true;
         o.passes = parse_passes(setting.substr(5), setting);

@@ -31,7 +31,7 @@ struct PeelOptions {
     int passes_per_submit = 4;  // geometry passes per submission between CPU early-stop checks
 };
 
-// "" / "N" / "dual" / "dual:N". Throws std::invalid_argument naming the setting.
+// "" (the default) / "N" / "dual:N". Throws std::invalid_argument naming the setting ("dual" alone too).
 PeelOptions parse_peel_setting(const std::string& setting);
 
 std::unique_ptr<Method> make_peel_method(vk::Device& device, const std::string& setting);

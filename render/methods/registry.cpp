@@ -14,7 +14,9 @@
 #include "render/methods/tiles.h"
 #include "render/methods/weighted.h"
 
+#include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 namespace brume {
 
@@ -120,9 +122,9 @@ const std::vector<MethodEntry>& method_catalogue() {
          {}, &gpu_method<make_wboit_method>},
         {"kbuf", "k", "8", "k nearest spheres per pixel (FreePipe / k-buffer, k = 1..32), tail as one averaged layer",
          true, false, false, 0, {"4", "16"}, &gpu_method<make_kbuf_method>, &check_kbuf},
-        {"peel", "N|dual:N", "8",
-         "depth peeling: N geometry passes front to back (1..64), or dual:N peeling a front and a back layer per "
-         "pass; layers beyond as one slab",
+        {"peel", "[dual:]N", "8",
+         "depth peeling: N geometry passes front to back (1..64), or peel:dual:N peeling a front and a back layer "
+         "per pass; layers beyond as one slab",
          true, false, false, 0, {"4", "16", "dual:8"}, &gpu_method<make_peel_method>, &check_peel},
         {"stochastic", "S[,plain|,depth]", "8",
          "stochastic transparency with S samples per pixel (power of two, 1..64), alpha-corrected unless ',plain'; "
@@ -157,6 +159,14 @@ void check_method_spec(const std::string& spec) {
     const std::string setting = setting_of(spec);
     if (!setting.empty() && entry.setting.empty())
         throw std::invalid_argument("method '" + entry.name + "' takes no setting (got ':" + setting + "')");
+    // "kbuf:" rendered with the default and was named "kbuf:" in the stats: a ':' with nothing after it
+    // is a setting left half written (a variable that was empty), not a request for the default.
+    if (setting.empty() && spec.find(':') != std::string::npos)
+        throw std::invalid_argument(entry.setting.empty()
+                                        ? "method '" + entry.name + "' takes no setting (got ':')"
+                                        : "method '" + entry.name + "': an empty setting after ':' (" + entry.name + ":" +
+                                              entry.setting + "; leave ':' out for the default, " +
+                                              entry.default_setting + ")");
     if (entry.check_setting) entry.check_setting(setting);
 }
 
@@ -177,6 +187,54 @@ void check_method_options(const std::string& spec, unsigned given) {
         if (honoured(m) & ignored) honouring += (honouring.empty() ? "" : ", ") + m.name;
     throw std::invalid_argument(option_names(ignored) + " applies to " + honouring + ", not to method '" +
                                 entry.name + "'");
+}
+
+std::vector<std::string> split_method_list(const std::string& text) {
+    std::vector<std::string> specs;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        const std::string token = text.substr(start, comma - start);
+        start = comma + 1;
+        if (token.empty()) continue;  // "a,,b" and a trailing comma name nothing more
+        // "stochastic:8,depth" is one spec whose setting holds a comma: a token that names no method
+        // completes the spec before it when that spec's method takes such a setting. Anything else
+        // stays a spec of its own, so "ppll,depth" is refused as an unknown method 'depth'.
+        if (!specs.empty() && specs.back().find(':') != std::string::npos) {
+            const std::string name = token.substr(0, token.find(':'));
+            const bool is_method = std::any_of(method_catalogue().begin(), method_catalogue().end(),
+                                               [&](const MethodEntry& m) { return m.name == name; });
+            const std::string previous = specs.back().substr(0, specs.back().find(':'));
+            const auto entry = std::find_if(method_catalogue().begin(), method_catalogue().end(),
+                                            [&](const MethodEntry& m) { return m.name == previous; });
+            if (!is_method && entry != method_catalogue().end() && entry->setting.find(',') != std::string::npos) {
+                specs.back() += "," + token;
+                continue;
+            }
+        }
+        specs.push_back(token);
+    }
+    return specs;
+}
+
+std::vector<std::string> method_listing() {
+    std::vector<std::pair<std::string, std::string>> rows;  // NAME[:SETTING], summary and notes
+    std::size_t width = 0;
+    for (const MethodEntry& m : method_catalogue()) {
+        std::string name = m.name + (m.setting.empty() ? "" : ":" + m.setting);
+        std::string notes = m.summary;
+        if (!m.default_setting.empty()) notes += " (default " + m.default_setting + ")";
+        if (m.exact) notes += " [exact]";
+        if (m.options & kHonoursMaxMemory) notes += " [--max-memory]";
+        if (m.options & kHonoursPoolNodes) notes += " [--pool-nodes]";
+        if (m.options & kHonoursThreads) notes += " [--threads]";
+        width = std::max(width, name.size());
+        rows.emplace_back(std::move(name), std::move(notes));
+    }
+    // One column for the names, as wide as the widest: "stochastic:S[,plain|,depth]" ran into its summary.
+    std::vector<std::string> lines;
+    for (const auto& [name, notes] : rows) lines.push_back(name + std::string(width + 2 - name.size(), ' ') + notes);
+    return lines;
 }
 
 std::vector<std::string> bench_method_specs() {

@@ -63,6 +63,14 @@ void check_method_spec(const std::string& spec);
 // Throws std::invalid_argument when an option was given (`given`, MethodOptionBits) that the method
 // of `spec` does not honour, naming the option and the methods that do.
 void check_method_options(const std::string& spec, unsigned given);
+// A `--methods` list split into specs: on commas, but a token that names no method completes the spec
+// before it when that one's setting may hold a comma ("stochastic:8,depth,ppll" is two specs, as
+// `brume methods` writes stochastic's setting S[,plain|,depth]). Empty items are dropped. The specs
+// are not checked: check_method_spec does that.
+std::vector<std::string> split_method_list(const std::string& text);
+// The lines `brume methods` prints: NAME[:SETTING] in a column as wide as the widest, then the summary,
+// the default setting, [exact] and the options the method honours.
+std::vector<std::string> method_listing();
 // What `brume bench` renders by default: every entry at its default setting, then its sweeps.
 std::vector<std::string> bench_method_specs();
 

@@ -174,7 +174,7 @@ expect_error scene.missing_file "$work/no-such-scene.toml" && ok scene.missing_f
 
 # --- 4. An unknown device is named and the available ones listed. ------------------------------------------
 run render "$data/small.toml" --device no-such-device -o never.exr
-expect_error device.unknown "no-such-device" "available" "llvmpipe" && ok device.unknown
+expect_error device.unknown "no-such-device" "the devices (brume devices)" "llvmpipe" && ok device.unknown
 # Integers in options never wrap: 4294967328 is not 32, 2^32 is not frame 0.
 run render "$data/small.toml" --size 4294967328x24 -o never.exr
 expect_error size.wrap "4294967328x24" "16384" && ok size.wrap

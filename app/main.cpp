@@ -49,12 +49,14 @@ int list_methods() {
 // One line of bounded length, whatever a library or a file put in the message: the parts that echo
 // input are cut where they are made (toml_text::excerpt); this is the last guard.
 int fail(const char* what) {
-    constexpr std::size_t kMaxMessage = 2000;
+    // Its start and its end are kept: the end is the reason ("File name too long") after a long path.
+    constexpr std::size_t kMaxMessage = 2000, kKeptEnd = 600;
     const std::size_t n = std::strlen(what);
     if (n <= kMaxMessage)
         std::fprintf(stderr, "brume: error: %s\n", what);
     else
-        std::fprintf(stderr, "brume: error: %.*s... (%zu bytes)\n", int(kMaxMessage), what, n);
+        std::fprintf(stderr, "brume: error: %.*s ... (%zu bytes in all) ... %s\n", int(kMaxMessage - kKeptEnd), what, n,
+                     what + n - kKeptEnd);
     return 1;
 }
 

@@ -37,7 +37,14 @@ std::string standard_output_alias(const std::string& path) {
     return stream_or_file && out.st_dev == named.st_dev && out.st_ino == named.st_ino ? kStandardOutputName : path;
 }
 
-std::string input_path(const std::string& given) { return given == kStandardInputName ? "/dev/stdin" : given; }
+std::string input_path(const std::string& given) {
+    if (given != kStandardInputName) return given;
+    // Closed (`<&-`), /dev/stdin names no file: say what is missing rather than "no such file".
+    if (::fcntl(STDIN_FILENO, F_GETFD) == -1)
+        throw UsageError("- reads the scene or preset from standard input, which is closed; redirect a file or a "
+                         "program into it (< FILE, PROGRAM |), or name a file");
+    return "/dev/stdin";
+}
 
 std::string shown_output_name(const std::string& path) {
     return names_standard_output(path) ? "standard output" : path;

@@ -1015,6 +1015,20 @@ rm -f "$so/d/scene.toml"
 expect_line stdout.same_as_an_output 2 "-o and --png both name standard output (- or the file it is open on): at most one output can go there" &&
     ok stdout.same_as_an_output
 rm -f "$so/d/y.exr"
+# "-" as the input with standard input closed names what is missing, not "/dev/stdin: no such file".
+(cd "$so/d" && "$brume" render - --size 8x8 -o cl.exr <&- 2>"$err"); rc=$?
+expect_line stdin.closed 2 "- reads the scene or preset from standard input, which is closed; redirect a file or a program into it (< FILE, PROGRAM |), or name a file" &&
+    { dir_holds "$so/d" && ok stdin.closed || fail stdin.closed "the folder holds: $(listing "$so/d")"; }
+# A message too long for one line keeps its end, the reason, after a path of thousands of bytes.
+long_name=$(printf 'd%.0s' $(seq 1 3000))
+(cd "$so/d" && "$brume" render --size 8x8 -o "$long_name/$long_name/x.exr" 2>"$err"); rc=$?
+started[output.long_message_keeps_reason]=1
+if [ "$rc" -ne 1 ] || [ "$(wc -l <"$err")" -ne 1 ] || [ "$(wc -c <"$err")" -gt 2100 ] ||
+    ! grep -q 'bytes in all) .*File name too long$' "$err"; then
+    fail output.long_message_keeps_reason "status $rc, $(wc -c <"$err") bytes: $(tail -c 200 "$err")"
+else
+    ok output.long_message_keeps_reason
+fi
 # What a command prints must arrive: a full device is a failure, as in coreutils.
 "$brume" methods >/dev/full 2>"$err"; rc=$?
 expect_line stdout.full 1 "cannot write to standard output: No space left on device: its lines were lost" && ok stdout.full

@@ -226,24 +226,26 @@ done
 kill -HUP "$pid" 2>/dev/null
 wait "$pid"
 rc=$?
-unpaired=""
-for f in hup/*.png; do [ -e "${f%.png}.exr" ] || unpaired="$unpaired $f"; done
-for f in hup/*.exr; do [ -e "${f%.exr}.png" ] || unpaired="$unpaired $f"; done
-if [ "$rc" -ne 130 ]; then fail sighup "exit status $rc, expected 130"
-elif [ -n "$unpaired" ] || ls -A hup | grep -q '^\.'; then fail sighup "unpaired or temporary files:$unpaired"
-elif ! grep -q "interrupted" hup.log; then fail sighup "no message"
-else ok sighup; fi
+# stopped_as_on_a_signal DIR LOG: the run (status $rc) stopped as on a signal: exit 130, "interrupted" in
+# LOG, every PNG in DIR with its EXR and no temporaries; "" or why not, as the check's failure.
+stopped_as_on_a_signal() {
+    local dir=$1 log=$2 f unpaired=""
+    for f in "$dir"/*.png; do [ -e "${f%.png}.exr" ] || unpaired="$unpaired $f"; done
+    for f in "$dir"/*.exr; do [ -e "${f%.exr}.png" ] || unpaired="$unpaired $f"; done
+    if [ "$rc" -ne 130 ]; then echo "exit status $rc, expected 130: $(tail -c 300 "$log")"
+    elif [ -n "$unpaired" ] || ls -A "$dir" | grep -q '^\.'; then echo "unpaired or temporary files:$unpaired"
+    elif ! grep -q "interrupted" "$log"; then echo "no message: $(tail -c 300 "$log")"
+    fi
+}
+why=$(stopped_as_on_a_signal hup hup.log)
+if [ -n "$why" ]; then fail sighup "$why"; else ok sighup; fi
 
 # A log pipe whose reader went away (`play ... | head -1`, a dropped ssh session's pipe) ends a run as
 # SIGHUP does: the frame in progress finished, a message on stderr, exit 130; not a kill by SIGPIPE.
 ( "$brume" play plume -o piped --size 64x48 --format png,exr 2>piped.err; echo $? >piped.rc ) | head -c 1 >/dev/null
 rc=$(cat piped.rc)
-unpaired=""
-for f in piped/*.png; do [ -e "${f%.png}.exr" ] || unpaired="$unpaired $f"; done
-for f in piped/*.exr; do [ -e "${f%.exr}.png" ] || unpaired="$unpaired $f"; done
-if [ "$rc" -ne 130 ]; then fail log_pipe_closed "exit status $rc, expected 130: $(tail -c 300 piped.err)"
-elif [ -n "$unpaired" ] || ls -A piped | grep -q '^\.'; then fail log_pipe_closed "unpaired or temporary files:$unpaired"
-elif ! grep -q "interrupted" piped.err; then fail log_pipe_closed "no message: $(tail -c 300 piped.err)"
+why=$(stopped_as_on_a_signal piped piped.err)
+if [ -n "$why" ]; then fail log_pipe_closed "$why"
 elif [ "$(ls piped | wc -l)" -ge 288 ]; then fail log_pipe_closed "every frame was rendered"
 else ok log_pipe_closed; fi
 

@@ -15,6 +15,16 @@
 namespace brume {
 namespace {
 
+// `spec` is refused by check_method_spec, with a message that names its method.
+void expect_refused_naming_its_method(const std::string& spec) {
+    try {
+        check_method_spec(spec);
+        ADD_FAILURE() << spec << " was accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find(spec.substr(0, spec.find(':'))), std::string::npos) << e.what();
+    }
+}
+
 bool same_pixels(const Image& a, const Image& b) { return a.width == b.width && a.height == b.height && a.rgb == b.rgb; }
 
 TEST(MethodRegistry, TheReferenceTakesTheScenesShadowTechnique) {
@@ -132,30 +142,16 @@ TEST(MethodRegistry, ASpecsSettingIsCheckedWithoutADevice) {
         }
     }
     for (const char* bad : {"kbuf:0", "kbuf:33", "kbuf:x", "peel:0", "peel:65", "peel:dual:x", "stochastic:3",
-                            "stochastic:128", "stochastic:8,foo", "screendoor:0", "screendoor:9", "ppll:4", "magic"}) {
-        try {
-            check_method_spec(bad);
-            ADD_FAILURE() << bad << " was accepted";
-        } catch (const std::invalid_argument& e) {
-            const std::string name = std::string(bad).substr(0, std::string(bad).find(':'));
-            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-        }
-    }
+                            "stochastic:128", "stochastic:8,foo", "screendoor:0", "screendoor:9", "ppll:4", "magic"})
+        expect_refused_naming_its_method(bad);
 }
 
 // A ':' with nothing after it ("kbuf:", an unset variable in a script) rendered the default and was named
 // "kbuf:" in the stats; "peel:dual" rendered peel:dual:8. Each is refused, naming its method.
 TEST(MethodRegistry, AnEmptySettingIsRefused) {
     for (const char* bad : {"kbuf:", "peel:", "peel:dual", "peel:dual:", "stochastic:", "stochastic:8,", "screendoor:",
-                            "ppll:", "trace:"}) {
-        try {
-            check_method_spec(bad);
-            ADD_FAILURE() << bad << " was accepted";
-        } catch (const std::invalid_argument& e) {
-            const std::string name = std::string(bad).substr(0, std::string(bad).find(':'));
-            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-        }
-    }
+                            "ppll:", "trace:"})
+        expect_refused_naming_its_method(bad);
     EXPECT_NO_THROW(check_method_spec("kbuf"));  // the default, asked for by leaving ':' out
     EXPECT_NO_THROW(check_method_spec("peel:dual:8"));
 }

@@ -92,7 +92,7 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
     cmd->add_flag("--no-reference", args.no_reference,
                   "bench layers and shadows: skip the CPU reference (bench shadows: its error columns too)");
     cmd->add_option("--device", args.device,
-                    "Vulkan device (substring of its name; default lavapipe): bench methods, layers, scale, preview, shadows");
+                    "Vulkan device (a substring of its name, or #N as brume devices numbers them; default lavapipe): bench methods, layers, scale, preview, shadows");
     cmd->add_flag("--validate", args.validate,
                   "Enable the Vulkan validation layers: bench methods, layers, scale, preview, shadows");
 }

@@ -104,7 +104,7 @@ void add_play_command(CLI::App& app, PlayArgs& args) {
     cmd->add_option("--exposure", args.exposure, "PNG exposure in stops (default: the preset's)")
         ->each([&args](const std::string&) { args.exposure_set = true; });
     cmd->add_flag("--list", args.list, "List the built-in presets and exit");
-    cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
+    cmd->add_option("--device", args.device, "Vulkan device (a substring of its name, or #N as brume devices numbers them; default lavapipe)");
     cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers; any message fails the run");
     cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M");
     cmd->add_option("--threads", args.threads,

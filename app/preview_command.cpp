@@ -116,7 +116,7 @@ void add_preview_command(CLI::App& app, PreviewArgs& args) {
                     "With --frame: save that frame's viewport (.png as brume play writes it, or .exr linear) and exit");
     cmd->add_option("--script", args.script, "Run the commands of FILE (docs/preview.md), then stay open unless it quits");
     cmd->add_flag("--fixed-resolution", args.fixed_resolution, "Always render at the full viewport size");
-    cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
+    cmd->add_option("--device", args.device, "Vulkan device (a substring of its name, or #N as brume devices numbers them; default lavapipe)");
     cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers; any message fails the run");
     cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M");
 }

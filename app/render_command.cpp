@@ -49,7 +49,7 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
     cmd->add_option("--size", args.size, "Override the scene's resolution, WxH");
     cmd->add_option("--exposure", args.exposure, "PNG exposure in stops (default 0, or a preset's)")
         ->each([&args](const std::string&) { args.exposure_set = true; });
-    cmd->add_option("--device", args.device, "Vulkan device (substring of its name; default lavapipe)");
+    cmd->add_option("--device", args.device, "Vulkan device (a substring of its name, or #N as brume devices numbers them; default lavapipe)");
     cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers; any message fails the run");
     cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M (default: half the device heap)");
     cmd->add_option("--pool-nodes", args.pool_nodes, "Initial node-pool size (default: estimated from the scene)")

@@ -103,7 +103,9 @@ int main(int argc, char** argv) {
 namespace {
 
 int run(int argc, char** argv) {
-    CLI::App app{"Brume: exact volumetric particle rendering with per-pixel linked lists"};
+    // Named, so that the usage lines read "brume render ..." however it was started (a full path, a
+    // symlink), and the bare `brume`'s help, printed before any parse, names it at all.
+    CLI::App app{"Brume: exact volumetric particle rendering with per-pixel linked lists", "brume"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "brume " BRUME_VERSION);
     brume::app::RenderArgs render_args;

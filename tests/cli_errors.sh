@@ -267,7 +267,11 @@ else
 fi
 # A first try with no subcommand shows the help; --version answers.
 run
-if [ "$rc" -eq 2 ] && grep -q "render" "$err" && grep -q "Subcommands" "$err"; then ok usage.no_arguments; else fail usage.no_arguments "rc $rc: $(first_err)"; fi
+if [ "$rc" -eq 2 ] && grep -q "render" "$err" && grep -q "Subcommands" "$err" && grep -qx "Usage: brume \[OPTIONS\] SUBCOMMAND" "$err"; then
+    ok usage.no_arguments
+else
+    fail usage.no_arguments "rc $rc: $(head -n 2 "$err" | tr '\n' '|')"
+fi
 run --version
 expect_success usage.version && grep -Eq "^brume [0-9]+\.[0-9]+\.[0-9]+" "$out" && ok usage.version
 # Budgets take T as well, and a unit that is not one is named with the ones that are.

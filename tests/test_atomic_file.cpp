@@ -2,6 +2,7 @@
 // cleans up after killed runs and commits a run's outputs together (issue 14 items 10, 12, 13).
 #include "render/atomic_file.h"
 #include "render/output_set.h"
+#include "tests/scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -24,16 +25,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class AtomicFile : public ::testing::Test {
+class AtomicFile : public testing::ScratchDir {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("brume_atomic_file_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
     static std::string read(const fs::path& p) {
         std::ifstream in(p, std::ios::binary);
         std::ostringstream s;
@@ -50,7 +43,6 @@ protected:
         for (const auto& n : names) out += n + " ";
         return out;
     }
-    fs::path dir_;
 };
 
 TEST_F(AtomicFile, FollowsASymlinkAndKeepsIt) {

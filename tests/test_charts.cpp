@@ -2,6 +2,7 @@
 // points apart keep their own, and the Pareto front keeps the points no other beats. The charts' files:
 // none is left empty or from an earlier run beside a new run's results.
 #include "app/charts.h"
+#include "tests/scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -61,20 +62,12 @@ TEST(ChartLabels, TheParetoFrontKeepsThePointsNoOtherBeats) {
 
 namespace fs = std::filesystem;
 
-class ChartFiles : public ::testing::Test {
+class ChartFiles : public testing::ScratchDir {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("brume_chart_files_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
     void put(const std::string& name, const std::string& text = "an earlier run's\n") const {
         std::ofstream(dir_ / name, std::ios::binary) << text;
     }
     bool has(const std::string& name) const { return fs::exists(dir_ / name); }
-    fs::path dir_;
 };
 
 // bench methods into the folder of an earlier run: that run's charts which this one did not make are

@@ -6,6 +6,7 @@
 #include "sim/layers_scene.h"
 #include "sim/preset_file.h"
 #include "sim/scene_file.h"
+#include "tests/scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -1194,17 +1195,7 @@ TEST(ShippedPresets, DefaultIsPlume) {
 
 // --- Resolving names and paths --------------------------------------------------------------------
 
-class PresetOnDisk : public ::testing::Test {
-protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("brume_preset_file_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    fs::path dir_;
-};
+class PresetOnDisk : public testing::ScratchDir {};
 
 TEST_F(PresetOnDisk, ResolvesBuiltInNames) {
     const Preset p = resolve_preset("crossing");

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "sim/density_grid.h"
+#include "tests/scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -68,16 +69,6 @@ inline void write_bytes(const fs::path& path, const std::string& bytes) {
 }
 
 // A fresh directory per test, removed afterwards.
-class ScratchDir : public ::testing::Test {
-protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("brume_vdb_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    fs::path dir_;
-};
+using ScratchDir = brume::testing::ScratchDir;
 
 }  // namespace brume::vdb_test

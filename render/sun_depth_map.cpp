@@ -45,6 +45,31 @@ double thin_media_widening(std::vector<double>& depth_across) {
     const double t = depth_across[k];
     return t > 0.0 ? std::clamp(1.0 / (t * t), 1.0, kThinWidenMax) : kThinWidenMax;
 }
+// The spheres a lookup takes whole, as ascending indices into scene.spheres: in a scene of at most
+// kMaxOutsized spheres with a medium, every one of them; otherwise the outsized ones
+// (render/outsized_spheres.h). A lattice blurs a lone sphere's shadow edge, and the pieces it sets
+// along the view rays (SUN_PIECE_CELLS cells) run too long across the bend of a sphere's own depth
+// toward the sun: one sphere of radius 1 and extinction 0.65 read a mean error of 2.7e-3 of the peak
+// and a p99.9 of 3.3e-2 against the reference, where the target is 1e-3 and 1e-2 (docs/accuracy.md).
+// A few closed forms cost less than a lattice would.
+std::vector<std::size_t> whole_spheres(const Scene& scene) {
+    std::vector<std::size_t> all;
+    for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+        const Sphere& sp = scene.spheres[k];
+        if (sp.extinction > 0.0 && sp.radius > 0.0) all.push_back(k);
+        if (all.size() > std::size_t(kMaxOutsized)) return outsized_spheres(scene);
+    }
+    return all;
+}
+// Where every sphere is whole, the spacing that sets the pieces along the view rays (SUN_PIECE_CELLS
+// cells): kCellPerRadius of the spheres' lower median radius, kWholeSpheresFiner times finer, not
+// widened in thin media (no lattice blurs a shadow there; what is left is the pieces' straight line
+// across the bend of a sphere's depth toward the sun). Measured on one sphere against the reference
+// (trace at 64x48, mean and p99.9 of the peak; docs/accuracy.md): radius 1, extinction 0.65, no
+// ambient: 4.1e-4 and 2.6e-3 at 8, 8.5e-4 and 6.4e-3 at 4 (the lattice's pieces read 2.7e-3 and
+// 3.3e-2); radius 0.1 filling a 12-degree view: 6.1e-4 at extinction 50, 3.2e-3 at 1,000 and 7.2e-3
+// at 10,000 at 8 (the lattice's: 1.7e-2, 0.17 and 0.20). Such a frame costs 0.7-2.1x what it did.
+constexpr double kWholeSpheresFiner = 8.0;
 // Rows of columns per work item of the build: each item splats the spheres that reach its rows.
 constexpr int kBandRows = 4;
 // Columns whose suffix sums are taken side by side (the build's last step).
@@ -339,7 +364,7 @@ void SunDepthMap::lay_out(const Scene& scene, const SunLight& sun, const glm::dv
     l_ = sun.toward_sun();
     // The lattice's spheres, and apart from them the outsized ones a lookup takes in closed form
     // (render/outsized_spheres.h), in scene order.
-    const std::vector<std::size_t> over = outsized_spheres(scene);
+    const std::vector<std::size_t> over = whole_spheres(scene);
     std::vector<Projected> spheres, outsized;
     spheres.reserve(scene.spheres.size());
     for (std::size_t k = 0, next = 0; k < scene.spheres.size(); ++k) {
@@ -351,10 +376,79 @@ void SunDepthMap::lay_out(const Scene& scene, const SunLight& sun, const glm::dv
         next += whole ? 1 : 0;
         (whole ? outsized : spheres).push_back(p);
     }
-    if (spheres.empty()) return;
+    if (spheres.empty() && outsized.empty()) return;
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    // The lattice's shape and frame (u_lo, v_lo: its first vertex; s_lo: its lowest), and the whole
+    // spheres in its units.
+    const auto set_lattice = [&](int nu, int nv, int ns, double cell, double u_lo, double v_lo, double s_lo) {
+        nu_ = nu;
+        nv_ = nv;
+        ns_ = ns;
+        stride_v_ = nu * ns;
+        last_u_ = float(nu - 1);
+        last_v_ = float(nv - 1);
+        last_s_ = float(ns - 1);
+        cell_d_ = cell;
+        cell_ = float(cell);
+        u_lo_ = u_lo;
+        v_lo_ = v_lo;
+        s_lo_ = s_lo;
+        for (const Projected& p : outsized) {
+            const double r = p.r / cell;
+            outsized_[std::size_t(outsized_count_++)] = Outsized{float((p.u - u_lo_) / cell), float((p.v - v_lo_) / cell),
+                                                                 float((p.s - s_lo_) / cell), float(r * r),
+                                                                 float(p.tau * cell)};
+        }
+    };
+    // Room for the vertices. The last build's memory is reused where it is large enough: freed and
+    // allocated again, its pages went back to the system and faulted in afresh on the next frame's
+    // first touch (plume at 640x360, one thread: 6% of the frame in page faults under the build's
+    // writes). A map that outgrows its memory takes a quarter more room, within the budget: in
+    // playback the lattice grows with the smoke, frame after frame (ground-fog, frames 40-69: 6.62 M to
+    // 7.47 M vertices, a new largest every second frame), and a map allocated to the vertex each time
+    // took 41-47 ms to build against 3 ms in its kept memory (ground-fog in the preview window rendered
+    // at half the speed of the same frame alone). A first build takes what it needs: a map built once
+    // (one frame without a kept scratch) gains nothing from room, and at 32 MiB its block would leave
+    // glibc's heap for pages of its own.
+    const auto reserve_vertices = [&](std::size_t vertex_count) {
+        if (vertex_count > capacity_) {
+            const bool grows = capacity_ > 0;
+            depth_.reset();  // the old one first: both at once could exceed what the machine has
+            capacity_ = 0;
+            const std::size_t room = grows ? std::min(max_vertices, vertex_count + vertex_count / 4) : vertex_count;
+            try {
+                depth_.reset(new float[room]);
+            } catch (...) {
+                make_empty();
+                throw;
+            }
+            capacity_ = room;
+        }
+        size_ = vertex_count;
+    };
+    if (spheres.empty()) {
+        // Every sphere whole (whole_spheres: a scene of a few): no sphere in the lattice, which is the
+        // least one (3 x 3 x 2 vertices of 0) for lookups to read, framed at the spheres, its spacing
+        // kWholeSpheresFiner's.
+        std::vector<double> radii;
+        double u_lo = kInf, v_lo = kInf, s_lo = kInf;
+        for (const Projected& p : outsized) {
+            radii.push_back(p.r);
+            u_lo = std::min(u_lo, p.u - p.r);
+            v_lo = std::min(v_lo, p.v - p.r);
+            s_lo = std::min(s_lo, p.s - p.r);
+        }
+        const std::size_t middle = (radii.size() - 1) / 2;  // the lower median: of two, the smaller
+        std::nth_element(radii.begin(), radii.begin() + std::ptrdiff_t(middle), radii.end());
+        const double cell = kCellPerRadius * radii[middle] / kWholeSpheresFiner;
+        set_lattice(3, 3, 2, cell, u_lo - cell, v_lo - cell, s_lo);
+        if (!fill) return;
+        reserve_vertices(18);
+        std::fill(depth_.get(), depth_.get() + 18, 0.0f);
+        return;
+    }
     std::vector<double> depth_across;  // tau r of each
     depth_across.reserve(spheres.size());
-    constexpr double kInf = std::numeric_limits<double>::infinity();
     double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf, s_lo = kInf, s_hi = -kInf, radius_sum = 0.0;
     for (const Projected& p : spheres) {
         u_lo = std::min(u_lo, p.u - p.r);
@@ -388,51 +482,11 @@ void SunDepthMap::lay_out(const Scene& scene, const SunLight& sun, const glm::dv
         }
         cell *= 1.125;
     }
-    nu_ = nu;
-    nv_ = nv;
-    ns_ = ns;
-    stride_v_ = nu * ns;
-    last_u_ = float(nu - 1);
-    last_v_ = float(nv - 1);
-    last_s_ = float(ns - 1);
-    cell_d_ = cell;
-    cell_ = float(cell);
-    u_lo_ = u_lo - cell;
-    v_lo_ = v_lo - cell;
-    s_lo_ = s_lo;
-    for (const Projected& p : outsized) {
-        const double r = p.r / cell;
-        outsized_[std::size_t(outsized_count_++)] =
-            Outsized{float((p.u - u_lo_) / cell), float((p.v - v_lo_) / cell), float((p.s - s_lo_) / cell), float(r * r),
-                     float(p.tau * cell)};
-    }
-    const std::size_t vertex_count = std::size_t(nu) * std::size_t(nv) * std::size_t(ns);
+    set_lattice(nu, nv, ns, cell, u_lo - cell, v_lo - cell, s_lo);
     if (!fill) return;  // plan(): the lattice without its vertices (empty(), planned())
     // Left unwritten here: each band writes every vertex of its rows exactly once (below), so a frame
-    // pays one streaming pass over the map, in parallel, not a zeroing pass before it. The last build's
-    // memory is reused where it is large enough: freed and allocated again, its pages went back to the
-    // system and faulted in afresh on the next frame's first touch (plume at 640x360, one thread: 6%
-    // of the frame in page faults under the build's writes). A map that outgrows its memory takes a
-    // quarter more room, within the budget: in playback the lattice grows with the smoke, frame after
-    // frame (ground-fog, frames 40-69: 6.62 M to 7.47 M vertices, a new largest every second frame),
-    // and a map allocated to the vertex each time took 41-47 ms to build against 3 ms in its kept
-    // memory (ground-fog in the preview window rendered at half the speed of the same frame alone). A
-    // first build takes what it needs: a map built once (one frame without a kept scratch) gains
-    // nothing from room, and at 32 MiB its block would leave glibc's heap for pages of its own.
-    if (vertex_count > capacity_) {
-        const bool grows = capacity_ > 0;
-        depth_.reset();  // the old one first: both at once could exceed what the machine has
-        capacity_ = 0;
-        const std::size_t room = grows ? std::min(max_vertices, vertex_count + vertex_count / 4) : vertex_count;
-        try {
-            depth_.reset(new float[room]);
-        } catch (...) {
-            make_empty();
-            throw;
-        }
-        capacity_ = room;
-    }
-    size_ = vertex_count;
+    // pays one streaming pass over the map, in parallel, not a zeroing pass before it.
+    reserve_vertices(std::size_t(nu) * std::size_t(nv) * std::size_t(ns));
 
     // Each band of rows lists the spheres whose disc reaches it, in scene order (two counting passes),
     // so that bands are splatted in parallel without sharing a vertex, and the sums' order is fixed:

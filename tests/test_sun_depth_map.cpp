@@ -87,10 +87,15 @@ TEST(SunDepthMap, OneSphereUnderAVerticalSun) {
 // 0.09 / (tau r)^2 radii in thinner media, up to twice as wide (render/sun_depth_map.cpp
 // thin_media_widening): the same single sphere at five densities.
 TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
+    // Nine spheres in a row: a lattice (a scene of at most kMaxOutsized takes every sphere whole).
     Scene s = one_sphere({0.2, -1.0, 0.1}, 1.0);
     const Sphere sp = s.spheres[0];
+    for (int k = 1; k <= SunDepthMap::kMaxOutsized; ++k) {
+        s.spheres.push_back(sp);
+        s.spheres.back().center.x += 3.0 * k;
+    }
     const auto spacing = [&](double tau_r) {
-        s.spheres[0].extinction = tau_r / sp.radius;
+        for (Sphere& each : s.spheres) each.extinction = tau_r / sp.radius;
         return double(SunDepthMap(s, SunLight(s), glm::dvec3(0.0, 0.0, -5.0), 1).cell());
     };
     const double dense = 0.09 * sp.radius;
@@ -101,6 +106,7 @@ TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
     EXPECT_NEAR(spacing(0.01), 2.0 * dense, 1e-6);
     // The 99th percentile of the spheres' depths across: one thin sphere among dense ones keeps the
     // dense spacing.
+    s.spheres.resize(1);
     s.spheres[0].extinction = 3.0;
     for (int k = 1; k < 100; ++k) {
         Sphere other = sp;
@@ -110,6 +116,50 @@ TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
     }
     s.spheres[7].extinction = 0.01;
     EXPECT_NEAR(double(SunDepthMap(s, SunLight(s), glm::dvec3(0.0, 0.0, -5.0), 1).cell()), dense, 1e-6);
+}
+
+// A scene of at most kMaxOutsized spheres takes each one whole: every lookup is its closed form, so
+// the map is exact anywhere to float rounding (a lattice blurs a lone sphere's shadow edge), its
+// lattice the least one, and its spacing, which sets the pieces along the view rays, kCellPerRadius
+// (0.09) of the spheres' lower median radius over kWholeSpheresFiner (8). One sphere more, and the
+// lattice holds them all.
+TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
+    Scene s = one_sphere({0.3, -1.0, 0.2}, 1.2);
+    for (const double radius : {0.5, 2.0, 0.7}) {
+        Sphere sp = s.spheres[0];
+        sp.radius = radius;
+        sp.center += glm::dvec3(1.1 * radius, 0.9 - radius, 0.4 * radius);  // overlapping shadows
+        sp.extinction = 2.5 / radius;
+        s.spheres.push_back(sp);
+    }
+    const glm::dvec3 eye(0.3, 1.0, -6.0);
+    const SunLight sun(s);
+    const SunDepthMap map(s, sun, eye, 1);
+    ASSERT_FALSE(map.empty());
+    EXPECT_EQ(map.outsized().size(), 4u);
+    EXPECT_EQ(map.size_u() * map.size_v() * map.size_s(), 18);
+    EXPECT_NEAR(double(map.cell()), 0.09 * 0.7 / 8.0, 1e-9);  // radii 0.5, 0.7, 1, 2: the lower median 0.7
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> within(-3.0, 3.0);
+    double worst = 0.0, deepest = 0.0;
+    for (int n = 0; n < 2000; ++n) {
+        const glm::dvec3 x = glm::dvec3(0.0, 2.0, 0.0) + glm::dvec3(within(rng), within(rng), within(rng));
+        const glm::dvec3 rel = x - eye;
+        const double t = glm::length(rel);
+        const double want = sun.optical_depth(x);
+        worst = std::max(worst, std::abs(double(map.optical_depth(map.ray(rel / t), float(t))) - want));
+        deepest = std::max(deepest, want);
+    }
+    EXPECT_GT(deepest, 5.0);  // the probes reach the shadows
+    EXPECT_LT(worst, 1e-3 * deepest) << "worst error, deepest " << deepest;
+    // A lattice once there are more spheres than the closed forms take (none of them outsized).
+    for (int k = 1; k <= SunDepthMap::kMaxOutsized - 3; ++k) {
+        s.spheres.push_back(s.spheres[0]);
+        s.spheres.back().center.x -= 2.5 * k;
+    }
+    const SunDepthMap lattice(s, SunLight(s), eye, 1);
+    EXPECT_TRUE(lattice.outsized().empty());
+    EXPECT_GT(lattice.size_u() * lattice.size_v() * lattice.size_s(), 1000);
 }
 
 // Every vertex holds the exact optical depth of its point: probing at vertices (through the same ray

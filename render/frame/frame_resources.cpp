@@ -197,7 +197,11 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     bool fill_on_device = sun_map_pass_.has_value();
     if (fill_on_device) {
         map.plan(scene, *sun_light_, scene.camera.position);
-        fill_on_device = map.planned() && sun_map_pass_->fits(scene, *sun_light_, map);
+        // The device's build splats the spheres the grid lists (all but its outsized ones): only where
+        // those are the lattice's, not where the map takes a few-sphere scene's every sphere whole
+        // (render/sun_depth_map.cpp whole_spheres; its lattice is a handful of zeros).
+        fill_on_device = map.planned() && map.outsized().size() == sun_light_->outsized_indices().size() &&
+                         sun_map_pass_->fits(scene, *sun_light_, map);
     }
     if (!fill_on_device) map.build(scene, *sun_light_, scene.camera.position, 0);
     if (fill_on_device ? !map.planned() : map.empty()) {

@@ -20,7 +20,8 @@
 //
 // A scene of at most kMaxOutsized spheres takes every one whole the same way (sun_depth_map.cpp
 // whole_spheres): its lattice holds no sphere (a handful of zeros), and its spacing, kWholeSpheresFiner
-// times finer than such a lattice's, only sets the pieces along the view rays. A lone sphere's blurred
+// times finer than a lattice of spheres of their lower median radius, only sets the pieces along the
+// view rays. A lone sphere's blurred
 // shadow edge, and pieces too long for the bend of its own depth, missed the accuracy target there.
 //
 // Coordinates are relative to an origin (the eye), so float keeps its precision where the rays are.

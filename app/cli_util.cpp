@@ -3,6 +3,8 @@
 #include "render/image.h"
 #include "render/methods/registry.h"
 #include "render/outsized_spheres.h"
+#include "sim/preset.h"
+#include "sim/scene_sections.h"
 #include "sim/vdb/volume_loader.h"
 
 #include <vulkan/vulkan.h>
@@ -20,6 +22,17 @@ namespace brume::app {
 
 std::string count_of(std::size_t n, const char* singular, const char* plural) {
     return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
+void refuse_still_scene(const Preset& preset, const std::string& asked) {
+    if (!preset.still) return;
+    std::string sections;
+    for (const std::string_view s : kPresetSections) {
+        const bool many = s == "emitter" || s == "force";  // arrays of tables, as a preset writes them
+        sections += std::string(sections.empty() ? "" : ", ") + (many ? "[[" : "[") + std::string(s) + (many ? "]]" : "]");
+    }
+    throw UsageError(asked + ", and " + preset.scene.source + " is a scene, a still (it has none of a preset's sections: " +
+                     sections + "): brume render draws it, and an [[emitter]] or a [camera_path] makes it a preset");
 }
 
 bool note_outsized_spheres(const Scene& scene) {

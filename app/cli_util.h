@@ -11,6 +11,8 @@
 #include <vector>
 
 namespace brume {
+
+struct Preset;
 struct VolumeReport;
 }
 
@@ -86,6 +88,11 @@ void print_volume_report(const VolumeReport& report);
 // A note where the scene has more outsized spheres (render/outsized_spheres.h) than the accurate shadow
 // technique takes whole: the rest blur its map past its stated error. Nothing otherwise; false then.
 bool note_outsized_spheres(const Scene& scene);
+
+// Refuses a preset read from a scene file (Preset::still) where frames are asked for (play, render
+// --frame): it would be the same image every frame. `asked` says what asked for frames ("play plays a
+// preset's frames").
+void refuse_still_scene(const Preset& preset, const std::string& asked);
 
 // A JSON string literal (quotes, backslashes and control characters escaped).
 std::string json_string(const std::string& text);

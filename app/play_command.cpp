@@ -127,6 +127,7 @@ int run_play(const PlayArgs& args) {
     }
     // "-": the preset on standard input (named by its [preset] name, else "stdin").
     Preset preset = resolve_preset(args.preset.empty() ? default_preset_name() : input_path(args.preset));
+    refuse_still_scene(preset, "play plays a preset's frames");
     if (!args.size.empty()) parse_size(args.size, preset.scene.camera.width, preset.scene.camera.height);
     for (const VolumeReport& v : prepare_preset(preset)) print_volume_report(v);
     const std::string method = args.method.empty() ? preset.render.method : args.method;

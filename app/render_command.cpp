@@ -204,8 +204,10 @@ int run_render(const RenderArgs& command_line) {
     Scene scene;
     if (args.scene.empty())
         scene = default_scene();
-    else if (names_a_preset(args))
+    else if (names_a_preset(args)) {
         preset = resolve_preset(args.scene);
+        refuse_still_scene(*preset, "--frame picks a frame of a preset");
+    }
     else if (SceneOrPreset file = load_scene_or_preset_file(args.scene); file.preset)
         preset = std::move(file.preset);
     else

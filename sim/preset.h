@@ -149,6 +149,10 @@ struct Preset {
     std::vector<ForceDesc> forces;
     CameraPath camera_path;
     RenderSettingsPreset render;
+    // Read from a document with none of a preset's sections (sim/scene_sections.h kPresetSections):
+    // a scene file, a still. play and render --frame refuse it (its 120 frames would be one image);
+    // the preview shows it.
+    bool still = false;
 };
 
 }  // namespace brume

@@ -21,6 +21,7 @@ Preset read_preset(const toml_read::Reader& in, const std::string& source_name) 
     read_preset_sections(in, p);
     p.scene.source = source_name;
     if (p.name.empty()) p.name = preset_name_from_file(source_name);
+    p.still = std::ranges::none_of(kPresetSections, [&](std::string_view s) { return in.root().contains(s); });
     return p;
 }
 

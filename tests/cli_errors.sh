@@ -1533,6 +1533,15 @@ expect_success methods.listing_aligned && [ "$summary_columns" -eq 1 ] && grep -
     ! grep -q "|dual:N" "$out" && grep -q "^stochastic:S\[,plain|,depth\] " "$out" && ok methods.listing_aligned ||
     echo "  ($summary_columns summary columns)"
 
+# A scene file (none of a preset's sections) was played as a preset of 120 identical frames, and
+# render --frame took one of them, while the built-in scene's --frame was refused. Both refuse it now.
+run play "$data/small.toml" --frames 0-1 --size 8x6 -o "$bu/still_played"
+expect_error play.still_scene "is a scene, a still" && [ "$rc" -eq 2 ] && [ ! -e "$bu/still_played" ] &&
+    ok play.still_scene
+run render "$data/small.toml" --frame 3 --size 8x6 -o "$bu/still_frame.exr"
+expect_error render.still_scene_frame "is a scene, a still" && [ "$rc" -eq 2 ] && [ ! -e "$bu/still_frame.exr" ] &&
+    ok render.still_scene_frame
+
 for name in "${!started[@]}"; do
     [ -n "${reported[$name]:-}" ] || fail "$name" "neither passed nor failed: a condition after its expect_* step was false"
 done

@@ -240,7 +240,8 @@ int run_play(const PlayArgs& args) {
 
     std::printf("%s: frames %d-%d of %d at %dx%d, %.4g fps, method %s%s -> %s\n", preset.name.c_str(), range.first,
                 range.last, preset.timeline.frame_count(), preset.scene.camera.width, preset.scene.camera.height,
-                preset.timeline.fps, method.c_str(), device ? (" on " + device->name()).c_str() : "", dir.string().c_str());
+                preset.timeline.fps, renderer->name().c_str(), device ? (" on " + device->name()).c_str() : "",
+                dir.string().c_str());
     if (range.first > 0) std::printf("replayed the simulation to frame %d in %.2f s\n", range.first, replay_s);
 
     Progress progress(preset.name, range.last - range.first + 1);

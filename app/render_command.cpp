@@ -262,6 +262,8 @@ int run_render(const RenderArgs& command_line) {
         device_name = device->name();
     }
     std::unique_ptr<Method> method = make_method(device.get(), args.method, options);
+    // The method as it runs, for the line and the statistics: "kbuf" and "kbuf:08" read "kbuf:8".
+    args.method = method->name();
     // The exact reference's shadowed frames take seconds to minutes (vdb-cloud at 640x360: half a
     // minute on two cores): their progress on a terminal (stderr; nothing in a log).
     std::atomic<std::uint64_t> pixels_done{0};

@@ -1542,6 +1542,11 @@ run render "$data/small.toml" --frame 3 --size 8x6 -o "$bu/still_frame.exr"
 expect_error render.still_scene_frame "is a scene, a still" && [ "$rc" -eq 2 ] && [ ! -e "$bu/still_frame.exr" ] &&
     ok render.still_scene_frame
 
+# The statistics recorded a method as typed ("kbuf:08", "kbuf"); they name it as it ran.
+run render "$data/small.toml" --method kbuf:08 --size 8x6 --stats "$bu/kbuf08.json" -o "$bu/kbuf08.exr"
+expect_success stats.method_as_it_ran && grep -qF '"method": "kbuf:8"' "$bu/kbuf08.json" &&
+    grep -q "method kbuf:8 " "$out" && ok stats.method_as_it_ran
+
 for name in "${!started[@]}"; do
     [ -n "${reported[$name]:-}" ] || fail "$name" "neither passed nor failed: a condition after its expect_* step was false"
 done

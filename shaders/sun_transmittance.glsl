@@ -92,7 +92,8 @@ float sun_outsized_depth(vec3 g) {
 // The spheres' optical depth toward the sun at eye + rel, from the accurate technique's light-space
 // map (render/sun_depth_map.h; SunGridHeader.map_*): trilinear between vertices that hold it exactly.
 // Its cost does not grow with the smoke above the point: eight reads, and a closed form for each
-// outsized sphere (none in the shipped presets).
+// sphere the map takes whole (the outsized ones, none in the shipped presets; or every sphere of a
+// scene of at most eight, whose lattice holds only zeros).
 float sun_map_depth(vec3 rel) {
     uvec3 n = sun_grid.map_size.xyz;
     vec3 g = sun_grid.map_origin.xyz +

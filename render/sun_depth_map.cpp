@@ -361,7 +361,9 @@ void SunDepthMap::lay_out(const Scene& scene, const SunLight& sun, const glm::dv
                           std::size_t max_vertices, MapInstructions instructions, bool fill) {
     make_empty();  // until the lattice is known; the vertices' memory and the workers' scratch stay
     if (!sun.shadows() || scene.spheres.empty()) return;
-    max_vertices = std::min(max_vertices, kMaxVertices);
+    // At least the least lattice, 3 x 3 x 2 vertices: below it no spacing fits the budget, and the
+    // search for one below would never end.
+    max_vertices = std::clamp(max_vertices, std::size_t(18), kMaxVertices);
     u_ = sun.grid_u();
     v_ = sun.grid_v();
     l_ = sun.toward_sun();

@@ -162,6 +162,14 @@ TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
     EXPECT_GT(lattice.size_u() * lattice.size_v() * lattice.size_s(), 1000);
 }
 
+// A budget below the least lattice (3 x 3 x 2) gets that lattice: the spacing search had no end there.
+TEST(SunDepthMap, ABudgetBelowTheLeastLatticeGetsIt) {
+    const Scene s = random_cloud(30, 4, {0.2, -1.0, 0.3});
+    const SunDepthMap map(s, SunLight(s), glm::dvec3(0.0, 1.0, -8.0), 1, 5);
+    ASSERT_FALSE(map.empty());
+    EXPECT_EQ(map.size_u() * map.size_v() * map.size_s(), 18);
+}
+
 // Every vertex holds the exact optical depth of its point: probing at vertices (through the same ray
 // arithmetic the tracer uses) matches SunLight::optical_depth to float rounding.
 TEST(SunDepthMap, ExactAtItsVertices) {

@@ -17,6 +17,7 @@
 #include "sim/builtin_presets.h"
 #include "sim/camera_path.h"
 #include "sim/simulator.h"
+#include "sim/usable_cpus.h"
 #include "sim/vdb/volume_loader.h"
 
 #include <atomic>
@@ -108,12 +109,15 @@ void add_play_command(CLI::App& app, PlayArgs& args) {
     cmd->add_flag("--validate", args.validate, "Enable the Vulkan validation layers; any message fails the run");
     cmd->add_option("--max-memory", args.max_memory, "Node-pool budget, e.g. 256M");
     cmd->add_option("--threads", args.threads,
-                    "CPU threads for the CPU tracers (reference, trace, auto; 0 or unset: every CPU this process may "
-                    "use: its affinity and CPU quota): with several jobs on one machine, its CPUs divided among them")
+                    "CPU threads: the CPU tracers' (reference, trace, auto), and at most that many for any method's "
+                    "host work (the accurate shadows' depth map, tiles' binning, a volume's import); 0 or unset: "
+                    "every CPU this process may use, its affinity and CPU quota. With several jobs on one machine, "
+                    "its CPUs divided among them")
         ->check(CLI::Range(0, 1024));
 }
 
 int run_play(const PlayArgs& args) {
+    cap_usable_cpus(unsigned(args.threads));  // every parallel loop of the run (sim/usable_cpus.h)
     if (args.list) {
         const std::string def = default_preset_name();
         for (const std::string& name : builtin_preset_names()) {
@@ -189,10 +193,7 @@ int run_play(const PlayArgs& args) {
         options.max_pool_bytes = parse_bytes(args.max_memory);
         given |= kHonoursMaxMemory;
     }
-    if (args.threads) {
-        options.threads = args.threads;
-        given |= kHonoursThreads;
-    }
+    options.threads = args.threads;  // every method runs within it (cap_usable_cpus, at the start)
     check_method_usage(method, given);
     check_device_options(method, args.device, args.validate);
     std::unique_ptr<vk::Device> device;

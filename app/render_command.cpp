@@ -16,6 +16,7 @@
 #include "sim/preset_file.h"
 #include "sim/scene_file.h"
 #include "sim/simulator.h"
+#include "sim/usable_cpus.h"
 #include "sim/vdb/volume_loader.h"
 
 #include <algorithm>
@@ -59,7 +60,11 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
                     "the exact model) or per-sphere (T_sun once per sphere; reference has that mode too); off renders "
                     "the scene without shadows. The comparison methods always shade per sphere")
         ->check(CLI::IsMember({"accurate", "per-sphere", "off"}));
-    cmd->add_option("--threads", args.threads, "CPU threads for the CPU tracers (reference, trace, auto; 0 or unset: every CPU this process may use: its affinity and CPU quota)")->check(CLI::Range(0, 1024));
+    cmd->add_option("--threads", args.threads,
+                    "CPU threads: the CPU tracers' (reference, trace, auto), and at most that many for any "
+                    "method's host work (the accurate shadows' depth map, tiles' binning, a volume's import); 0 "
+                    "or unset: every CPU this process may use: its affinity and CPU quota")
+        ->check(CLI::Range(0, 1024));
 }
 
 namespace {
@@ -180,6 +185,9 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
 
 int run_render(const RenderArgs& command_line) {
     RenderArgs args = command_line;
+    // --threads holds every parallel loop of the run to that many CPUs (sim/usable_cpus.h), a GPU
+    // method's host work and a volume's import too.
+    cap_usable_cpus(unsigned(args.threads));
     args.scene = input_path(args.scene);  // "-": the scene on standard input
     std::string exr = args.exr, png = args.png;
     // The default images only when no output is named: `--stats -` alone writes no brume.exr.
@@ -241,10 +249,7 @@ int run_render(const RenderArgs& command_line) {
         options.initial_pool_nodes = args.pool_nodes;
         given |= kHonoursPoolNodes;
     }
-    if (args.threads) {
-        options.threads = args.threads;
-        given |= kHonoursThreads;
-    }
+    options.threads = args.threads;  // every method runs within it (cap_usable_cpus, at the start)
     check_method_usage(args.method, given);
     check_device_options(args.method, args.device, args.validate);
     const bool on_gpu = find_method(args.method).needs_device;

@@ -3,6 +3,7 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -106,6 +107,12 @@ unsigned cgroup_cpu_limit(const fs::path& root, std::string_view self_cgroup) {
     return tightest;
 }
 
+namespace {
+std::atomic<unsigned> usable_cap{0};  // cap_usable_cpus
+}  // namespace
+
+void cap_usable_cpus(unsigned n) { usable_cap.store(n); }
+
 unsigned usable_cpus() {
     static const unsigned quota_limit = cgroup_cpu_limit("/sys/fs/cgroup", read_text("/proc/self/cgroup"));
     unsigned cpus = 0;
@@ -113,7 +120,9 @@ unsigned usable_cpus() {
     CPU_ZERO(&set);
     if (::sched_getaffinity(0, sizeof set, &set) == 0) cpus = unsigned(CPU_COUNT(&set));
     if (cpus == 0) cpus = std::max(1u, std::thread::hardware_concurrency());  // more CPUs than a cpu_set_t holds
-    return quota_limit > 0 ? std::min(cpus, quota_limit) : cpus;
+    if (quota_limit > 0) cpus = std::min(cpus, quota_limit);
+    const unsigned cap = usable_cap.load();
+    return cap > 0 ? std::min(cpus, cap) : cpus;
 }
 
 }  // namespace brume

@@ -14,6 +14,12 @@ namespace brume {
 // period, rounded up. The quota is read once a process; the mask at every call.
 unsigned usable_cpus();
 
+// Holds usable_cpus() to at most `n` for the rest of the process (0: no cap): a command's --threads,
+// so that every parallel loop of a run (the CPU tracers, and for a GPU method the host's share of
+// the frame: the accurate shadows' depth map, tiles' binning; a volume's import) stays within what
+// a job on a shared machine was given.
+void cap_usable_cpus(unsigned n);
+
 // The CPUs that the quota of the control group a process is in allows, and of every group above it,
 // the tightest rounded up; 0 where none sets one. `root` is where the cgroup filesystems are mounted
 // (/sys/fs/cgroup), `self_cgroup` the text of /proc/self/cgroup: cgroup v2 (cpu.max, "max 100000"

@@ -117,6 +117,21 @@ TEST(HostCpu, UsableCpusFollowTheAffinityMask) {
     EXPECT_EQ(brume::usable_cpus(), expected);
 }
 
+// A command's --threads caps usable_cpus for the whole run (cap_usable_cpus), so that the loops that
+// ask for every CPU (a GPU method's depth map and binning, a volume's import) stay within it; 0 lifts
+// the cap.
+TEST(HostCpu, ACapHoldsEveryLoopThatAsksForAllCpus) {
+    const unsigned all = brume::usable_cpus();
+    brume::cap_usable_cpus(1);
+    EXPECT_EQ(brume::usable_cpus(), 1u);
+    EXPECT_EQ(brume::worker_count(0, 1000), 1);
+    EXPECT_EQ(brume::worker_count(3, 1000), 3);  // a count asked for is kept
+    brume::cap_usable_cpus(all + 5);             // a cap above the CPUs changes nothing
+    EXPECT_EQ(brume::usable_cpus(), all);
+    brume::cap_usable_cpus(0);
+    EXPECT_EQ(brume::usable_cpus(), all);
+}
+
 // A CPU quota (docker --cpus, a Kubernetes CPU limit) is read from the control group's files, v2 and
 // v1, the tightest of the group and those above it, rounded up; none, "max" or -1 is no limit.
 TEST(HostCpu, ACgroupCpuQuotaLimitsTheUsableCpus) {

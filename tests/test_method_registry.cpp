@@ -77,7 +77,6 @@ TEST(MethodRegistry, OptionsReachEveryMethodThatHonoursThem) {
     // --max-memory (and --pool-nodes) reach both methods that keep per-pixel lists.
     EXPECT_NO_THROW(check_method_options("ppll", kHonoursMaxMemory));
     EXPECT_NO_THROW(check_method_options("auto", kHonoursMaxMemory));
-    EXPECT_NO_THROW(check_method_options("reference", kHonoursThreads));
     EXPECT_NO_THROW(check_method_options("sorted", 0));
     // Given to a method that would ignore it, an option is refused, naming who honours it.
     try {
@@ -89,7 +88,6 @@ TEST(MethodRegistry, OptionsReachEveryMethodThatHonoursThem) {
         EXPECT_NE(what.find("ppll, ppll-general, tiles, auto"), std::string::npos) << what;
         EXPECT_NE(what.find("'kbuf'"), std::string::npos) << what;
     }
-    EXPECT_THROW(check_method_options("ppll", kHonoursThreads), std::invalid_argument);
     // --pool-nodes sizes a node pool: ppll's and auto's. tiles has none (its lists are sized per frame,
     // bounded by --max-memory): it refuses --pool-nodes, which it had taken and ignored.
     EXPECT_NO_THROW(check_method_options("ppll-general", kHonoursMaxMemory | kHonoursPoolNodes));

@@ -78,7 +78,6 @@ std::string option_names(unsigned bits) {
     // Only the options given: play has no --pool-nodes to name.
     if (bits & kHonoursMaxMemory) out += "--max-memory";
     if (bits & kHonoursPoolNodes) out += std::string(out.empty() ? "" : ", ") + "--pool-nodes";
-    if (bits & kHonoursThreads) out += std::string(out.empty() ? "" : ", ") + "--threads";
     return out;
 }
 
@@ -99,13 +98,13 @@ const std::vector<MethodEntry>& method_catalogue() {
         {"trace", "", "",
          "CPU ray tracer in float: spheres binned to 8x8 tiles near to far, each ray's events merged in a heap "
          "in bound order, stopping once opaque; the fastest exact path on a CPU device",
-         true, true, false, kHonoursThreads, {}, &make_trace},
-        {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)", false, true, false,
-         kHonoursThreads, {}, &make_reference},
+         true, true, false, 0, {}, &make_trace},
+        {"reference", "", "", "CPU ray tracer, double precision, same model (ground truth)", false, true, false, 0,
+         {}, &make_reference},
         {"auto", "", "",
          "per frame the cheapest exact path: trace on a CPU device; on a GPU power-distance sorted spheres when none "
          "intersect (and the shadows are not accurate), else the fastest of tiles, ppll and trace as measured",
-         true, true, false, kHonoursMaxMemory | kHonoursPoolNodes | kHonoursThreads, {}, &make_auto},
+         true, true, false, kHonoursMaxMemory | kHonoursPoolNodes, {}, &make_auto},
         {"sorted", "", "",
          "painter's algorithm: planar billboards sorted back to front by centre (insertion sort reusing last "
          "frame's order); pops when order flips",
@@ -227,7 +226,6 @@ std::vector<std::string> method_listing() {
         if (m.exact) notes += " [exact]";
         if (m.options & kHonoursMaxMemory) notes += " [--max-memory]";
         if (m.options & kHonoursPoolNodes) notes += " [--pool-nodes]";
-        if (m.options & kHonoursThreads) notes += " [--threads]";
         width = std::max(width, name.size());
         rows.emplace_back(std::move(name), std::move(notes));
     }

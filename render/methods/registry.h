@@ -20,12 +20,12 @@ class Device;
 struct MethodOptions {
     std::uint64_t max_pool_bytes = 0;      // --max-memory: budget of per-pixel lists; 0: half the device heap
     std::uint64_t initial_pool_nodes = 0;  // --pool-nodes: first list-pool size; 0: estimated from the scene
-    int threads = 0;                       // --threads: CPU threads; 0: all
+    int threads = 0;                       // --threads: the CPU tracers' threads; 0: all (every method
+                                           // runs within it: the command caps usable_cpus too)
 };
 
 enum MethodOptionBits : unsigned {
     kHonoursMaxMemory = 1u << 0,  // --max-memory: the bound on a method's list memory (ppll's pool, tiles' lists)
-    kHonoursThreads = 1u << 1,
     kHonoursPoolNodes = 1u << 2,  // --pool-nodes (render's only): the first size of a node pool (ppll, and auto's)
 };
 

@@ -5,6 +5,7 @@
 #include "render/outsized_spheres.h"
 #include "sim/preset.h"
 #include "sim/scene_sections.h"
+#include "sim/usable_cpus.h"
 #include "sim/vdb/volume_loader.h"
 
 #include <vulkan/vulkan.h>
@@ -22,6 +23,12 @@ namespace brume::app {
 
 std::string count_of(std::size_t n, const char* singular, const char* plural) {
     return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
+void hold_run_to_threads(int threads) {
+    if (threads <= 0) return;
+    cap_usable_cpus(unsigned(threads));
+    ::setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 0);  // 0: a value already set stays
 }
 
 void refuse_still_scene(const Preset& preset, const std::string& asked) {

@@ -89,6 +89,11 @@ void print_volume_report(const VolumeReport& report);
 // technique takes whole: the rest blur its map past its stated error. Nothing otherwise; false then.
 bool note_outsized_spheres(const Scene& scene);
 
+// --threads N (N > 0) for the whole run: every parallel loop holds to N CPUs (cap_usable_cpus,
+// sim/usable_cpus.h), and lavapipe's rasterizer, which starts a thread for every CPU, to N threads
+// (LP_NUM_THREADS, unless the environment sets it). Call before a device is made.
+void hold_run_to_threads(int threads);
+
 // Refuses a preset read from a scene file (Preset::still) where frames are asked for (play, render
 // --frame): it would be the same image every frame. `asked` says what asked for frames ("play plays a
 // preset's frames").

@@ -17,7 +17,6 @@
 #include "sim/builtin_presets.h"
 #include "sim/camera_path.h"
 #include "sim/simulator.h"
-#include "sim/usable_cpus.h"
 #include "sim/vdb/volume_loader.h"
 
 #include <atomic>
@@ -117,7 +116,7 @@ void add_play_command(CLI::App& app, PlayArgs& args) {
 }
 
 int run_play(const PlayArgs& args) {
-    cap_usable_cpus(unsigned(args.threads));  // every parallel loop of the run (sim/usable_cpus.h)
+    hold_run_to_threads(args.threads);  // every parallel loop of the run, and lavapipe's threads
     if (args.list) {
         const std::string def = default_preset_name();
         for (const std::string& name : builtin_preset_names()) {

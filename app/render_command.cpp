@@ -16,7 +16,6 @@
 #include "sim/preset_file.h"
 #include "sim/scene_file.h"
 #include "sim/simulator.h"
-#include "sim/usable_cpus.h"
 #include "sim/vdb/volume_loader.h"
 
 #include <algorithm>
@@ -185,9 +184,9 @@ std::string stats_json(const RenderArgs& args, const Scene& scene, const std::st
 
 int run_render(const RenderArgs& command_line) {
     RenderArgs args = command_line;
-    // --threads holds every parallel loop of the run to that many CPUs (sim/usable_cpus.h), a GPU
-    // method's host work and a volume's import too.
-    cap_usable_cpus(unsigned(args.threads));
+    // --threads holds every parallel loop of the run to that many CPUs, a GPU method's host work and a
+    // volume's import too, and lavapipe's threads.
+    hold_run_to_threads(args.threads);
     args.scene = input_path(args.scene);  // "-": the scene on standard input
     std::string exr = args.exr, png = args.png;
     // The default images only when no output is named: `--stats -` alone writes no brume.exr.

@@ -54,8 +54,9 @@ class SunDepthMap {
 public:
     SunDepthMap() = default;  // empty
     // Empty when the light casts no shadows or there are no spheres. At most `max_vertices` lattice
-    // points: the spacing is the larger of a fraction of the spheres' mean radius and what that budget
-    // allows. `threads` as parallel_for's.
+    // points (at least 32): the spacing is the larger of a fraction of the spheres' mean radius and what
+    // that budget allows; where every sphere is whole (a scene of a few), 18 points and the spacing of
+    // kWholeSpheresFiner. `threads` as parallel_for's.
     SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
                 std::size_t max_vertices = kDefaultMaxVertices, MapInstructions instructions = MapInstructions::Best);
     // The map of this frame, built again in place: an owner that keeps its map from frame to frame

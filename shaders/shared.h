@@ -136,7 +136,8 @@ struct SunGridHeader {
     vec4 v_axis;      // xyz: unit v; w: v of the grid's first cell edge
     vec4 cell;        // x: cell side; yzw: unused
     uvec4 size;       // x: cells per side (0: no grid, no sphere casts a shadow); y: entries in the sphere list;
-                      // z: the map's outsized spheres (at most SUN_MAX_OUTSIZED); w: the grid's (the same ones)
+                      // z: the map's whole spheres (at most SUN_MAX_OUTSIZED): the grid's outsized ones, or
+                      // every sphere of a scene of a few (render/sun_depth_map.h); w: the grid's outsized
     vec4 map_origin;  // xyz: the eye's lattice coordinates; w: 1 / lattice spacing
     uvec4 map_size;   // xyz: vertices along u, v, s (x = 0: no map); w: the map's first word in the data
     // The spheres the map leaves to a closed form (render/sun_depth_map.h Outsized), in lattice units:

@@ -162,12 +162,25 @@ TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
     EXPECT_GT(lattice.size_u() * lattice.size_v() * lattice.size_s(), 1000);
 }
 
-// A budget below the least lattice (3 x 3 x 2) gets that lattice: the spacing search had no end there.
+// A budget below the least lattice a finite spacing gives (4 x 4 x 2) gets that lattice: under 18 the
+// spacing search had no end, and at 18-31 it ended at an infinite spacing whose lookups read no shadow.
 TEST(SunDepthMap, ABudgetBelowTheLeastLatticeGetsIt) {
     const Scene s = random_cloud(30, 4, {0.2, -1.0, 0.3});
-    const SunDepthMap map(s, SunLight(s), glm::dvec3(0.0, 1.0, -8.0), 1, 5);
-    ASSERT_FALSE(map.empty());
-    EXPECT_EQ(map.size_u() * map.size_v() * map.size_s(), 18);
+    const glm::dvec3 eye(0.0, 1.0, -8.0);
+    const SunLight sun(s);
+    for (const std::size_t budget : {std::size_t(5), std::size_t(20)}) {
+        const SunDepthMap map(s, sun, eye, 1, budget);
+        ASSERT_FALSE(map.empty());
+        EXPECT_EQ(map.size_u() * map.size_v() * map.size_s(), 32) << budget;
+        EXPECT_TRUE(std::isfinite(map.cell())) << budget;
+        // A lookup reads a number (at an infinite spacing the ray's coordinates were NaN). Its vertices
+        // lie at the cloud's edges, so it is blurred to nothing: a budget this small buys no shadow.
+        const glm::dvec3 below = s.spheres[0].center - 3.0 * sun.toward_sun(), rel = below - eye;
+        const SunDepthMap::Ray ray = map.ray(rel / glm::length(rel));
+        EXPECT_TRUE(std::isfinite(ray.u0) && std::isfinite(ray.du) && std::isfinite(ray.s0)) << budget;
+        const double got = map.optical_depth(ray, float(glm::length(rel)));
+        EXPECT_TRUE(std::isfinite(got) && got >= 0.0) << budget << ": " << got;
+    }
 }
 
 // Every vertex holds the exact optical depth of its point: probing at vertices (through the same ray

@@ -276,6 +276,32 @@ TEST_F(GpuLight, AccurateShadowsInsideAnAtmosphereMeetTheirTarget) {
     }
 }
 
+// Two puffs over a lit ground inside a fog of radius 1e7 (a scene of a few spheres: the map takes all
+// three whole). Its least lattice was framed at the spheres' reach, the fog's, so the lookups' float
+// coordinates were as large as the fog's radius and the puffs' shadows lost: p99.9 5.9e-2 of the peak
+// at 96x72. Framed at the eye: 5.0e-4.
+TEST_F(GpuLight, AFewPuffsInsideAVastFogKeepTheirShadows) {
+    Scene s = testing::small_scene(48, 36);
+    s.camera.position = {0.0, 0.8, 4.0};
+    s.camera.look_at = {0.0, -0.3, 0.0};
+    s.lighting.ambient = {0.0, 0.0, 0.0};
+    s.lighting.sun_direction = {-0.5, -1.0, -0.3};
+    s.lighting.shadows = true;
+    s.render.shadow_technique = ShadowTechnique::Accurate;
+    Box ground{{-3.0, -1.0, -3.0}, {3.0, -0.8, 3.0}, {0.0, 0.0, 0.0}};
+    ground.diffuse = {0.8, 0.8, 0.8};
+    s.boxes = {ground};
+    s.spheres = {sphere({0.0, 0.0, 0.0}, 0.5, 4.0, {0.9, 0.9, 0.9}), sphere({0.9, 0.2, -0.6}, 0.4, 3.0, {0.9, 0.9, 0.9}),
+                 sphere({0.0, 0.0, 0.0}, 1e7, 1e-12, {0.9, 0.9, 0.9})};
+    const Image exact = render_reference(s);
+    for (const char* spec : {"ppll", "trace"}) {
+        const ShadowError e = shadow_error(make_method(&device(), spec)->render(s), exact);
+        std::printf("  %s, two puffs in a fog of radius 1e7: mean %.3g, p99.9 %.3g of the peak\n", spec, e.mean, e.p999);
+        EXPECT_LT(e.mean, kAccurateMean) << spec;
+        EXPECT_LT(e.p999, kAccurateP999) << spec;
+    }
+}
+
 // On a GPU the accurate technique's depth map is filled by the device in the frame path's light pass
 // (shaders/sun_map_build.comp; render/frame/sun_map_pass.h SunMapPass::wanted_on), where lavapipe takes
 // the host's build. Forced onto lavapipe, the device's map gives ppll and tiles the images the host's

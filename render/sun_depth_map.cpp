@@ -438,11 +438,18 @@ void SunDepthMap::lay_out(const Scene& scene, const SunLight& sun, const glm::dv
         // Framed at the origin (the eye), not at the spheres' reach: the lookups' float coordinates are
         // then as large as the distance from the eye, not as an atmosphere's radius (framed at a fog
         // of radius 1e7, two puffs' shadows read p99.9 5.9e-2 of the peak against 2.3e-3).
+        // Not below 1e-12 of the spheres' reach from the eye: the lookups' coordinates, in cells, and
+        // their squares stay within float's range (a sphere of radius 1e-18 beside one of 0.5 set a
+        // spacing of 1e-20, and every accurate frame was NaN).
         std::vector<double> radii;
-        for (const Projected& p : outsized) radii.push_back(p.r);
+        double reach = 0.0;
+        for (const Projected& p : outsized) {
+            radii.push_back(p.r);
+            reach = std::max(reach, std::max({std::abs(p.u), std::abs(p.v), std::abs(p.s)}) + p.r);
+        }
         const std::size_t middle = (radii.size() - 1) / 2;  // the lower median: of two, the smaller
         std::nth_element(radii.begin(), radii.begin() + std::ptrdiff_t(middle), radii.end());
-        const double cell = kCellPerRadius * radii[middle] / kWholeSpheresFiner;
+        const double cell = std::max(kCellPerRadius * radii[middle] / kWholeSpheresFiner, 1e-12 * reach);
         set_lattice(3, 3, 2, cell, -cell, -cell, 0.0);
         if (!fill) return;
         reserve_vertices(18);

@@ -302,6 +302,31 @@ TEST_F(GpuLight, AFewPuffsInsideAVastFogKeepTheirShadows) {
     }
 }
 
+// A speck of radius 1e-18 beside a puff over a lit ground: the few-sphere map's spacing followed the
+// lower median radius, the speck's, down to 1e-20, and the lookups' float coordinates overflowed:
+// every accurate frame was NaN (refused, exit 1). The spacing now stays above 1e-12 of the spheres'
+// reach from the eye.
+TEST_F(GpuLight, ASpeckBesideAPuffKeepsTheFrameFinite) {
+    Scene s = testing::small_scene(32, 24);
+    s.camera.position = {0.0, 0.8, 4.0};
+    s.camera.look_at = {0.0, -0.3, 0.0};
+    s.lighting.sun_direction = {-0.5, -1.0, -0.3};
+    s.lighting.shadows = true;
+    s.render.shadow_technique = ShadowTechnique::Accurate;
+    Box ground{{-3.0, -1.0, -3.0}, {3.0, -0.8, 3.0}, {0.0, 0.0, 0.0}};
+    ground.diffuse = {0.8, 0.8, 0.8};
+    s.boxes = {ground};
+    s.spheres = {sphere({0.0, 0.0, 0.0}, 0.5, 4.0, {0.9, 0.9, 0.9}), sphere({2.5, 1.5, -2.0}, 1e-18, 1.0, {0.9, 0.9, 0.9})};
+    const Image exact = render_reference(s);
+    for (const char* spec : {"ppll", "trace"}) {
+        const Image img = make_method(&device(), spec)->render(s);
+        for (const float v : img.rgb) ASSERT_TRUE(std::isfinite(v)) << spec;
+        const ShadowError e = shadow_error(img, exact);
+        EXPECT_LT(e.mean, kAccurateMean) << spec;
+        EXPECT_LT(e.p999, kAccurateP999) << spec;
+    }
+}
+
 // On a GPU the accurate technique's depth map is filled by the device in the frame path's light pass
 // (shaders/sun_map_build.comp; render/frame/sun_map_pass.h SunMapPass::wanted_on), where lavapipe takes
 // the host's build. Forced onto lavapipe, the device's map gives ppll and tiles the images the host's

@@ -276,12 +276,10 @@ TEST_F(GpuLight, AccurateShadowsInsideAnAtmosphereMeetTheirTarget) {
     }
 }
 
-// Two puffs over a lit ground inside a fog of radius 1e7 (a scene of a few spheres: the map takes all
-// three whole). Its least lattice was framed at the spheres' reach, the fog's, so the lookups' float
-// coordinates were as large as the fog's radius and the puffs' shadows lost: p99.9 5.9e-2 of the peak
-// at 96x72. Framed at the eye: 5.0e-4.
-TEST_F(GpuLight, AFewPuffsInsideAVastFogKeepTheirShadows) {
-    Scene s = testing::small_scene(48, 36);
+// A diffuse ground under a sun from behind the eye's shoulder, no ambient light, accurate shadows, and
+// no spheres yet: the few-sphere map's scenes below.
+Scene a_lit_ground_in_the_dark(int width, int height) {
+    Scene s = testing::small_scene(width, height);
     s.camera.position = {0.0, 0.8, 4.0};
     s.camera.look_at = {0.0, -0.3, 0.0};
     s.lighting.ambient = {0.0, 0.0, 0.0};
@@ -291,6 +289,15 @@ TEST_F(GpuLight, AFewPuffsInsideAVastFogKeepTheirShadows) {
     Box ground{{-3.0, -1.0, -3.0}, {3.0, -0.8, 3.0}, {0.0, 0.0, 0.0}};
     ground.diffuse = {0.8, 0.8, 0.8};
     s.boxes = {ground};
+    return s;
+}
+
+// Two puffs over a lit ground inside a fog of radius 1e7 (a scene of a few spheres: the map takes all
+// three whole). Its least lattice was framed at the spheres' reach, the fog's, so the lookups' float
+// coordinates were as large as the fog's radius and the puffs' shadows lost: p99.9 5.9e-2 of the peak
+// at 96x72. Framed at the eye: 5.0e-4.
+TEST_F(GpuLight, AFewPuffsInsideAVastFogKeepTheirShadows) {
+    Scene s = a_lit_ground_in_the_dark(48, 36);
     s.spheres = {sphere({0.0, 0.0, 0.0}, 0.5, 4.0, {0.9, 0.9, 0.9}), sphere({0.9, 0.2, -0.6}, 0.4, 3.0, {0.9, 0.9, 0.9}),
                  sphere({0.0, 0.0, 0.0}, 1e7, 1e-12, {0.9, 0.9, 0.9})};
     const Image exact = render_reference(s);
@@ -307,15 +314,7 @@ TEST_F(GpuLight, AFewPuffsInsideAVastFogKeepTheirShadows) {
 // every accurate frame was NaN (refused, exit 1). The spacing now stays above 1e-12 of the spheres'
 // reach from the eye.
 TEST_F(GpuLight, ASpeckBesideAPuffKeepsTheFrameFinite) {
-    Scene s = testing::small_scene(32, 24);
-    s.camera.position = {0.0, 0.8, 4.0};
-    s.camera.look_at = {0.0, -0.3, 0.0};
-    s.lighting.sun_direction = {-0.5, -1.0, -0.3};
-    s.lighting.shadows = true;
-    s.render.shadow_technique = ShadowTechnique::Accurate;
-    Box ground{{-3.0, -1.0, -3.0}, {3.0, -0.8, 3.0}, {0.0, 0.0, 0.0}};
-    ground.diffuse = {0.8, 0.8, 0.8};
-    s.boxes = {ground};
+    Scene s = a_lit_ground_in_the_dark(32, 24);
     s.spheres = {sphere({0.0, 0.0, 0.0}, 0.5, 4.0, {0.9, 0.9, 0.9}), sphere({2.5, 1.5, -2.0}, 1e-18, 1.0, {0.9, 0.9, 0.9})};
     const Image exact = render_reference(s);
     for (const char* spec : {"ppll", "trace"}) {

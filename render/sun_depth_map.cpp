@@ -57,7 +57,7 @@ std::vector<std::size_t> whole_spheres(const Scene& scene) {
     for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
         const Sphere& sp = scene.spheres[k];
         if (sp.extinction > 0.0 && sp.radius > 0.0) all.push_back(k);
-        if (all.size() > std::size_t(kMaxOutsized)) return outsized_spheres(scene);
+        if (all.size() > std::size_t(SunDepthMap::kMaxWholeSpheres)) return outsized_spheres(scene);
     }
     return all;
 }

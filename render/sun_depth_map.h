@@ -84,6 +84,11 @@ public:
     };
     static constexpr int kMaxOutsized = brume::kMaxOutsized;  // render/outsized_spheres.h
     static constexpr double kOutsizedRadii = brume::kOutsizedRadii;
+    // A scene of at most this many spheres with a medium has every one taken whole (outsized() lists
+    // them all, and the lattice holds none); past it, the outsized ones alone (sun_depth_map.cpp
+    // whole_spheres).
+    static constexpr int kMaxWholeSpheres = 32;
+    static_assert(kMaxWholeSpheres >= kMaxOutsized);
     std::span<const Outsized> outsized() const { return {outsized_.data(), std::size_t(outsized_count_)}; }
     float cell() const { return cell_; }
     int size_u() const { return nu_; }
@@ -233,7 +238,7 @@ private:
     };
     std::vector<BandScratch> band_scratch_;
     int scratch_ns_ = 0;
-    std::array<Outsized, kMaxOutsized> outsized_{};
+    std::array<Outsized, kMaxWholeSpheres> outsized_{};
     int outsized_count_ = 0;
 };
 

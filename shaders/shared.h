@@ -131,19 +131,22 @@ struct GpuBox {
 // on a light-space lattice (render/sun_depth_map.h), as float bits from word map_size.w of the data:
 // vertex (i, j, k) at (j * map_size.x + i) * map_size.z + k. A point eye + r has lattice coordinates
 // map_origin.xyz + (dot(r, u), dot(r, v), dot(r, l)) * map_origin.w, l = -sun direction.
+// The most spheres the map takes whole (render/sun_depth_map.h kMaxWholeSpheres): every sphere of a
+// scene of at most this many, else the grid's outsized ones (at most SUN_MAX_OUTSIZED).
+BRUME_CONST SUN_MAX_WHOLE = 32;
 struct SunGridHeader {
     vec4 u_axis;      // xyz: unit u of the plane; w: u of the grid's first cell edge
     vec4 v_axis;      // xyz: unit v; w: v of the grid's first cell edge
     vec4 cell;        // x: cell side; yzw: unused
     uvec4 size;       // x: cells per side (0: no grid, no sphere casts a shadow); y: entries in the sphere list;
-                      // z: the map's whole spheres (at most SUN_MAX_OUTSIZED): the grid's outsized ones, or
+                      // z: the map's whole spheres (at most SUN_MAX_WHOLE): the grid's outsized ones, or
                       // every sphere of a scene of a few (render/sun_depth_map.h); w: the grid's outsized
     vec4 map_origin;  // xyz: the eye's lattice coordinates; w: 1 / lattice spacing
     uvec4 map_size;   // xyz: vertices along u, v, s (x = 0: no map); w: the map's first word in the data
     // The spheres the map leaves to a closed form (render/sun_depth_map.h Outsized), in lattice units:
-    // xyz the centre, w radius^2; and each one's tau * spacing, in order (SUN_MAX_OUTSIZED at most).
-    vec4 outsized[8];
-    vec4 outsized_depth[2];  // sphere k's in [k / 4][k % 4]
+    // xyz the centre, w radius^2; and each one's tau * spacing, in order (SUN_MAX_WHOLE at most).
+    vec4 outsized[SUN_MAX_WHOLE];
+    vec4 outsized_depth[SUN_MAX_WHOLE / 4];  // sphere k's in [k / 4][k % 4]
     // The same spheres as the grid leaves them out of every cell (render/sun_light.h outsized_indices):
     // their indices into the sphere buffer, size.w of them, k's in [k / 4][k % 4]; a lookup adds their
     // chords.

@@ -87,10 +87,11 @@ TEST(SunDepthMap, OneSphereUnderAVerticalSun) {
 // 0.09 / (tau r)^2 radii in thinner media, up to twice as wide (render/sun_depth_map.cpp
 // thin_media_widening): the same single sphere at five densities.
 TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
-    // Nine spheres in a row: a lattice (a scene of at most kMaxOutsized takes every sphere whole).
+    // kMaxWholeSpheres + 1 spheres in a row: a lattice (a scene of at most kMaxWholeSpheres takes every
+    // sphere whole).
     Scene s = one_sphere({0.2, -1.0, 0.1}, 1.0);
     const Sphere sp = s.spheres[0];
-    for (int k = 1; k <= SunDepthMap::kMaxOutsized; ++k) {
+    for (int k = 1; k <= SunDepthMap::kMaxWholeSpheres; ++k) {
         s.spheres.push_back(sp);
         s.spheres.back().center.x += 3.0 * k;
     }
@@ -118,7 +119,7 @@ TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
     EXPECT_NEAR(double(SunDepthMap(s, SunLight(s), glm::dvec3(0.0, 0.0, -5.0), 1).cell()), dense, 1e-6);
 }
 
-// A scene of at most kMaxOutsized spheres takes each one whole: every lookup is its closed form, so
+// A scene of at most kMaxWholeSpheres spheres takes each one whole: every lookup is its closed form, so
 // the map is exact anywhere to float rounding (a lattice blurs a lone sphere's shadow edge), its
 // lattice the least one, and its spacing, which sets the pieces along the view rays, kCellPerRadius
 // (0.09) of the spheres' lower median radius over kWholeSpheresFiner (8). One sphere more, and the
@@ -153,7 +154,7 @@ TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
     EXPECT_GT(deepest, 5.0);  // the probes reach the shadows
     EXPECT_LT(worst, 1e-3 * deepest) << "worst error, deepest " << deepest;
     // A lattice once there are more spheres than the closed forms take (none of them outsized).
-    for (int k = 1; k <= SunDepthMap::kMaxOutsized - 3; ++k) {
+    for (int k = 1; k <= SunDepthMap::kMaxWholeSpheres - 3; ++k) {
         s.spheres.push_back(s.spheres[0]);
         s.spheres.back().center.x -= 2.5 * k;
     }
@@ -165,7 +166,7 @@ TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
 // A budget below the least lattice a finite spacing gives (4 x 4 x 2) gets that lattice: under 18 the
 // spacing search had no end, and at 18-31 it ended at an infinite spacing whose lookups read no shadow.
 TEST(SunDepthMap, ABudgetBelowTheLeastLatticeGetsIt) {
-    const Scene s = random_cloud(30, 4, {0.2, -1.0, 0.3});
+    const Scene s = random_cloud(40, 4, {0.2, -1.0, 0.3});  // more than kMaxWholeSpheres: a lattice
     const glm::dvec3 eye(0.0, 1.0, -8.0);
     const SunLight sun(s);
     for (const std::size_t budget : {std::size_t(5), std::size_t(20)}) {

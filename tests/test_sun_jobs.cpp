@@ -89,10 +89,10 @@ Scene sphere_over_the_rays() {
     sp.radius = 1.0;
     sp.extinction = 1.5;
     s.spheres.push_back(sp);
-    // Eight more behind the eye (x < -3), whose shadows no ray's segment reaches: more than
-    // kMaxOutsized spheres, so that the map is a lattice whose spacing the one above sets (a scene of
+    // kMaxWholeSpheres more behind the eye (x < -3), whose shadows no ray's segment reaches: more than
+    // kMaxWholeSpheres spheres, so that the map is a lattice whose spacing the one above sets (a scene of
     // a few takes each whole, render/sun_depth_map.h).
-    for (int k = 1; k <= kMaxOutsized; ++k) {
+    for (int k = 1; k <= SunDepthMap::kMaxWholeSpheres; ++k) {
         s.spheres.push_back(sp);
         s.spheres.back().center.x = -3.0 - 3.0 * k;
     }

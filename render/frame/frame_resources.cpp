@@ -181,7 +181,8 @@ void FrameResources::ensure_sphere_sun(const Scene& scene) {
     light_prep_.sphere_sun_ms = ms_since(start);
 }
 
-static_assert(gpu::SUN_MAX_OUTSIZED == kMaxOutsized, "the header holds every outsized sphere a map or grid keeps");
+static_assert(gpu::SUN_MAX_OUTSIZED == kMaxOutsized, "the header holds every outsized sphere a grid keeps");
+static_assert(gpu::SUN_MAX_WHOLE == SunDepthMap::kMaxWholeSpheres, "the header holds every sphere a map takes whole");
 
 void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     if (sun_depth_map_done_) return;

@@ -21,9 +21,12 @@ static_assert(sizeof(GpuBox) == 64 && offsetof(GpuBox, max_corner) == 16 && offs
 static_assert(sizeof(ListCounters) == 32 && offsetof(ListCounters, unresolved) == 16 && offsetof(ListCounters, allocated) == 0 &&
               offsetof(ListCounters, max_length) == 4 && offsetof(ListCounters, nonempty_pixels) == 8 &&
               offsetof(ListCounters, long_lists) == 12);
-static_assert(sizeof(SunGridHeader) == 288 && offsetof(SunGridHeader, grid_outsized) == 256 && offsetof(SunGridHeader, cell) == 32 && offsetof(SunGridHeader, size) == 48 &&
-                  offsetof(SunGridHeader, map_origin) == 64 && offsetof(SunGridHeader, map_size) == 80 &&
-                  offsetof(SunGridHeader, outsized) == 96 && offsetof(SunGridHeader, outsized_depth) == 224,
+static_assert(SUN_MAX_WHOLE % 4 == 0 && SUN_MAX_WHOLE >= SUN_MAX_OUTSIZED, "outsized_depth packs four a vec4");
+static_assert(sizeof(SunGridHeader) == 96 + SUN_MAX_WHOLE * 20 + 32 &&
+                  offsetof(SunGridHeader, grid_outsized) == 96 + SUN_MAX_WHOLE * 20 && offsetof(SunGridHeader, cell) == 32 &&
+                  offsetof(SunGridHeader, size) == 48 && offsetof(SunGridHeader, map_origin) == 64 &&
+                  offsetof(SunGridHeader, map_size) == 80 && offsetof(SunGridHeader, outsized) == 96 &&
+                  offsetof(SunGridHeader, outsized_depth) == 96 + SUN_MAX_WHOLE * 16,
               "SunGridHeader must match its std430 GLSL layout");
 static_assert(NODE_BYTES == sizeof(uvec4), "a node is one uvec4 (std430 stride 16)");
 static_assert(sizeof(PeelControl) == 2 * PEEL_SLOTS * 16 + PEEL_SLOTS * 4 &&

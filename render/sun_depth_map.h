@@ -18,11 +18,12 @@
 // and their reach its extent, so that the small spheres' shadows were blurred away: three puffs inside
 // a fog sphere of radius 10,000 read a mean error of 4.2e-3 of the peak (the bound: 1e-3).
 //
-// A scene of at most kMaxOutsized spheres takes every one whole the same way (sun_depth_map.cpp
-// whole_spheres): its lattice holds no sphere (a handful of zeros), and its spacing, kWholeSpheresFiner
-// times finer than a lattice of spheres of their lower median radius, only sets the pieces along the
-// view rays. A lone sphere's blurred
-// shadow edge, and pieces too long for the bend of its own depth, missed the accuracy target there.
+// A scene of at most kMaxWholeSpheres (32) spheres takes every one whole the same way
+// (sun_depth_map.cpp whole_spheres): its lattice holds no sphere (a handful of zeros), and its spacing,
+// kWholeSpheresFiner times finer than a lattice of spheres of their lower median radius, only sets the
+// pieces along the view rays. A lone sphere's blurred shadow edge, and pieces too long for the bend of
+// its own depth, missed the accuracy target there, and so did half of the sparse clouds of 9-64 spheres
+// that a randomised sweep tried.
 //
 // Coordinates are relative to an origin (the eye), so float keeps its precision where the rays are.
 #pragma once
@@ -55,8 +56,8 @@ public:
     SunDepthMap() = default;  // empty
     // Empty when the light casts no shadows or there are no spheres. At most `max_vertices` lattice
     // points (at least 32): the spacing is the larger of a fraction of the spheres' mean radius and what
-    // that budget allows; where every sphere is whole (a scene of a few), 18 points and the spacing of
-    // kWholeSpheresFiner. `threads` as parallel_for's.
+    // that budget allows; where every sphere is whole (a scene of at most kMaxWholeSpheres), 18 points
+    // and the spacing of kWholeSpheresFiner. `threads` as parallel_for's.
     SunDepthMap(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
                 std::size_t max_vertices = kDefaultMaxVertices, MapInstructions instructions = MapInstructions::Best);
     // The map of this frame, built again in place: an owner that keeps its map from frame to frame

@@ -122,8 +122,8 @@ TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
 // A scene of at most kMaxWholeSpheres spheres takes each one whole: every lookup is its closed form, so
 // the map is exact anywhere to float rounding (a lattice blurs a lone sphere's shadow edge), its
 // lattice the least one, and its spacing, which sets the pieces along the view rays, kCellPerRadius
-// (0.09) of the spheres' lower median radius over kWholeSpheresFiner (8). One sphere more, and the
-// lattice holds them all.
+// (0.09) of the spheres' lower median radius over kWholeSpheresFiner (8). Past kMaxWholeSpheres (32)
+// spheres, the lattice holds them all.
 TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
     Scene s = one_sphere({0.3, -1.0, 0.2}, 1.2);
     for (const double radius : {0.5, 2.0, 0.7}) {

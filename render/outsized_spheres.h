@@ -5,7 +5,7 @@
 // the spacing and the extent: the map's spacing grew to about 225 units around three puffs of radius 1
 // (their shadows blurred away), and the light grids' cells listed every puff in every cell (the
 // reference took 3.1 s a frame against 1.5 s). One rule for all of them, so that they agree on which
-// spheres are taken so. The depth map alone also takes every sphere of a scene of at most 32
+// spheres are taken so. The depth map alone also takes every sphere of a scene of at most 64
 // whole (render/sun_depth_map.h kMaxWholeSpheres); the device's build of the map then has nothing to splat
 // (render/frame/frame_resources.cpp).
 #pragma once

@@ -46,16 +46,17 @@ double thin_media_widening(std::vector<double>& depth_across) {
     return t > 0.0 ? std::clamp(1.0 / (t * t), 1.0, kThinWidenMax) : kThinWidenMax;
 }
 // The spheres a lookup takes whole, as ascending indices into scene.spheres: in a scene of at most
-// SunDepthMap::kMaxWholeSpheres (32) spheres with a medium, every one of them; otherwise the outsized
+// SunDepthMap::kMaxWholeSpheres (64) spheres with a medium, every one of them; otherwise the outsized
 // ones (render/outsized_spheres.h). A lattice blurs a lone sphere's shadow edge, and the pieces it sets
 // along the view rays (SUN_PIECE_CELLS cells) run too long across the bend of a sphere's own depth
 // toward the sun: one sphere of radius 1 and extinction 0.65 read a mean error of 2.7e-3 of the peak
 // and a p99.9 of 3.3e-2 against the reference, where the target is 1e-3 and 1e-2 (docs/accuracy.md).
 // Nor does a sparse cloud's lattice average the blur away: of 80 random scenes of 9-64 spheres, 38
-// missed the target (26 of the 58 of at most 32, of which 1 misses now; trace's frame costs a median
-// 1.44x, up to 3.1x, what the lattice's did). 32 rather than 64, which took those of 33-64 within the
-// target too, but at 2.3-4x the lattice's frame: a lookup pays a square root for each sphere whose
-// shadow holds it and a test for each that does not.
+// missed the target, and 1 does whole (a close, dim view lit from behind). Trace's frame costs what the
+// lattice's did for 9-32 spheres (a median 1.01x, up to 2.7x), and a median 1.52x, up to 3.2x, for
+// 48-64: a lookup tests every whole sphere, and takes a square root for those whose shadow holds one
+// of its eight points. Past 64 the lattice again (100-400 spheres taken whole cost 6-13x the
+// lattice's frame, where it misses the target in 20 of 30; docs/accuracy.md, "Sparse clouds").
 std::vector<std::size_t> whole_spheres(const Scene& scene) {
     std::vector<std::size_t> all;
     for (std::size_t k = 0; k < scene.spheres.size(); ++k) {

@@ -133,7 +133,7 @@ struct GpuBox {
 // map_origin.xyz + (dot(r, u), dot(r, v), dot(r, l)) * map_origin.w, l = -sun direction.
 // The most spheres the map takes whole (render/sun_depth_map.h kMaxWholeSpheres): every sphere of a
 // scene of at most this many, else the grid's outsized ones (at most SUN_MAX_OUTSIZED).
-BRUME_CONST SUN_MAX_WHOLE = 32;
+BRUME_CONST SUN_MAX_WHOLE = 64;
 struct SunGridHeader {
     vec4 u_axis;      // xyz: unit u of the plane; w: u of the grid's first cell edge
     vec4 v_axis;      // xyz: unit v; w: v of the grid's first cell edge

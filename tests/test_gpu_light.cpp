@@ -75,7 +75,7 @@ constexpr double kAccurateP999 = 1e-2;
 
 TEST_F(GpuLight, AccurateShadowsMeetTheirTarget) {
     PpllMethod ppll(device());
-    // The cloud of 24, every sphere taken whole by the map, and of 40, in its lattice.
+    // The cloud of 24, every sphere taken whole by the map, and of 72, in its lattice.
     for (const int spheres : {24, testing::kLatticeCloudSpheres})
     for (const bool inside : {false, true}) {
         Scene s = shadowed_cloud(inside, spheres);
@@ -257,7 +257,7 @@ TEST_F(GpuLight, ALoneSphereInTheSunMeetsTheAccurateTarget) {
 // puffs too, and the pieces follow their lower median radius, not the fog's), so every path meets the
 // accurate technique's bound. With the fog in the lattice its radius set the spacing (225 units), and
 // the puffs' shadows were lost: mean 4.2e-3 of the peak, largest 5.6e-2.
-// And the 40-sphere shadowed cloud (in the lattice) inside six overlapping fog spheres of radius 1,000-1,500 (fewer than
+// And the 72-sphere shadowed cloud (in the lattice) inside six overlapping fog spheres of radius 1,000-1,500 (fewer than
 // the puffs: the rule is against the median radius): all six are taken whole (up to kMaxOutsized, 8;
 // with four taken, until 2026-12-06, the other two set the spacing: mean 4.0e-3 on a 120-puff cloud),
 // so the header's second group of four is read too.
@@ -313,10 +313,10 @@ TEST_F(GpuLight, AFewPuffsInsideAVastFogKeepTheirShadows) {
 }
 
 // A sparse cloud of ten puffs (tau r 0.9-3.3, as the presets' smoke) under a sun from behind the
-// puffs, found by a randomised sweep (2026-12-07): with more than eight spheres its map was a lattice
+// puffs, found by a randomised sweep (2026-12-08): with more than eight spheres its map was a lattice
 // of 0.09 mean radii, whose blur of each puff's shadow edge, and pieces as long as four of its cells,
 // read p99.9 1.66e-2 of the peak by trace, ppll and tiles alike (mean 3.2e-4). Of 80 such scenes of
-// 9-64 spheres, 38 missed the target so. A scene of at most kMaxWholeSpheres (32) takes each sphere
+// 9-64 spheres, 38 missed the target so. A scene of at most kMaxWholeSpheres (64) takes each sphere
 // whole, as it did up to eight (render/sun_depth_map.h): p99.9 1.2e-3, the header carrying ten.
 TEST_F(GpuLight, ASparseCloudOfTenPuffsIsTakenWholeAndMeetsTheTarget) {
     Scene s;

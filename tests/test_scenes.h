@@ -269,7 +269,7 @@ inline std::string long_list_name(const LongList& p) {
 // from outside and from inside the smoke. Of 24 spheres, which the accurate technique's map takes
 // whole (render/sun_depth_map.h kMaxWholeSpheres), or of kLatticeCloudSpheres, more than that: its
 // lattice holds them.
-inline constexpr int kLatticeCloudSpheres = 40;
+inline constexpr int kLatticeCloudSpheres = 72;
 inline Scene shadowed_cloud(bool eye_inside, int spheres = 24) {
     Scene s = random_scene(64, 48, spheres, 11, false);
     s.lighting.shadows = true;

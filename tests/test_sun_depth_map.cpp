@@ -87,13 +87,14 @@ TEST(SunDepthMap, OneSphereUnderAVerticalSun) {
 // 0.09 / (tau r)^2 radii in thinner media, up to twice as wide (render/sun_depth_map.cpp
 // thin_media_widening): the same single sphere at five densities.
 TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
-    // kMaxWholeSpheres + 1 spheres in a row: a lattice (a scene of at most kMaxWholeSpheres takes every
+    // kMaxWholeSpheres + 1 spheres in rows: a lattice (a scene of at most kMaxWholeSpheres takes every
     // sphere whole).
     Scene s = one_sphere({0.2, -1.0, 0.1}, 1.0);
     const Sphere sp = s.spheres[0];
-    for (int k = 1; k <= SunDepthMap::kMaxWholeSpheres; ++k) {
+    for (int k = 1; k <= SunDepthMap::kMaxWholeSpheres; ++k) {  // eight to a row, rows 3 apart
         s.spheres.push_back(sp);
-        s.spheres.back().center.x += 3.0 * k;
+        s.spheres.back().center.x += 3.0 * (k % 8);
+        s.spheres.back().center.z += 3.0 * (k / 8);
     }
     const auto spacing = [&](double tau_r) {
         for (Sphere& each : s.spheres) each.extinction = tau_r / sp.radius;
@@ -122,7 +123,7 @@ TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
 // A scene of at most kMaxWholeSpheres spheres takes each one whole: every lookup is its closed form, so
 // the map is exact anywhere to float rounding (a lattice blurs a lone sphere's shadow edge), its
 // lattice the least one, and its spacing, which sets the pieces along the view rays, kCellPerRadius
-// (0.09) of the spheres' lower median radius over kWholeSpheresFiner (8). Past kMaxWholeSpheres (32)
+// (0.09) of the spheres' lower median radius over kWholeSpheresFiner (8). Past kMaxWholeSpheres (64)
 // spheres, the lattice holds them all.
 TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
     Scene s = one_sphere({0.3, -1.0, 0.2}, 1.2);
@@ -166,7 +167,7 @@ TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
 // A budget below the least lattice a finite spacing gives (4 x 4 x 2) gets that lattice: under 18 the
 // spacing search had no end, and at 18-31 it ended at an infinite spacing whose lookups read no shadow.
 TEST(SunDepthMap, ABudgetBelowTheLeastLatticeGetsIt) {
-    const Scene s = random_cloud(40, 4, {0.2, -1.0, 0.3});  // more than kMaxWholeSpheres: a lattice
+    const Scene s = random_cloud(72, 4, {0.2, -1.0, 0.3});  // more than kMaxWholeSpheres: a lattice
     const glm::dvec3 eye(0.0, 1.0, -8.0);
     const SunLight sun(s);
     for (const std::size_t budget : {std::size_t(5), std::size_t(20)}) {
@@ -187,7 +188,7 @@ TEST(SunDepthMap, ABudgetBelowTheLeastLatticeGetsIt) {
 // Every vertex holds the exact optical depth of its point: probing at vertices (through the same ray
 // arithmetic the tracer uses) matches SunLight::optical_depth to float rounding.
 TEST(SunDepthMap, ExactAtItsVertices) {
-    const Scene s = random_cloud(60, 7, {0.4, -1.0, 0.3});
+    const Scene s = random_cloud(80, 7, {0.4, -1.0, 0.3});  // more than kMaxWholeSpheres: a lattice
     const glm::dvec3 eye(0.5, 1.0, -9.0);
     const SunLight sun(s);
     const SunDepthMap map(s, sun, eye, 2);
@@ -221,7 +222,7 @@ TEST(SunDepthMap, ExactAtItsVertices) {
 // Between vertices the error is the interpolation's: it falls as the lattice is refined (the smaller
 // budgets force a coarser cell), and at the default resolution it is small.
 TEST(SunDepthMap, ConvergesAsTheLatticeIsRefined) {
-    const Scene s = random_cloud(40, 11, {-0.3, -1.0, 0.5});
+    const Scene s = random_cloud(80, 11, {-0.3, -1.0, 0.5});  // more than kMaxWholeSpheres: a lattice
     const glm::dvec3 eye(0.0, 1.0, -8.0);
     const SunLight sun(s);
     const std::vector<Probe> ps = probes(4000, 5);
@@ -272,7 +273,7 @@ bool same_map(const SunDepthMap& a, const SunDepthMap& b) {
 // the scatters' whole-cell runs are many).
 TEST(SunDepthMap, PortableInstructionsBuildTheSameMap) {
     const glm::dvec3 eye(0.0, 1.0, -8.0);
-    Scene large = random_cloud(60, 41, {0.3, -1.0, 0.2});
+    Scene large = random_cloud(80, 41, {0.3, -1.0, 0.2});  // more than kMaxWholeSpheres: a lattice
     for (std::size_t k = 0; k < 6; ++k) large.spheres[k].radius *= 6.0;
     for (const Scene& s : {random_cloud(200, 40, {-0.2, -1.0, 0.4}), large}) {
         const SunLight sun(s);
@@ -343,7 +344,7 @@ TEST(SunDepthMap, BuiltAgainAsAnAnimationGrowsAndShrinksIsAFreshMap) {
 // extent, and a lookup's error (scalar and eight at a time) is what it is without the fog. In the
 // lattice the fog's radius set the spacing (about 225 units) and the cloud's shadows were lost.
 TEST(SunDepthMap, AnOutsizedSphereIsTakenInClosedForm) {
-    Scene cloud = random_cloud(40, 11, {-0.3, -1.0, 0.5});
+    Scene cloud = random_cloud(80, 11, {-0.3, -1.0, 0.5});  // more than kMaxWholeSpheres: a lattice
     Scene fogged = cloud;
     Sphere fog;
     fog.center = {3.0, -20.0, 7.0};

@@ -3,6 +3,7 @@
 #include "render/image.h"
 #include "render/methods/registry.h"
 #include "render/outsized_spheres.h"
+#include "render/sun_depth_map.h"
 #include "sim/preset.h"
 #include "sim/scene_sections.h"
 #include "sim/usable_cpus.h"
@@ -46,6 +47,11 @@ bool note_outsized_spheres(const Scene& scene) {
     if (!scene.lighting.shadows || scene.render.shadow_technique != ShadowTechnique::Accurate) return false;
     const std::size_t over = outsized_sphere_count(scene);
     if (over <= std::size_t(kMaxOutsized)) return false;
+    // A scene of at most kMaxWholeSpheres spheres with a medium has every one taken whole: no lattice
+    // for the rest to blur.
+    const auto with_medium = std::count_if(scene.spheres.begin(), scene.spheres.end(),
+                                           [](const Sphere& s) { return s.extinction > 0.0 && s.radius > 0.0; });
+    if (with_medium <= SunDepthMap::kMaxWholeSpheres) return false;
     std::printf("note: %zu spheres are over %g times the median radius; accurate shadows take the %d largest whole "
                 "and the rest stay in the shadow map, which they may blur past its stated error (docs/accuracy.md, "
                 "\"Scenes the map's spacing does not fit\")\n",

@@ -5,7 +5,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -27,11 +29,19 @@ std::string os_reason(int err) { return std::generic_category().message(err); }
 fs::path directory_of(const fs::path& path) { return path.has_parent_path() ? path.parent_path() : fs::path("."); }
 
 // The prefix of every temporary file for `target`; the name starts with '.' so listings hide it,
-// and the target's name is cut so the whole stays within NAME_MAX.
+// and the target's name is cut so that the whole name stays within NAME_MAX (200 of its bytes at
+// most), and the whole path, as open() and link() are handed it, within PATH_MAX: a temporary's path
+// is up to 18 bytes longer than its target's, so a target within that of PATH_MAX could not be
+// written ("File name too long"). Only such a target's prefix is shorter; the cleaner
+// (remove_stale_temporaries) computes the same one.
 // (Appended, not "." + std::string&&: GCC 12 warns on that, -Wrestrict, a false positive.)
 std::string temp_prefix(const fs::path& target) {
+    // Around the kept part of the name: the directory and its separator, '.', ".tmp-", the
+    // 8-character tag, the longest suffix (".old") and the terminating NUL.
+    const std::size_t around = directory_of(target).native().size() + 1 + 1 + 5 + 8 + 4 + 1;
+    const std::size_t room = around < std::size_t(PATH_MAX) ? std::size_t(PATH_MAX) - around : 0;
     std::string prefix = ".";
-    prefix.append(target.filename().string(), 0, 200).append(".tmp-");
+    prefix.append(target.filename().string(), 0, std::min<std::size_t>(200, room)).append(".tmp-");
     return prefix;
 }
 

@@ -5,7 +5,7 @@
 // the spacing and the extent: the map's spacing grew to about 225 units around three puffs of radius 1
 // (their shadows blurred away), and the light grids' cells listed every puff in every cell (the
 // reference took 3.1 s a frame against 1.5 s). One rule for all of them, so that they agree on which
-// spheres are taken so. The depth map alone also takes every sphere of a scene of at most 64
+// spheres are taken so. The depth map alone also takes every sphere of a scene of at most 48
 // whole (render/sun_depth_map.h kMaxWholeSpheres); the device's build of the map then has nothing to splat
 // (render/frame/frame_resources.cpp).
 #pragma once
@@ -31,7 +31,8 @@ std::vector<std::size_t> outsized_spheres(const Scene& scene);
 
 // How many of those spheres are over kOutsizedRadii times the median radius, before the rule keeps the
 // largest kMaxOutsized (0 where none would be left for the grid): past kMaxOutsized the rest stay in
-// the map's lattice and set its spacing, and the accurate technique misses its error target
+// the map's lattice and set its spacing (in a scene of more than SunDepthMap::kMaxWholeSpheres spheres;
+// a smaller one has every sphere whole), and the accurate technique misses its error target
 // (docs/accuracy.md, "Scenes the map's spacing does not fit"). The commands say so.
 std::size_t outsized_sphere_count(const Scene& scene);
 

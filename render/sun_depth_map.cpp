@@ -46,17 +46,19 @@ double thin_media_widening(std::vector<double>& depth_across) {
     return t > 0.0 ? std::clamp(1.0 / (t * t), 1.0, kThinWidenMax) : kThinWidenMax;
 }
 // The spheres a lookup takes whole, as ascending indices into scene.spheres: in a scene of at most
-// SunDepthMap::kMaxWholeSpheres (64) spheres with a medium, every one of them; otherwise the outsized
+// SunDepthMap::kMaxWholeSpheres (48) spheres with a medium, every one of them; otherwise the outsized
 // ones (render/outsized_spheres.h). A lattice blurs a lone sphere's shadow edge, and the pieces it sets
 // along the view rays (SUN_PIECE_CELLS cells) run too long across the bend of a sphere's own depth
 // toward the sun: one sphere of radius 1 and extinction 0.65 read a mean error of 2.7e-3 of the peak
 // and a p99.9 of 3.3e-2 against the reference, where the target is 1e-3 and 1e-2 (docs/accuracy.md).
-// Nor does a sparse cloud's lattice average the blur away: of 80 random scenes of 9-64 spheres, 38
+// Nor does a sparse cloud's lattice average the blur away: of 72 random scenes of 9-48 spheres, 36
 // missed the target, and 1 does whole (a close, dim view lit from behind). Trace's frame costs what the
-// lattice's did for 9-32 spheres (a median 1.01x, up to 2.7x), and a median 1.52x, up to 3.2x, for
-// 48-64: a lookup tests every whole sphere, and takes a square root for those whose shadow holds one
-// of its eight points. Past 64 the lattice again (100-400 spheres taken whole cost 6-13x the
-// lattice's frame, where it misses the target in 20 of 30; docs/accuracy.md, "Sparse clouds").
+// lattice's did for 9-32 spheres (a median 1.01x, up to 2.7x), and a median 1.39x, up to 2.0x, for
+// 48: a lookup tests every whole sphere, and takes a square root for those whose shadow holds one of
+// its eight points. At 64 a median 2.26x, and the lattice missed in 2 of 8 there: the default scene's
+// 64 spheres, dense enough that the lattice meets the target (p99.9 2.9e-3), would have cost 1.8x by
+// trace and 2.2-2.5x by ppll on lavapipe taken whole. Past 48 the lattice (100-400 spheres taken whole
+// cost 6-13x its frame, where it misses the target in 20 of 30; docs/accuracy.md, "Sparse clouds").
 std::vector<std::size_t> whole_spheres(const Scene& scene) {
     std::vector<std::size_t> all;
     for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
@@ -440,7 +442,7 @@ void SunDepthMap::lay_out(const Scene& scene, const SunLight& sun, const glm::dv
         size_ = vertex_count;
     };
     if (spheres.empty()) {
-        // Every sphere whole (whole_spheres: a scene of a few): no sphere in the lattice, which is the
+        // Every sphere whole (whole_spheres: at most kMaxWholeSpheres): no sphere in the lattice, which is the
         // least one (3 x 3 x 2 vertices of 0) for lookups to read, its spacing kWholeSpheresFiner's.
         // Framed at the origin (the eye), not at the spheres' reach: the lookups' float coordinates are
         // then as large as the distance from the eye, not as an atmosphere's radius (framed at a fog

@@ -18,7 +18,7 @@
 // and their reach its extent, so that the small spheres' shadows were blurred away: three puffs inside
 // a fog sphere of radius 10,000 read a mean error of 4.2e-3 of the peak (the bound: 1e-3).
 //
-// A scene of at most kMaxWholeSpheres (64) spheres takes every one whole the same way
+// A scene of at most kMaxWholeSpheres (48) spheres takes every one whole the same way
 // (sun_depth_map.cpp whole_spheres): its lattice holds no sphere (a handful of zeros), and its spacing,
 // kWholeSpheresFiner times finer than a lattice of spheres of their lower median radius, only sets the
 // pieces along the view rays. A lone sphere's blurred shadow edge, and pieces too long for the bend of
@@ -88,7 +88,7 @@ public:
     // A scene of at most this many spheres with a medium has every one taken whole (outsized() lists
     // them all, and the lattice holds none); past it, the outsized ones alone (sun_depth_map.cpp
     // whole_spheres).
-    static constexpr int kMaxWholeSpheres = 64;
+    static constexpr int kMaxWholeSpheres = 48;
     static_assert(kMaxWholeSpheres >= kMaxOutsized);
     std::span<const Outsized> outsized() const { return {outsized_.data(), std::size_t(outsized_count_)}; }
     float cell() const { return cell_; }

@@ -133,14 +133,15 @@ struct GpuBox {
 // map_origin.xyz + (dot(r, u), dot(r, v), dot(r, l)) * map_origin.w, l = -sun direction.
 // The most spheres the map takes whole (render/sun_depth_map.h kMaxWholeSpheres): every sphere of a
 // scene of at most this many, else the grid's outsized ones (at most SUN_MAX_OUTSIZED).
-BRUME_CONST SUN_MAX_WHOLE = 64;
+BRUME_CONST SUN_MAX_WHOLE = 48;
 struct SunGridHeader {
     vec4 u_axis;      // xyz: unit u of the plane; w: u of the grid's first cell edge
     vec4 v_axis;      // xyz: unit v; w: v of the grid's first cell edge
     vec4 cell;        // x: cell side; yzw: unused
     uvec4 size;       // x: cells per side (0: no grid, no sphere casts a shadow); y: entries in the sphere list;
                       // z: the map's whole spheres (at most SUN_MAX_WHOLE): the grid's outsized ones, or
-                      // every sphere of a scene of a few (render/sun_depth_map.h); w: the grid's outsized
+                      // every sphere of a scene of at most SUN_MAX_WHOLE (render/sun_depth_map.h);
+                      // w: the grid's outsized
     vec4 map_origin;  // xyz: the eye's lattice coordinates; w: 1 / lattice spacing
     uvec4 map_size;   // xyz: vertices along u, v, s (x = 0: no map); w: the map's first word in the data
     // The spheres the map leaves to a closed form (render/sun_depth_map.h Outsized), in lattice units:

@@ -93,7 +93,7 @@ float sun_outsized_depth(vec3 g) {
 // map (render/sun_depth_map.h; SunGridHeader.map_*): trilinear between vertices that hold it exactly.
 // Its cost does not grow with the smoke above the point: eight reads, and a closed form for each
 // sphere the map takes whole (the outsized ones, none in the shipped presets; or every sphere of a
-// scene of at most SUN_MAX_WHOLE, 64, whose lattice holds only zeros).
+// scene of at most SUN_MAX_WHOLE, 48, whose lattice holds only zeros).
 float sun_map_depth(vec3 rel) {
     uvec3 n = sun_grid.map_size.xyz;
     vec3 g = sun_grid.map_origin.xyz +

@@ -315,8 +315,8 @@ TEST_F(GpuLight, AFewPuffsInsideAVastFogKeepTheirShadows) {
 // A sparse cloud of ten puffs (tau r 0.9-3.3, as the presets' smoke) under a sun from behind the
 // puffs, found by a randomised sweep (2026-12-08): with more than eight spheres its map was a lattice
 // of 0.09 mean radii, whose blur of each puff's shadow edge, and pieces as long as four of its cells,
-// read p99.9 1.66e-2 of the peak by trace, ppll and tiles alike (mean 3.2e-4). Of 80 such scenes of
-// 9-64 spheres, 38 missed the target so. A scene of at most kMaxWholeSpheres (64) takes each sphere
+// read p99.9 1.67e-2 of the peak by trace, ppll and tiles alike (mean 3.2e-4). Of 80 such scenes of
+// 9-48 spheres, 36 missed the target so. A scene of at most kMaxWholeSpheres (48) takes each sphere
 // whole, as it did up to eight (render/sun_depth_map.h): p99.9 1.2e-3, the header carrying ten.
 TEST_F(GpuLight, ASparseCloudOfTenPuffsIsTakenWholeAndMeetsTheTarget) {
     Scene s;

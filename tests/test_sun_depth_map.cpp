@@ -12,6 +12,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -123,7 +124,7 @@ TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
 // A scene of at most kMaxWholeSpheres spheres takes each one whole: every lookup is its closed form, so
 // the map is exact anywhere to float rounding (a lattice blurs a lone sphere's shadow edge), its
 // lattice the least one, and its spacing, which sets the pieces along the view rays, kCellPerRadius
-// (0.09) of the spheres' lower median radius over kWholeSpheresFiner (8). Past kMaxWholeSpheres (64)
+// (0.09) of the spheres' lower median radius over kWholeSpheresFiner (8). Past kMaxWholeSpheres (48)
 // spheres, the lattice holds them all.
 TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
     Scene s = one_sphere({0.3, -1.0, 0.2}, 1.2);
@@ -162,6 +163,42 @@ TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
     const SunDepthMap lattice(s, SunLight(s), eye, 1);
     EXPECT_TRUE(lattice.outsized().empty());
     EXPECT_GT(lattice.size_u() * lattice.size_v() * lattice.size_s(), 1000);
+}
+
+// A scene taken whole reads each point's closed forms eight at a time (optical_depths, the tracer's
+// lanes) as one at a time, bit for bit: the lanes skip a sphere whose shadow none of their points is in
+// (SunDepthMap::outsized_depth8), which must add exactly what it would have, 0. Batches mix points in
+// and out of each shadow, and some batches are in none.
+TEST(SunDepthMap, WholeSpheresReadTheSameEightAtATimeAsOneAtATime) {
+    const Scene s = random_cloud(40, 12, {0.3, -1.0, 0.4});
+    ASSERT_LE(s.spheres.size(), std::size_t(SunDepthMap::kMaxWholeSpheres));
+    const glm::dvec3 eye(0.0, 1.0, -8.0);
+    const SunDepthMap map(s, SunLight(s), eye, 1);
+    ASSERT_EQ(map.outsized().size(), s.spheres.size());
+    const std::vector<Probe> ps = probes(4000, 9);
+    std::vector<float> gu, gv, gs;
+    for (const Probe& p : ps) {
+        const SunDepthMap::Ray r = map.ray(p.d);
+        gu.push_back(r.u0 + float(p.t) * r.du);
+        gv.push_back(r.v0 + float(p.t) * r.dv);
+        gs.push_back(r.s0 + float(p.t) * r.ds);
+    }
+    std::vector<float> batch(gu.size());
+    map.optical_depths(gu.data(), gv.data(), gs.data(), batch.data(), gu.size(), simd::GatherByLanes{});
+    int mixed = 0, clear = 0;  // batches with some points in a shadow and some in none; with all in none
+    for (std::size_t first = 0; first < ps.size(); first += 8) {
+        int lit = 0;  // points in no shadow
+        for (std::size_t k = first; k < first + 8; ++k) {
+            const float one = map.optical_depth(map.ray(ps[k].d), float(ps[k].t));
+            EXPECT_EQ(std::bit_cast<std::uint32_t>(batch[k]), std::bit_cast<std::uint32_t>(one)) << k << ": " << batch[k] << " against " << one;
+            lit += one == 0.0f ? 1 : 0;
+        }
+        mixed += lit > 0 && lit < 8 ? 1 : 0;
+        clear += lit == 8 ? 1 : 0;
+    }
+    std::printf("  %d batches of eight mixed, %d in no shadow, of %zu\n", mixed, clear, ps.size() / 8);
+    EXPECT_GT(mixed, 20);
+    EXPECT_GT(clear, 20);
 }
 
 // A budget below the least lattice a finite spacing gives (4 x 4 x 2) gets that lattice: under 18 the

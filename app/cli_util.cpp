@@ -47,11 +47,7 @@ bool note_outsized_spheres(const Scene& scene) {
     if (!scene.lighting.shadows || scene.render.shadow_technique != ShadowTechnique::Accurate) return false;
     const std::size_t over = outsized_sphere_count(scene);
     if (over <= std::size_t(kMaxOutsized)) return false;
-    // A scene of at most kMaxWholeSpheres spheres with a medium has every one taken whole: no lattice
-    // for the rest to blur.
-    const auto with_medium = std::count_if(scene.spheres.begin(), scene.spheres.end(),
-                                           [](const Sphere& s) { return s.extinction > 0.0 && s.radius > 0.0; });
-    if (with_medium <= SunDepthMap::kMaxWholeSpheres) return false;
+    if (SunDepthMap::takes_every_sphere_whole(scene)) return false;  // no lattice for the rest to blur
     std::printf("note: %zu spheres are over %g times the median radius; accurate shadows take the %d largest whole "
                 "and the rest stay in the shadow map, which they may blur past its stated error (docs/accuracy.md, "
                 "\"Scenes the map's spacing does not fit\")\n",

@@ -60,12 +60,10 @@ double thin_media_widening(std::vector<double>& depth_across) {
 // trace and 2.2-2.5x by ppll on lavapipe taken whole. Past 48 the lattice (100-400 spheres taken whole
 // cost 6-13x its frame, where it misses the target in 20 of 30; docs/accuracy.md, "Sparse clouds").
 std::vector<std::size_t> whole_spheres(const Scene& scene) {
+    if (!SunDepthMap::takes_every_sphere_whole(scene)) return outsized_spheres(scene);
     std::vector<std::size_t> all;
-    for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
-        const Sphere& sp = scene.spheres[k];
-        if (sp.extinction > 0.0 && sp.radius > 0.0) all.push_back(k);
-        if (all.size() > std::size_t(SunDepthMap::kMaxWholeSpheres)) return outsized_spheres(scene);
-    }
+    for (std::size_t k = 0; k < scene.spheres.size(); ++k)
+        if (scene.spheres[k].extinction > 0.0 && scene.spheres[k].radius > 0.0) all.push_back(k);
     return all;
 }
 // Where every sphere is whole, the spacing that sets the pieces along the view rays (SUN_PIECE_CELLS
@@ -364,6 +362,12 @@ void SunDepthMap::plan(const Scene& scene, const SunLight& sun, const glm::dvec3
 void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,
                         std::size_t max_vertices, MapInstructions instructions) {
     lay_out(scene, sun, origin, threads, max_vertices, instructions, true);
+}
+
+bool SunDepthMap::takes_every_sphere_whole(const Scene& scene) {
+    std::size_t with_medium = 0;
+    for (const Sphere& sp : scene.spheres) with_medium += sp.extinction > 0.0 && sp.radius > 0.0 ? 1 : 0;
+    return with_medium <= std::size_t(kMaxWholeSpheres);
 }
 
 void SunDepthMap::lay_out(const Scene& scene, const SunLight& sun, const glm::dvec3& origin, int threads,

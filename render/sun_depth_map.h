@@ -90,6 +90,9 @@ public:
     // whole_spheres).
     static constexpr int kMaxWholeSpheres = 48;
     static_assert(kMaxWholeSpheres >= kMaxOutsized);
+    // Whether a map of this scene takes every sphere whole (at most kMaxWholeSpheres with a medium),
+    // holding none in its lattice.
+    static bool takes_every_sphere_whole(const Scene& scene);
     std::span<const Outsized> outsized() const { return {outsized_.data(), std::size_t(outsized_count_)}; }
     float cell() const { return cell_; }
     int size_u() const { return nu_; }

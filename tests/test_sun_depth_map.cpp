@@ -40,6 +40,21 @@ std::vector<Probe> probes(int n, unsigned seed) {
     return out;
 }
 
+// The probes' points in a map's lattice coordinates, as the tracer hands them to optical_depths.
+struct LatticePoints {
+    std::vector<float> gu, gv, gs;
+};
+LatticePoints lattice_points(const SunDepthMap& map, const std::vector<Probe>& ps) {
+    LatticePoints out;
+    for (const Probe& p : ps) {
+        const SunDepthMap::Ray r = map.ray(p.d);
+        out.gu.push_back(r.u0 + float(p.t) * r.du);
+        out.gv.push_back(r.v0 + float(p.t) * r.dv);
+        out.gs.push_back(r.s0 + float(p.t) * r.ds);
+    }
+    return out;
+}
+
 TEST(SunDepthMap, EmptyWithoutShadowsOrSpheres) {
     Scene s = random_cloud(10, 1, {0.3, -1.0, 0.2});
     s.lighting.shadows = false;
@@ -176,15 +191,9 @@ TEST(SunDepthMap, WholeSpheresReadTheSameEightAtATimeAsOneAtATime) {
     const SunDepthMap map(s, SunLight(s), eye, 1);
     ASSERT_EQ(map.outsized().size(), s.spheres.size());
     const std::vector<Probe> ps = probes(4000, 9);
-    std::vector<float> gu, gv, gs;
-    for (const Probe& p : ps) {
-        const SunDepthMap::Ray r = map.ray(p.d);
-        gu.push_back(r.u0 + float(p.t) * r.du);
-        gv.push_back(r.v0 + float(p.t) * r.dv);
-        gs.push_back(r.s0 + float(p.t) * r.ds);
-    }
-    std::vector<float> batch(gu.size());
-    map.optical_depths(gu.data(), gv.data(), gs.data(), batch.data(), gu.size(), simd::GatherByLanes{});
+    const LatticePoints g = lattice_points(map, ps);
+    std::vector<float> batch(ps.size());
+    map.optical_depths(g.gu.data(), g.gv.data(), g.gs.data(), batch.data(), ps.size(), simd::GatherByLanes{});
     int mixed = 0, clear = 0;  // batches with some points in a shadow and some in none; with all in none
     for (std::size_t first = 0; first < ps.size(); first += 8) {
         int lit = 0;  // points in no shadow
@@ -397,17 +406,12 @@ TEST(SunDepthMap, AnOutsizedSphereIsTakenInClosedForm) {
     EXPECT_EQ(map.size_u() * map.size_v() * map.size_s(), plain.size_u() * plain.size_v() * plain.size_s());
     const std::vector<Probe> ps = probes(4000, 5);
     double plain_error = 0.0, error = 0.0, fog_depth = 0.0;
-    std::vector<float> gu, gv, gs, eight(8);
     for (const Probe& p : ps) {
         const glm::dvec3 x = eye + p.t * p.d;
         plain_error += std::abs(double(plain.optical_depth(plain.ray(p.d), float(p.t))) - cloud_sun.optical_depth(x));
         const double want = fogged_sun.optical_depth(x);
         error += std::abs(double(map.optical_depth(map.ray(p.d), float(p.t))) - want);
         fog_depth += want - cloud_sun.optical_depth(x);
-        const SunDepthMap::Ray r = map.ray(p.d);
-        gu.push_back(r.u0 + float(p.t) * r.du);
-        gv.push_back(r.v0 + float(p.t) * r.dv);
-        gs.push_back(r.s0 + float(p.t) * r.ds);
     }
     const double n = double(ps.size());
     std::printf("  mean error %.3g with the fog (its mean depth %.3g), %.3g without it\n", error / n, fog_depth / n,
@@ -415,8 +419,9 @@ TEST(SunDepthMap, AnOutsizedSphereIsTakenInClosedForm) {
     EXPECT_GT(fog_depth / n, 0.5) << "the fog should shade the cloud";
     EXPECT_LT(error / n, 1.1 * plain_error / n + 1e-4);
     // Eight at a time (the tracer's lanes): the scalar lookup's values.
-    std::vector<float> batch(gu.size());
-    map.optical_depths(gu.data(), gv.data(), gs.data(), batch.data(), gu.size(), simd::GatherByLanes{});
+    const LatticePoints g = lattice_points(map, ps);
+    std::vector<float> batch(ps.size());
+    map.optical_depths(g.gu.data(), g.gv.data(), g.gs.data(), batch.data(), ps.size(), simd::GatherByLanes{});
     for (std::size_t k = 0; k < ps.size(); ++k)
         EXPECT_NEAR(batch[k], map.optical_depth(map.ray(ps[k].d), float(ps[k].t)), 1e-5 * (1.0 + batch[k])) << k;
 }

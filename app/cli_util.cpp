@@ -47,7 +47,7 @@ bool note_outsized_spheres(const Scene& scene) {
     if (!scene.lighting.shadows || scene.render.shadow_technique != ShadowTechnique::Accurate) return false;
     const std::size_t over = outsized_sphere_count(scene);
     if (over <= std::size_t(kMaxOutsized)) return false;
-    if (SunDepthMap::takes_every_sphere_whole(scene)) return false;  // no lattice for the rest to blur
+    if (SunDepthMap::takes_spheres_exactly(scene)) return false;  // no lattice for the rest to blur
     std::printf("note: %zu spheres are over %g times the median radius; accurate shadows take the %d largest whole "
                 "and the rest stay in the shadow map, which they may blur past its stated error (docs/accuracy.md, "
                 "\"Scenes the map's spacing does not fit\")\n",

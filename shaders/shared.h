@@ -152,7 +152,16 @@ struct SunGridHeader {
     // their indices into the sphere buffer, size.w of them, k's in [k / 4][k % 4]; a lookup adds their
     // chords.
     uvec4 grid_outsized[2];
+    // A sparse cloud's spheres taken exactly through light-space columns (render/sun_depth_map.h
+    // Columns; the lattice then the least one, of zeros): xy the first column's corner in lattice
+    // coordinates, z 1 / column side (lattice units); w unused.
+    vec4 columns;
+    // x, y: columns along u and v (x = 0: none); z: the word of the data where the nu * nv + 1 offsets
+    // begin; w: the word where the spheres begin, SUN_COLUMN_WORDS each (u, v, s, radius^2,
+    // tau * spacing, top: float bits), after the offsets.
+    uvec4 column_size;
 };
+BRUME_CONST SUN_COLUMN_WORDS = 6;
 BRUME_CONST SUN_MAX_OUTSIZED = 8;
 
 // The accurate technique's pieces along a view segment, the same on the CPU (render/sun_jobs.h, where

@@ -89,17 +89,44 @@ float sun_outsized_depth(vec3 g) {
     return depth;
 }
 
+// A sparse cloud's spheres' optical depth above the point g in lattice coordinates, exactly: the chords
+// of the spheres g's column lists (SunGridHeader.columns), from the sun down until one ends below g, as
+// the CPU's SunDepthMap::column_depth. 0 outside the columns (or NaN).
+float sun_column_depth(vec3 g) {
+    uvec4 n = sun_grid.column_size;
+    vec2 c = (g.xy - sun_grid.columns.xy) * sun_grid.columns.z;
+    if (!(c.x >= 0.0 && c.y >= 0.0 && c.x < float(n.x) && c.y < float(n.y))) return 0.0;
+    uint column = n.z + uint(c.y) * n.x + uint(c.x);
+    uint first = sun_grid_data[column], last = sun_grid_data[column + 1u];
+    float depth = 0.0;
+    for (uint k = first; k < last; ++k) {
+        uint w = n.w + k * SUN_COLUMN_WORDS;
+        if (uintBitsToFloat(sun_grid_data[w + 5u]) < g.z) break;  // this one and every later one end below g
+        vec4 o = vec4(uintBitsToFloat(sun_grid_data[w]), uintBitsToFloat(sun_grid_data[w + 1u]),
+                      uintBitsToFloat(sun_grid_data[w + 2u]), uintBitsToFloat(sun_grid_data[w + 3u]));
+        vec2 d = g.xy - o.xy;
+        float h2 = o.w - dot(d, d);
+        if (!(h2 > 0.0)) continue;
+        float half_chord = sqrt(h2), bottom = o.z - half_chord;
+        float from = g.z > bottom ? g.z : bottom;
+        depth += uintBitsToFloat(sun_grid_data[w + 4u]) * max(o.z + half_chord - from, 0.0);
+    }
+    return depth;
+}
+
 // The spheres' optical depth toward the sun at eye + rel, from the accurate technique's light-space
 // map (render/sun_depth_map.h; SunGridHeader.map_*): trilinear between vertices that hold it exactly.
 // Its cost does not grow with the smoke above the point: eight reads, and a closed form for each
 // sphere the map takes whole (the outsized ones, none in the shipped presets; or every sphere of a
-// scene of at most SUN_MAX_WHOLE, 48, whose lattice holds only zeros).
+// scene of at most SUN_MAX_WHOLE, 48, whose lattice holds only zeros); a sparse cloud's spheres exactly,
+// through its columns (sun_column_depth), each column's walk as long as the spheres above the point.
 float sun_map_depth(vec3 rel) {
     uvec3 n = sun_grid.map_size.xyz;
     vec3 g = sun_grid.map_origin.xyz +
              vec3(dot(rel, sun_grid.u_axis.xyz), dot(rel, sun_grid.v_axis.xyz), dot(rel, -frame.sun_dir.xyz)) *
                  sun_grid.map_origin.w;
     float outsized = sun_outsized_depth(g);
+    if (sun_grid.column_size.x > 0u) return sun_column_depth(g) + outsized;  // a sparse cloud, exactly
     // Outside the lattice's columns (or NaN): outside every shadow cylinder in it.
     if (!(g.x >= 0.0 && g.y >= 0.0 && g.x < float(n.x - 1u) && g.y < float(n.y - 1u))) return outsized;
     g.z = clamp(g.z, 0.0, float(n.z - 1u));  // below the lowest sphere the whole column; above, 0

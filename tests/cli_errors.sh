@@ -1238,7 +1238,9 @@ printf '[timeline]\nduration = 0.5\n[[emitter]]\nname = "d"\nshape = "density"\n
 run render "$nu/density_res.toml" --frame 1 --size 8x6 --png "$nu/density_res.png"
 expect_error emitter.density_error_located "density_res.toml:3: emitter[0] (\"d\")" "resolution" && ok emitter.density_error_located
 # More huge spheres than the accurate shadows take whole are said (docs/accuracy.md); one is not, nor
-# nine in a scene of at most 48 spheres (SunDepthMap::kMaxWholeSpheres), which takes every one whole.
+# nine in a scene of at most 48 spheres (SunDepthMap::kMaxWholeSpheres), which takes every one whole,
+# nor nine around a dense cloud of at most 256 (kMaxColumnSpheres), which its columns take exactly
+# (the 50 puffs are thin, tau r 0.3, and keep a lattice; at extinction 5, tau r 1.5, they are dense).
 {
     printf '[lighting]\nshadows = true\n'
     for k in $(seq 10 59); do printf '[[sphere]]\ncenter = [0.%d, 0.0, 0.0]\nradius = 0.3\nextinction = 1.0\nalbedo = [0.8, 0.8, 0.8]\n' "$k"; done
@@ -1260,6 +1262,10 @@ expect_success render.outsized_said && grep -qF "note: 9 spheres are over 16 tim
 run render "$nu/few_puffs_nine_atmospheres.toml" --size 8x6 -o "$nu/few_nine_atmospheres.exr"
 expect_success render.outsized_all_whole_unsaid && grep -q "27 spheres" "$out" && ! grep -q "times the median radius" "$out" &&
     ok render.outsized_all_whole_unsaid
+sed 's/^extinction = 1.0$/extinction = 5.0/' "$nu/nine_atmospheres.toml" >"$nu/dense_nine_atmospheres.toml"
+run render "$nu/dense_nine_atmospheres.toml" --size 8x6 -o "$nu/dense_nine_atmospheres.exr"
+expect_success render.outsized_columns_unsaid && grep -q "59 spheres" "$out" && ! grep -q "times the median radius" "$out" &&
+    ok render.outsized_columns_unsaid
 run render "$nu/nine_atmospheres.toml" --size 8x6 --shadows per-sphere -o "$nu/nine_per_sphere.exr"
 expect_success render.outsized_per_sphere && ! grep -q "times the median radius" "$out" && ok render.outsized_per_sphere
 run render crossing --frame 144 --size 16x12 --png "$nu/never.png"

@@ -118,10 +118,12 @@ TEST(FastTracer, AccurateShadowsMeetTheGpuTechniquesTarget) {
     // The accurate technique as ppll computes it (3-point Gauss-Legendre per segment, T_sun exact at the
     // nodes), against the exact model: the target docs/accuracy.md states, mean 1e-3 and p99.9 1e-2 of
     // the peak, from outside and from inside the smoke; the cloud of 24 spheres, every one taken whole by
-    // the map, and of 72, in its lattice.
-    for (const int spheres : {24, testing::kLatticeCloudSpheres})
+    // the map, of 100, through its columns, and of 280, in its lattice.
+    for (const int spheres : {24, testing::kColumnCloudSpheres, testing::kLatticeCloudSpheres})
     for (const bool inside : {false, true}) {
         const Scene s = testing::shadowed_cloud(inside, spheres);
+        // Each cloud takes the layout it is here for (the lattice only past kMaxColumnSpheres).
+        ASSERT_EQ(SunDepthMap::takes_spheres_exactly(s), spheres != testing::kLatticeCloudSpheres) << spheres;
         const Image exact = render_reference(s);
         const testing::ShadowError e = testing::shadow_error(render_fast_trace(s), exact);
         EXPECT_LT(e.mean, 1e-3) << spheres << (inside ? " inside" : " outside");

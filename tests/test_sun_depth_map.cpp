@@ -25,6 +25,8 @@ namespace {
 Scene random_cloud(int n, unsigned seed, const glm::dvec3& sun_direction) {
     return testing::random_sun_cloud(n, seed, sun_direction);
 }
+// More dense spheres than the map takes through columns (kMaxColumnSpheres): a lattice.
+constexpr int kLatticeSpheres = SunDepthMap::kMaxColumnSpheres + 24;
 
 // Points along random rays from an origin, the way the tracer asks: origin + t d.
 struct Probe {
@@ -103,14 +105,13 @@ TEST(SunDepthMap, OneSphereUnderAVerticalSun) {
 // 0.09 / (tau r)^2 radii in thinner media, up to twice as wide (render/sun_depth_map.cpp
 // thin_media_widening): the same single sphere at five densities.
 TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
-    // kMaxWholeSpheres + 1 spheres in rows: a lattice (a scene of at most kMaxWholeSpheres takes every
-    // sphere whole).
+    // kMaxColumnSpheres + 1 spheres in rows: a lattice (a scene of at most kMaxWholeSpheres takes every
+    // sphere whole, and a dense one of at most kMaxColumnSpheres takes them through columns).
     Scene s = one_sphere({0.2, -1.0, 0.1}, 1.0);
     const Sphere sp = s.spheres[0];
-    for (int k = 1; k <= SunDepthMap::kMaxWholeSpheres; ++k) {  // eight to a row, rows 3 apart
+    for (int k = 1; k <= SunDepthMap::kMaxColumnSpheres; ++k) {  // one behind another along the sun's rays
         s.spheres.push_back(sp);
-        s.spheres.back().center.x += 3.0 * (k % 8);
-        s.spheres.back().center.z += 3.0 * (k / 8);
+        s.spheres.back().center -= 2.1 * k * glm::normalize(s.lighting.sun_direction);
     }
     const auto spacing = [&](double tau_r) {
         for (Sphere& each : s.spheres) each.extinction = tau_r / sp.radius;
@@ -126,7 +127,7 @@ TEST(SunDepthMap, ThinMediaWidenTheSpacingAsTheirDepthAcrossFalls) {
     // dense spacing.
     s.spheres.resize(1);
     s.spheres[0].extinction = 3.0;
-    for (int k = 1; k < 100; ++k) {
+    for (int k = 1; k <= SunDepthMap::kMaxColumnSpheres; ++k) {
         Sphere other = sp;
         other.center.x = 0.02 * k;
         other.extinction = 3.0;
@@ -170,14 +171,29 @@ TEST(SunDepthMap, AFewSpheresAreTakenWholeAndExactEverywhere) {
     }
     EXPECT_GT(deepest, 5.0);  // the probes reach the shadows
     EXPECT_LT(worst, 1e-3 * deepest) << "worst error, deepest " << deepest;
-    // A lattice once there are more spheres than the closed forms take (none of them outsized).
+    EXPECT_FALSE(map.has_columns());
+    EXPECT_TRUE(SunDepthMap::takes_spheres_exactly(s));
+    // Past kMaxWholeSpheres these dense spheres (tau r 1.2-2.5) go to the columns (none of them
+    // outsized, none whole, the lattice still the least one), and past kMaxColumnSpheres to a lattice.
     for (int k = 1; k <= SunDepthMap::kMaxWholeSpheres - 3; ++k) {
         s.spheres.push_back(s.spheres[0]);
         s.spheres.back().center.x -= 2.5 * k;
     }
+    const SunDepthMap columns(s, SunLight(s), eye, 1);
+    EXPECT_TRUE(columns.outsized().empty());
+    EXPECT_TRUE(columns.has_columns());
+    EXPECT_EQ(columns.size_u() * columns.size_v() * columns.size_s(), 18);
+    EXPECT_TRUE(SunDepthMap::takes_spheres_exactly(s));
+    for (int k = 0; k < SunDepthMap::kMaxColumnSpheres - SunDepthMap::kMaxWholeSpheres; ++k) {
+        s.spheres.push_back(s.spheres[0]);
+        s.spheres.back().center.z -= 2.5 * (k + 1);
+    }
+    ASSERT_EQ(s.spheres.size(), std::size_t(SunDepthMap::kMaxColumnSpheres) + 1);
     const SunDepthMap lattice(s, SunLight(s), eye, 1);
     EXPECT_TRUE(lattice.outsized().empty());
+    EXPECT_FALSE(lattice.has_columns());
     EXPECT_GT(lattice.size_u() * lattice.size_v() * lattice.size_s(), 1000);
+    EXPECT_FALSE(SunDepthMap::takes_spheres_exactly(s));
 }
 
 // A scene taken whole reads each point's closed forms eight at a time (optical_depths, the tracer's
@@ -210,10 +226,80 @@ TEST(SunDepthMap, WholeSpheresReadTheSameEightAtATimeAsOneAtATime) {
     EXPECT_GT(clear, 20);
 }
 
+// A cloud of dense spheres, more than kMaxWholeSpheres and at most kMaxColumnSpheres, is taken through
+// light-space columns: every lookup walks its column's spheres from the sun down and adds each chord in
+// closed form, so the map is exact anywhere to float rounding, as where every sphere is whole; with an
+// outsized fog sphere around it (in no column, a lookup adds its chord), too. Eight at a time (the
+// tracer's lanes) it reads what it reads one at a time, bit for bit, whether the eight points share a
+// column (along one ray) or not (scattered).
+TEST(SunDepthMap, ASparseCloudIsTakenExactlyThroughColumns) {
+    const Scene cloud = random_cloud(120, 17, {0.3, -1.0, 0.4});
+    Scene fogged = cloud;
+    fogged.spheres.push_back(testing::sphere({3.0, -20.0, 7.0}, 1e4, 1e-4));
+    const glm::dvec3 eye(0.0, 1.0, -8.0);
+    for (const Scene* s : std::initializer_list<const Scene*>{&cloud, &fogged}) {
+        const SunLight sun(*s);
+        const SunDepthMap map(*s, sun, eye, 1);
+        ASSERT_TRUE(map.has_columns());
+        EXPECT_TRUE(SunDepthMap::takes_spheres_exactly(*s));
+        EXPECT_EQ(map.outsized().size(), s == &fogged ? 1u : 0u);
+        EXPECT_EQ(map.size_u() * map.size_v() * map.size_s(), 18);
+        // Scattered points, and runs of eight along a ray through the cloud.
+        std::vector<Probe> ps = probes(4000, 19);
+        for (const Probe& p : probes(200, 23))
+            for (int k = 0; k < 8; ++k) ps.push_back({p.d, p.t + 0.01 * k});
+        double worst = 0.0, deepest = 0.0;
+        for (const Probe& p : ps) {
+            const double want = sun.optical_depth(eye + p.t * p.d);
+            worst = std::max(worst, std::abs(double(map.optical_depth(map.ray(p.d), float(p.t))) - want));
+            deepest = std::max(deepest, want);
+        }
+        std::printf("  %s: worst %.3g of a deepest %.3g\n", s == &fogged ? "in a fog" : "alone", worst, deepest);
+        EXPECT_GT(deepest, 5.0);  // the probes reach the shadows
+        EXPECT_LT(worst, 1e-4 * deepest) << "worst error, deepest " << deepest;
+        const LatticePoints g = lattice_points(map, ps);
+        std::vector<float> batch(ps.size() + 8);
+        map.optical_depths(g.gu.data(), g.gv.data(), g.gs.data(), batch.data(), ps.size() / 8 * 8, simd::GatherByLanes{});
+        for (std::size_t k = 0; k < ps.size() / 8 * 8; ++k) {
+            const float one = map.optical_depth(map.ray(ps[k].d), float(ps[k].t));
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(batch[k]), std::bit_cast<std::uint32_t>(one)) << k << ": " << batch[k] << " against " << one;
+        }
+    }
+}
+
+// Which spheres go where: up to kMaxWholeSpheres each whole; past it, a cloud of dense spheres (the
+// 99th percentile of tau r at least 1) of at most kMaxColumnSpheres through columns, and a lattice past
+// that; thin smoke (where the lattice widens its spacing) a lattice. takes_spheres_exactly says the
+// same from the scene alone.
+TEST(SunDepthMap, DenseCloudsOfAFewHundredSpheresTakeColumnsAndThinOnesALattice) {
+    const glm::dvec3 eye(0.0, 1.0, -8.0);
+    const auto layout = [&](const Scene& s) {
+        const SunDepthMap map(s, SunLight(s), eye, 1);
+        const bool whole = !map.outsized().empty() && map.outsized().size() == s.spheres.size();
+        EXPECT_EQ(SunDepthMap::takes_spheres_exactly(s), whole || map.has_columns()) << s.spheres.size();
+        return whole ? "whole" : map.has_columns() ? "columns" : "lattice";
+    };
+    const auto thinned = [](Scene s, double depth_across) {
+        for (Sphere& sp : s.spheres) sp.extinction = std::min(sp.extinction, depth_across / sp.radius);
+        return s;
+    };
+    const Scene few = random_cloud(SunDepthMap::kMaxWholeSpheres, 3, {0.3, -1.0, 0.4});
+    const Scene some = random_cloud(SunDepthMap::kMaxWholeSpheres + 1, 3, {0.3, -1.0, 0.4});
+    const Scene most = random_cloud(SunDepthMap::kMaxColumnSpheres, 3, {0.3, -1.0, 0.4});
+    const Scene many = random_cloud(SunDepthMap::kMaxColumnSpheres + 1, 3, {0.3, -1.0, 0.4});
+    EXPECT_STREQ(layout(few), "whole");
+    EXPECT_STREQ(layout(some), "columns");
+    EXPECT_STREQ(layout(most), "columns");
+    EXPECT_STREQ(layout(many), "lattice");
+    EXPECT_STREQ(layout(thinned(some, 0.9)), "lattice");  // tau r at most 0.9: the lattice widens
+    EXPECT_STREQ(layout(thinned(most, 1.05)), "columns");  // at most 1.05 (and that at the 99th percentile)
+    EXPECT_STREQ(layout(thinned(few, 0.1)), "whole");
+}
+
 // A budget below the least lattice a finite spacing gives (4 x 4 x 2) gets that lattice: under 18 the
 // spacing search had no end, and at 18-31 it ended at an infinite spacing whose lookups read no shadow.
 TEST(SunDepthMap, ABudgetBelowTheLeastLatticeGetsIt) {
-    const Scene s = random_cloud(72, 4, {0.2, -1.0, 0.3});  // more than kMaxWholeSpheres: a lattice
+    const Scene s = random_cloud(kLatticeSpheres, 4, {0.2, -1.0, 0.3});
     const glm::dvec3 eye(0.0, 1.0, -8.0);
     const SunLight sun(s);
     for (const std::size_t budget : {std::size_t(5), std::size_t(20)}) {
@@ -234,7 +320,7 @@ TEST(SunDepthMap, ABudgetBelowTheLeastLatticeGetsIt) {
 // Every vertex holds the exact optical depth of its point: probing at vertices (through the same ray
 // arithmetic the tracer uses) matches SunLight::optical_depth to float rounding.
 TEST(SunDepthMap, ExactAtItsVertices) {
-    const Scene s = random_cloud(80, 7, {0.4, -1.0, 0.3});  // more than kMaxWholeSpheres: a lattice
+    const Scene s = random_cloud(kLatticeSpheres, 7, {0.4, -1.0, 0.3});
     const glm::dvec3 eye(0.5, 1.0, -9.0);
     const SunLight sun(s);
     const SunDepthMap map(s, sun, eye, 2);
@@ -268,12 +354,18 @@ TEST(SunDepthMap, ExactAtItsVertices) {
 // Between vertices the error is the interpolation's: it falls as the lattice is refined (the smaller
 // budgets force a coarser cell), and at the default resolution it is small.
 TEST(SunDepthMap, ConvergesAsTheLatticeIsRefined) {
-    const Scene s = random_cloud(80, 11, {-0.3, -1.0, 0.5});  // more than kMaxWholeSpheres: a lattice
+    // Thin spheres (tau r below 1), so that more than kMaxWholeSpheres of them are a lattice (a dense
+    // cloud of as few takes columns), its spacing widened by 1 / (tau r)^2 of their 99th percentile (at
+    // most twice).
+    Scene s = random_cloud(80, 11, {-0.3, -1.0, 0.5});
+    for (Sphere& sp : s.spheres) sp.extinction *= 0.4;
     const glm::dvec3 eye(0.0, 1.0, -8.0);
     const SunLight sun(s);
+    ASSERT_FALSE(SunDepthMap(s, sun, eye, 1).has_columns());
     const std::vector<Probe> ps = probes(4000, 5);
     double previous = 1e9;
-    for (const std::size_t budget : {std::size_t(20000), std::size_t(200000), std::size_t(2000000)}) {
+    // Budgets that bind (the spacing widened to fit them), then the map's own spacing (75 x 75 x 62).
+    for (const std::size_t budget : {std::size_t(5000), std::size_t(20000), std::size_t(2000000)}) {
         const SunDepthMap map(s, sun, eye, 2, budget);
         EXPECT_LE(std::size_t(map.size_u()) * map.size_v() * map.size_s(), budget);
         double sum = 0.0, depth_sum = 0.0;
@@ -287,8 +379,8 @@ TEST(SunDepthMap, ConvergesAsTheLatticeIsRefined) {
                     map.size_s(), mean, depth_sum / double(ps.size()));
         EXPECT_LT(mean, 0.7 * previous) << "budget " << budget;
         previous = mean;
-        // At the default resolution (0.1 mean radii, reached within this budget) the mean error is below
-        // 1e-3 in optical depth, so below 1e-3 relative in T_sun = exp(-depth).
+        // At the map's own spacing (reached within this budget) the mean error is below 1e-3 in optical
+        // depth, so below 1e-3 relative in T_sun = exp(-depth).
         if (budget == 2000000) {
             EXPECT_LT(mean, 1e-3);
         }
@@ -296,7 +388,7 @@ TEST(SunDepthMap, ConvergesAsTheLatticeIsRefined) {
 }
 
 TEST(SunDepthMap, TheSameForAnyThreadCount) {
-    const Scene s = random_cloud(200, 13, {0.2, -1.0, -0.4});
+    const Scene s = random_cloud(kLatticeSpheres, 13, {0.2, -1.0, -0.4});
     const glm::dvec3 eye(0.0, 1.0, -8.0);
     const SunLight sun(s);
     const SunDepthMap one(s, sun, eye, 1), four(s, sun, eye, 4);
@@ -319,9 +411,9 @@ bool same_map(const SunDepthMap& a, const SunDepthMap& b) {
 // the scatters' whole-cell runs are many).
 TEST(SunDepthMap, PortableInstructionsBuildTheSameMap) {
     const glm::dvec3 eye(0.0, 1.0, -8.0);
-    Scene large = random_cloud(80, 41, {0.3, -1.0, 0.2});  // more than kMaxWholeSpheres: a lattice
+    Scene large = random_cloud(kLatticeSpheres, 41, {0.3, -1.0, 0.2});
     for (std::size_t k = 0; k < 6; ++k) large.spheres[k].radius *= 6.0;
-    for (const Scene& s : {random_cloud(200, 40, {-0.2, -1.0, 0.4}), large}) {
+    for (const Scene& s : {random_cloud(kLatticeSpheres + 100, 40, {-0.2, -1.0, 0.4}), large}) {
         const SunLight sun(s);
         const SunDepthMap best(s, sun, eye, 2, SunDepthMap::kDefaultMaxVertices, MapInstructions::Best);
         const SunDepthMap avx2(s, sun, eye, 2, SunDepthMap::kDefaultMaxVertices, MapInstructions::Avx2);
@@ -336,8 +428,8 @@ TEST(SunDepthMap, BuiltAgainInPlaceIsAFreshMap) {
     // An owner keeps its map from frame to frame (its memory and its workers' scratch, which a build
     // must leave zero): each build must equal a fresh map of the same scene, bit for bit, whether the
     // lattice keeps its shape (the same scene again), changes it (another scene), or is empty.
-    const Scene first = random_cloud(150, 21, {0.2, -1.0, -0.4});
-    Scene second = random_cloud(300, 22, {-0.5, -1.0, 0.1});
+    const Scene first = random_cloud(kLatticeSpheres, 21, {0.2, -1.0, -0.4});
+    Scene second = random_cloud(2 * kLatticeSpheres, 22, {-0.5, -1.0, 0.1});
     const glm::dvec3 eye(0.0, 1.0, -8.0);
     SunDepthMap kept;
     for (int threads : {1, 3}) {
@@ -357,6 +449,35 @@ TEST(SunDepthMap, BuiltAgainInPlaceIsAFreshMap) {
     EXPECT_TRUE(same_map(kept, SunDepthMap(second, SunLight(second), eye, 2)));
 }
 
+// An owner's map built again in place as its scene changes layout (columns, a lattice, every sphere
+// whole, no shadows, columns again, as an emitter's cloud grows past kMaxWholeSpheres and
+// kMaxColumnSpheres and back) reads what a fresh map of each reads, bit for bit, and has columns
+// exactly when the fresh one does: nothing of one layout's lookup is left in the next.
+TEST(SunDepthMap, BuiltAgainInPlaceAcrossLayoutsIsAFreshMap) {
+    const glm::dvec3 eye(0.0, 1.0, -8.0);
+    const Scene columns = random_cloud(120, 61, {0.3, -1.0, 0.4});
+    const Scene lattice = random_cloud(kLatticeSpheres, 62, {0.3, -1.0, 0.4});
+    const Scene whole = random_cloud(30, 63, {0.3, -1.0, 0.4});
+    Scene off = columns;
+    off.lighting.shadows = false;
+    const Scene other_columns = random_cloud(200, 64, {-0.2, -1.0, 0.3});
+    const std::vector<Probe> ps = probes(800, 65);
+    SunDepthMap kept;
+    int with_columns = 0;
+    for (const Scene* s : std::initializer_list<const Scene*>{&columns, &lattice, &columns, &whole, &off, &other_columns, &lattice}) {
+        kept.build(*s, SunLight(*s), eye, 2);
+        const SunDepthMap fresh(*s, SunLight(*s), eye, 2);
+        ASSERT_EQ(kept.has_columns(), fresh.has_columns());
+        ASSERT_EQ(kept.empty(), fresh.empty());
+        ASSERT_EQ(kept.outsized().size(), fresh.outsized().size());
+        with_columns += kept.has_columns() ? 1 : 0;
+        for (const Probe& p : ps)
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(kept.optical_depth(kept.ray(p.d), float(p.t))),
+                      std::bit_cast<std::uint32_t>(fresh.optical_depth(fresh.ray(p.d), float(p.t))));
+    }
+    EXPECT_EQ(with_columns, 3);
+}
+
 TEST(SunDepthMap, BuiltAgainAsAnAnimationGrowsAndShrinksIsAFreshMap) {
     // Playback: the smoke spreads and gathers from frame to frame, so the lattice changes its shape
     // (on every axis, up and down) and its size, within the room the map keeps and past it. Each
@@ -368,7 +489,7 @@ TEST(SunDepthMap, BuiltAgainAsAnAnimationGrowsAndShrinksIsAFreshMap) {
     std::size_t last_size = 0;
     int last_ns = 0;
     for (double spread : {1.0, 1.08, 1.2, 1.1, 1.35, 0.9, 1.5, 1.45, 1.0}) {
-        Scene s = random_cloud(120, 31, {0.3, -1.0, -0.2});
+        Scene s = random_cloud(kLatticeSpheres, 31, {0.3, -1.0, -0.2});
         for (Sphere& sp : s.spheres) sp.center = glm::dvec3(sp.center.x * spread, sp.center.y, sp.center.z / spread);
         kept.build(s, SunLight(s), eye, 2);
         const SunDepthMap fresh(s, SunLight(s), eye, 2);
@@ -390,7 +511,7 @@ TEST(SunDepthMap, BuiltAgainAsAnAnimationGrowsAndShrinksIsAFreshMap) {
 // extent, and a lookup's error (scalar and eight at a time) is what it is without the fog. In the
 // lattice the fog's radius set the spacing (about 225 units) and the cloud's shadows were lost.
 TEST(SunDepthMap, AnOutsizedSphereIsTakenInClosedForm) {
-    Scene cloud = random_cloud(80, 11, {-0.3, -1.0, 0.5});  // more than kMaxWholeSpheres: a lattice
+    Scene cloud = random_cloud(kLatticeSpheres, 11, {-0.3, -1.0, 0.5});
     Scene fogged = cloud;
     Sphere fog;
     fog.center = {3.0, -20.0, 7.0};

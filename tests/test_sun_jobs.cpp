@@ -89,10 +89,11 @@ Scene sphere_over_the_rays() {
     sp.radius = 1.0;
     sp.extinction = 1.5;
     s.spheres.push_back(sp);
-    // kMaxWholeSpheres more behind the eye (x < -3), whose shadows no ray's segment reaches: more than
-    // kMaxWholeSpheres spheres, so that the map is a lattice whose spacing the one above sets (a scene of
-    // a few takes each whole, render/sun_depth_map.h).
-    for (int k = 1; k <= SunDepthMap::kMaxWholeSpheres; ++k) {
+    // kMaxColumnSpheres more behind the eye (x < -3), whose shadows no ray's segment reaches: more than
+    // kMaxColumnSpheres dense spheres, so that the map is a lattice whose spacing the one above sets (a
+    // scene of a few takes each whole, and a cloud of a few hundred takes them through columns,
+    // render/sun_depth_map.h).
+    for (int k = 1; k <= SunDepthMap::kMaxColumnSpheres; ++k) {
         s.spheres.push_back(sp);
         s.spheres.back().center.x = -3.0 - 3.0 * k;
     }

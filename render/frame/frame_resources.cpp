@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -64,9 +65,9 @@ void FrameResources::upload(const Scene& scene) {
     sun_light_ = std::make_unique<SunLight>(scene);
     light_prep_ = LightPrepTimes{};
     eye_ = scene.camera.position;  // every position goes to the device relative to it (gpu_types.h)
-    // Room for the depth map the previous frame had, so that an animation does not regrow every frame.
-    if (sun_header_.map_size.x > 0)
-        map_words_room_ = std::size_t(sun_header_.map_size.x) * sun_header_.map_size.y * sun_header_.map_size.z;
+    // Room for the depth map the previous frame had (and its columns), so that an animation does not
+    // regrow every frame, nor a scene with columns shrink the buffer to its grid and grow it again.
+    if (sun_header_.map_size.x > 0) map_words_room_ = sun_map_words_;
     const bool new_grid = sun_grid_buffer_.size() == 0;
     // Only a presenter's passes of the previous frame can still be running here (the frame path waits
     // for every method pass before it returns), and they read the HDR target alone: host writes are
@@ -119,8 +120,10 @@ void FrameResources::upload(const Scene& scene) {
     background_ = glm::vec3(scene.lighting.background);
 }
 
-void FrameResources::write_sun_buffer(std::span<const float> map, std::size_t map_room) {
-    const std::size_t words = sun_grid_words_.size() + std::max(map.size(), map_room);
+void FrameResources::write_sun_buffer(std::span<const float> map, std::size_t map_room,
+                                      std::span<const std::uint32_t> columns) {
+    const std::size_t map_words = std::max(map.size(), map_room);
+    const std::size_t words = sun_grid_words_.size() + map_words + columns.size();
     const VkDeviceSize bytes_needed = sizeof(gpu::SunGridHeader) + std::max<std::size_t>(words, 1) * sizeof(std::uint32_t);
     if (sun_grid_buffer_.size() < bytes_needed) {
         device_.wait_idle();  // a presenter's pass of the last frame may still hold the set
@@ -134,6 +137,8 @@ void FrameResources::write_sun_buffer(std::span<const float> map, std::size_t ma
     // memcpy from an empty vector's data() (null) is undefined even for 0 bytes (UBSan).
     if (!sun_grid_words_.empty()) std::memcpy(out, sun_grid_words_.data(), sun_grid_words_.size() * sizeof(std::uint32_t));
     if (!map.empty()) std::memcpy(out + sun_grid_words_.size(), map.data(), map.size() * sizeof(float));
+    if (!columns.empty())
+        std::memcpy(out + sun_grid_words_.size() + map_words, columns.data(), columns.size() * sizeof(std::uint32_t));
     std::memcpy(bytes, &sun_header_, sizeof sun_header_);
 }
 
@@ -183,6 +188,8 @@ void FrameResources::ensure_sphere_sun(const Scene& scene) {
 
 static_assert(gpu::SUN_MAX_OUTSIZED == kMaxOutsized, "the header holds every outsized sphere a grid keeps");
 static_assert(gpu::SUN_MAX_WHOLE == SunDepthMap::kMaxWholeSpheres, "the header holds every sphere a map takes whole");
+static_assert(sizeof(SunDepthMap::ColumnSphere) == gpu::SUN_COLUMN_WORDS * sizeof(float),
+              "a column's sphere is SUN_COLUMN_WORDS words on the device");
 
 void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     if (sun_depth_map_done_) return;
@@ -201,7 +208,9 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
         // The device's build splats the spheres the grid lists (all but its outsized ones): only where
         // those are the lattice's, not where the map takes a few-sphere scene's every sphere whole
         // (render/sun_depth_map.cpp whole_spheres; its lattice is a handful of zeros).
-        fill_on_device = map.planned() && map.outsized().size() == sun_light_->outsized_indices().size() &&
+        // Nor where a sparse cloud's columns take its spheres (the lattice then the least one, of zeros).
+        fill_on_device = map.planned() && !map.has_columns() &&
+                         map.outsized().size() == sun_light_->outsized_indices().size() &&
                          sun_map_pass_->fits(scene, *sun_light_, map);
     }
     if (!fill_on_device) map.build(scene, *sun_light_, scene.camera.position, 0);
@@ -221,7 +230,23 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
         sun_header_.outsized_depth[k / 4][int(k % 4)] = o.depth_per_cell;
     }
     const std::size_t vertices = std::size_t(map.size_u()) * std::size_t(map.size_v()) * std::size_t(map.size_s());
-    write_sun_buffer(map.values(), vertices);
+    // A sparse cloud's columns (render/sun_depth_map.h Columns) after the map: the offsets, then the
+    // spheres, SUN_COLUMN_WORDS words each.
+    std::vector<std::uint32_t> column_words;
+    if (map.has_columns()) {
+        const SunDepthMap::Columns& columns = map.columns();
+        const std::size_t first = sun_grid_words_.size() + vertices;
+        sun_header_.columns = gpu::vec4(columns.u0, columns.v0, columns.inverse_side, 0.0f);
+        sun_header_.column_size = gpu::uvec4(gpu::uint(columns.nu), gpu::uint(columns.nv), gpu::uint(first),
+                                             gpu::uint(first + columns.first.size()));
+        column_words.reserve(columns.first.size() + columns.spheres.size() * gpu::SUN_COLUMN_WORDS);
+        column_words.insert(column_words.end(), columns.first.begin(), columns.first.end());
+        for (const SunDepthMap::ColumnSphere& c : columns.spheres)
+            for (const float f : {c.u, c.v, c.s, c.r2, c.depth_per_cell, c.top})
+                column_words.push_back(std::bit_cast<std::uint32_t>(f));
+    }
+    write_sun_buffer(map.values(), vertices, column_words);
+    sun_map_words_ = vertices + column_words.size();
     sun_map_pending_ = fill_on_device;
     light_prep_.sun_map_ms = ms_since(start);
 }

@@ -117,14 +117,17 @@ private:
     bool sun_grid_done_ = false;
     bool sun_depth_map_done_ = false;
     std::size_t map_words_room_ = 0;  // the last depth map's size: room kept for it in the sun buffer
+    std::size_t sun_map_words_ = 0;   // the words after the grid this frame: the map's and its columns'
     std::unique_ptr<SunLight> sun_light_;  // the scene's, from upload()
     glm::dvec3 eye_{0.0};                  // the scene's eye: the device's origin (render/vk/gpu_types.h)
     bool sphere_sun_done_ = true;          // ensure_sphere_sun wrote this frame's, or none are needed
     SunDepthMap sun_depth_map_;  // kept from frame to frame for its memory (ensure_sun_depth_map)
     LightPrepTimes light_prep_;  // this frame's (upload resets it)
-    // Writes the header and the grid words, then `map` (may be empty) after them, growing the buffer
+    // Writes the header and the grid words, then `map` (may be empty) after them, in room for at least
+    // map_room words, then `columns` (a sparse cloud's, SunGridHeader.column_size), growing the buffer
     // when it must (after waiting for the device) and rewriting the opaque pass's set then.
-    void write_sun_buffer(std::span<const float> map, std::size_t map_room = 0);
+    void write_sun_buffer(std::span<const float> map, std::size_t map_room = 0,
+                          std::span<const std::uint32_t> columns = {});
     vk::DeviceImage opaque_image_;
     vk::DeviceImage depth_image_;
     vk::DeviceImage hdr_image_;

@@ -22,7 +22,9 @@ static_assert(sizeof(ListCounters) == 32 && offsetof(ListCounters, unresolved) =
               offsetof(ListCounters, max_length) == 4 && offsetof(ListCounters, nonempty_pixels) == 8 &&
               offsetof(ListCounters, long_lists) == 12);
 static_assert(SUN_MAX_WHOLE % 4 == 0 && SUN_MAX_WHOLE >= SUN_MAX_OUTSIZED, "outsized_depth packs four a vec4");
-static_assert(sizeof(SunGridHeader) == 96 + SUN_MAX_WHOLE * 20 + 32 &&
+static_assert(sizeof(SunGridHeader) == 96 + SUN_MAX_WHOLE * 20 + 64 &&
+                  offsetof(SunGridHeader, columns) == 96 + SUN_MAX_WHOLE * 20 + 32 &&
+                  offsetof(SunGridHeader, column_size) == 96 + SUN_MAX_WHOLE * 20 + 48 &&
                   offsetof(SunGridHeader, grid_outsized) == 96 + SUN_MAX_WHOLE * 20 && offsetof(SunGridHeader, cell) == 32 &&
                   offsetof(SunGridHeader, size) == 48 && offsetof(SunGridHeader, map_origin) == 64 &&
                   offsetof(SunGridHeader, map_size) == 80 && offsetof(SunGridHeader, outsized) == 96 &&

@@ -57,8 +57,9 @@ double thin_media_widening(std::vector<double>& depth_across) {
 // 48: a lookup tests every whole sphere, and takes a square root for those whose shadow holds one of
 // its eight points. At 64 a median 2.26x, and the lattice missed in 2 of 8 there: the default scene's
 // 64 spheres, dense enough that the lattice meets the target (p99.9 2.9e-3), would have cost 1.8x by
-// trace and 2.2-2.5x by ppll on lavapipe taken whole. Past 48 the lattice (100-400 spheres taken whole
-// cost 6-13x its frame, where it misses the target in 20 of 30; docs/accuracy.md, "Sparse clouds").
+// trace and 2.2-2.5x by ppll on lavapipe taken whole. Past 48 a dense cloud of at most 256 goes to the
+// columns (columns_take: a lookup walks only its column's spheres), and the rest to the lattice
+// (100-400 spheres taken whole cost 6-13x its frame; docs/accuracy.md, "Sparse clouds").
 std::vector<std::size_t> whole_spheres(const Scene& scene) {
     if (!SunDepthMap::takes_every_sphere_whole(scene)) return outsized_spheres(scene);
     std::vector<std::size_t> all;

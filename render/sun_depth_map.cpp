@@ -10,7 +10,10 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace brume {
 namespace {
@@ -181,9 +184,18 @@ void build_columns(const std::vector<Projected>& spheres, double u_lo, double v_
 // 100-200 spheres (0.84-3.4x; 320x180, one thread), and 1.45-3.2x on the presets, where the lattice meets the target: so past
 // kMaxColumnSpheres the lattice (plume's 1,150 spheres, explosion's 991-1,700, campfire's from frame
 // 15 on), and the fog presets keep theirs.
+// BRUME_SUN_COLUMNS=always or never overrides the rule (auto, or unset: the rule), so that a session
+// with a GPU can time the columns against the lattice on the same frames (explosion's densest, where
+// the lattice misses the target; docs/accuracy.md), as BRUME_SUN_MAP picks where the map is filled.
 bool columns_take(std::vector<double>& depth_across) {
-    return !depth_across.empty() && depth_across.size() <= std::size_t(SunDepthMap::kMaxColumnSpheres) &&
-           thin_media_widening(depth_across) == 1.0;
+    if (depth_across.empty()) return false;
+    if (const char* choice = std::getenv("BRUME_SUN_COLUMNS")) {
+        const std::string c = choice;
+        if (c == "always") return true;
+        if (c == "never") return false;
+        if (c != "auto") throw std::invalid_argument("BRUME_SUN_COLUMNS='" + c + "': 'auto', 'always' or 'never'");
+    }
+    return depth_across.size() <= std::size_t(SunDepthMap::kMaxColumnSpheres) && thin_media_widening(depth_across) == 1.0;
 }
 
 

@@ -1262,6 +1262,11 @@ expect_success render.outsized_said && grep -qF "note: 9 spheres are over 16 tim
 run render "$nu/few_puffs_nine_atmospheres.toml" --size 8x6 -o "$nu/few_nine_atmospheres.exr"
 expect_success render.outsized_all_whole_unsaid && grep -q "27 spheres" "$out" && ! grep -q "times the median radius" "$out" &&
     ok render.outsized_all_whole_unsaid
+# BRUME_SUN_COLUMNS (auto, always or never: the accurate map's columns, for timing them) refuses any
+# other value by name, and writes nothing.
+BRUME_SUN_COLUMNS=sometimes "$brume" render "$nu/puffs.toml" --size 8x6 --png "$nu/sometimes.png" >"$out" 2>"$err"; rc=$?
+expect_error env.sun_columns_refused "BRUME_SUN_COLUMNS='sometimes': 'auto', 'always' or 'never'" &&
+    [ ! -e "$nu/sometimes.png" ] && ok env.sun_columns_refused
 sed 's/^extinction = 1.0$/extinction = 5.0/' "$nu/nine_atmospheres.toml" >"$nu/dense_nine_atmospheres.toml"
 run render "$nu/dense_nine_atmospheres.toml" --size 8x6 -o "$nu/dense_nine_atmospheres.exr"
 expect_success render.outsized_columns_unsaid && grep -q "59 spheres" "$out" && ! grep -q "times the median radius" "$out" &&

@@ -15,9 +15,12 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <initializer_list>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 namespace brume {
 namespace {
@@ -294,6 +297,50 @@ TEST(SunDepthMap, DenseCloudsOfAFewHundredSpheresTakeColumnsAndThinOnesALattice)
     EXPECT_STREQ(layout(thinned(some, 0.9)), "lattice");  // tau r at most 0.9: the lattice widens
     EXPECT_STREQ(layout(thinned(most, 1.05)), "columns");  // at most 1.05 (and that at the 99th percentile)
     EXPECT_STREQ(layout(thinned(few, 0.1)), "whole");
+}
+
+// BRUME_SUN_COLUMNS overrides the rule, for timing the columns against the lattice on the same frames:
+// always takes a lattice cloud's spheres through columns (exactly: the lookups are the reference's to
+// float rounding), never puts a columns cloud's in a lattice, auto (or unset) is the rule, and any
+// other value is refused by name. A scene of at most kMaxWholeSpheres is whole whatever it says.
+TEST(SunDepthMap, BrumeSunColumnsOverridesTheRule) {
+    const glm::dvec3 eye(0.0, 1.0, -8.0);
+    const Scene lattice = random_cloud(kLatticeSpheres, 71, {0.3, -1.0, 0.4});
+    const Scene columns = random_cloud(120, 72, {0.3, -1.0, 0.4});
+    const Scene whole = random_cloud(SunDepthMap::kMaxWholeSpheres, 73, {0.3, -1.0, 0.4});
+    const auto has_columns = [&](const Scene& s) {
+        const bool built = SunDepthMap(s, SunLight(s), eye, 1).has_columns();
+        EXPECT_EQ(SunDepthMap::takes_spheres_exactly(s), built || s.spheres.size() <= std::size_t(SunDepthMap::kMaxWholeSpheres));
+        return built;
+    };
+    ::setenv("BRUME_SUN_COLUMNS", "always", 1);
+    EXPECT_TRUE(has_columns(lattice));
+    EXPECT_TRUE(has_columns(columns));
+    EXPECT_FALSE(has_columns(whole));
+    const SunLight sun(lattice);
+    const SunDepthMap exact(lattice, sun, eye, 1);
+    double worst = 0.0, deepest = 0.0;
+    for (const Probe& p : probes(2000, 74)) {
+        const double want = sun.optical_depth(eye + p.t * p.d);
+        worst = std::max(worst, std::abs(double(exact.optical_depth(exact.ray(p.d), float(p.t))) - want));
+        deepest = std::max(deepest, want);
+    }
+    EXPECT_LT(worst, 1e-4 * deepest) << "deepest " << deepest;
+    ::setenv("BRUME_SUN_COLUMNS", "never", 1);
+    EXPECT_FALSE(has_columns(lattice));
+    EXPECT_FALSE(has_columns(columns));
+    ::setenv("BRUME_SUN_COLUMNS", "auto", 1);
+    EXPECT_FALSE(has_columns(lattice));
+    EXPECT_TRUE(has_columns(columns));
+    ::setenv("BRUME_SUN_COLUMNS", "sometimes", 1);
+    try {
+        (void)SunDepthMap(columns, SunLight(columns), eye, 1);
+        ADD_FAILURE() << "BRUME_SUN_COLUMNS=sometimes was taken";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("BRUME_SUN_COLUMNS='sometimes'"), std::string::npos) << e.what();
+    }
+    ::unsetenv("BRUME_SUN_COLUMNS");
+    EXPECT_TRUE(has_columns(columns));
 }
 
 // A budget below the least lattice a finite spacing gives (4 x 4 x 2) gets that lattice: under 18 the

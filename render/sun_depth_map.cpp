@@ -70,6 +70,19 @@ std::vector<std::size_t> whole_spheres(const Scene& scene) {
         if (scene.spheres[k].extinction > 0.0 && scene.spheres[k].radius > 0.0) all.push_back(k);
     return all;
 }
+// Calls each(sphere, whole) for every sphere with a medium (the others add nothing to the optical
+// depth), in scene order, `whole` saying whether `whole_indices` (ascending, whole_spheres) holds it:
+// the one split of the scene that the map (lay_out) and its predicate (takes_spheres_exactly) make.
+template <class Each>
+void split_spheres(const Scene& scene, const std::vector<std::size_t>& whole_indices, const Each& each) {
+    for (std::size_t k = 0, next = 0; k < scene.spheres.size(); ++k) {
+        const Sphere& sp = scene.spheres[k];
+        if (!(sp.extinction > 0.0) || !(sp.radius > 0.0)) continue;
+        const bool whole = next < whole_indices.size() && whole_indices[next] == k;
+        next += whole ? 1 : 0;
+        each(sp, whole);
+    }
+}
 // Where every sphere is whole, the spacing that sets the pieces along the view rays (SUN_PIECE_CELLS
 // cells): kCellPerRadius of the spheres' lower median radius, kWholeSpheresFiner times finer, not
 // widened in thin media (no lattice blurs a shadow there; what is left is the pieces' straight line
@@ -469,15 +482,10 @@ void SunDepthMap::build(const Scene& scene, const SunLight& sun, const glm::dvec
 
 bool SunDepthMap::takes_spheres_exactly(const Scene& scene) {
     if (takes_every_sphere_whole(scene)) return true;
-    const std::vector<std::size_t> over = outsized_spheres(scene);
-    std::vector<double> depth_across;
-    for (std::size_t k = 0, next = 0; k < scene.spheres.size(); ++k) {
-        const Sphere& sp = scene.spheres[k];
-        if (!(sp.extinction > 0.0) || !(sp.radius > 0.0)) continue;
-        const bool outsized = next < over.size() && over[next] == k;
-        next += outsized ? 1 : 0;
-        if (!outsized) depth_across.push_back(sp.extinction * sp.radius);
-    }
+    std::vector<double> depth_across;  // of the spheres lay_out would hold in a lattice or columns
+    split_spheres(scene, whole_spheres(scene), [&](const Sphere& sp, bool whole) {
+        if (!whole) depth_across.push_back(sp.extinction * sp.radius);
+    });
     return columns_take(depth_across);
 }
 
@@ -500,18 +508,13 @@ void SunDepthMap::lay_out(const Scene& scene, const SunLight& sun, const glm::dv
     l_ = sun.toward_sun();
     // The lattice's spheres, and apart from them the ones a lookup takes whole, in closed form
     // (whole_spheres: the outsized ones, or every one of a few), in scene order.
-    const std::vector<std::size_t> over = whole_spheres(scene);
     std::vector<Projected> spheres, outsized;
     spheres.reserve(scene.spheres.size());
-    for (std::size_t k = 0, next = 0; k < scene.spheres.size(); ++k) {
-        const Sphere& sp = scene.spheres[k];
-        if (!(sp.extinction > 0.0) || !(sp.radius > 0.0)) continue;  // adds nothing to the optical depth
+    split_spheres(scene, whole_spheres(scene), [&](const Sphere& sp, bool whole) {
         const glm::dvec3 c = sp.center - origin;
         const Projected p{glm::dot(c, u_), glm::dot(c, v_), glm::dot(c, l_), sp.radius, sp.extinction};
-        const bool whole = next < over.size() && over[next] == k;
-        next += whole ? 1 : 0;
         (whole ? outsized : spheres).push_back(p);
-    }
+    });
     if (spheres.empty() && outsized.empty()) return;
     constexpr double kInf = std::numeric_limits<double>::infinity();
     // The lattice's shape and frame (u_lo, v_lo: its first vertex; s_lo: its lowest), and the whole

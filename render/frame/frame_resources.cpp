@@ -232,7 +232,8 @@ void FrameResources::ensure_sun_depth_map(const Scene& scene) {
     const std::size_t vertices = std::size_t(map.size_u()) * std::size_t(map.size_v()) * std::size_t(map.size_s());
     // A sparse cloud's columns (render/sun_depth_map.h Columns) after the map: the offsets, then the
     // spheres, SUN_COLUMN_WORDS words each.
-    std::vector<std::uint32_t> column_words;
+    std::vector<std::uint32_t>& column_words = sun_column_words_;  // kept from frame to frame for its memory
+    column_words.clear();
     if (map.has_columns()) {
         const SunDepthMap::Columns& columns = map.columns();
         const std::size_t first = sun_grid_words_.size() + vertices;

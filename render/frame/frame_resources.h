@@ -118,6 +118,7 @@ private:
     bool sun_depth_map_done_ = false;
     std::size_t map_words_room_ = 0;  // the last depth map's size: room kept for it in the sun buffer
     std::size_t sun_map_words_ = 0;   // the words after the grid this frame: the map's and its columns'
+    std::vector<std::uint32_t> sun_column_words_;  // this frame's columns as the device reads them
     std::unique_ptr<SunLight> sun_light_;  // the scene's, from upload()
     glm::dvec3 eye_{0.0};                  // the scene's eye: the device's origin (render/vk/gpu_types.h)
     bool sphere_sun_done_ = true;          // ensure_sphere_sun wrote this frame's, or none are needed
